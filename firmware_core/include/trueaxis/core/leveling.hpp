@@ -1,0 +1,109 @@
+// Leveling an inclined face on a cradle table (METHODS.md M1): the table angles
+// (C, A) that turn the probed face horizontal.
+//
+// Conventions
+//  1. Machine: a cradle table. A tilts the cradle about the machine's X axis, C
+//     turns the table about the table's own Z axis. A point fixed to the table,
+//     written p_table with the table at zero, is at
+//         p_machine = Rx(A_phys) Rz(C_phys) p_table
+//     (rotations about the table's centre of rotation; for normals the centre does
+//     not matter).
+//  2. Signs (ISO 841): A_phys = a_sign * A_cmd and C_phys = c_sign * C_cmd, with
+//     sign +1 when a positive command turns the table by the right-hand rule
+//     about +X (+Z), and -1 for a table that turns the other way. Every angle this
+//     file takes or returns is a commanded angle in degrees.
+//  3. The face normal is oriented outward, towards the spindle: the fitted normal
+//     is flipped to agree with `outward_hint_machine` (machine frame, table at the
+//     probe pose; the zero vector means +Z, the spindle side).
+//  4. Solutions. With n = (nx, ny, nz) the outward normal at table zero and
+//     rho = sqrt(nx^2 + ny^2):
+//         C1 = atan2(nx, ny),  A1 = atan2(rho, nz)   (physical angles)
+//         C2 = C1 + 180 deg,   A2 = -A1
+//     Both satisfy Rx(A) Rz(C) n = +Z. atan2, not the seed's atan, keeps the
+//     face right side up in every quadrant.
+//  5. A face already level (rho == 0) has no defined C: both solutions keep C at
+//     the current position and set A = 0.
+//  6. C is written as the representative (C + k 360) nearest to the current C
+//     inside the C travel limits. A solution is reachable when its A lies inside
+//     the A limits and such a representative exists. Of the reachable ones the one
+//     with the smaller |dA| + |dC| is chosen; on a tie, solution 1.
+//  7. Uncertainty: probe noise sigma (mm, 1 sigma, along the normal) gives the
+//     fitted normal an error with covariance sigma^2 diag(1/s_u^2, 1/s_v^2) in the
+//     fit's in-plane axes (plane_fit.hpp). The tilt's standard uncertainty is the
+//     first-order (GUM) propagation along the direction in which tilt grows; at a
+//     tilt of exactly zero, where tilt is not differentiable, it is sigma / s_v, the
+//     largest 1-sigma error of the normal's direction. C's uncertainty is the
+//     propagation across it, divided by sin(tilt), capped at 180 deg.
+//  8. Outliers: with 5 or more points, the point whose standardised residual
+//     r_i / (sigma sqrt(1 - h_ii)) is largest is reported when that exceeds
+//     kOutlierLimit. With 4 points the residuals are all equally large, so a bad
+//     point shows only in the flatness.
+//
+// Status codes: those of fit_plane, plus kNotFinite (pose or hint),
+// kConfigInvalid, kPointsTooClose (the normal's 1-sigma direction error sigma / s_v
+// exceeds max_direction_sigma_deg), kOrientationAmbiguous (|cos| between normal
+// and hint below kOrientationMinCos), kUnreachable.
+#pragma once
+
+#include <cstddef>
+
+#include "trueaxis/core/status.hpp"
+#include "trueaxis/core/types.hpp"
+
+namespace trueaxis::core {
+
+inline constexpr double kOrientationMinCos = 1e-6;  // the face within 0.2" of perpendicular to the hint
+inline constexpr double kOutlierLimit = 4.0;        // standardised residual, in units of sigma
+
+struct LevelConfig {
+  double a_min_deg = -120.0;
+  double a_max_deg = 120.0;
+  double c_min_deg = -100000.0;
+  double c_max_deg = 100000.0;
+  double a_sign = 1.0;  // +1 or -1, convention 2
+  double c_sign = 1.0;
+  double probe_sigma_mm = 0.0005;
+  double max_direction_sigma_deg = 0.1;
+};
+
+struct TablePose {
+  double a_deg = 0.0;
+  double c_deg = 0.0;
+};
+
+struct LevelInput {
+  const Vec3* points_mm = nullptr;  // machine frame, table at probe_pose
+  std::size_t count = 0;
+  TablePose probe_pose;             // commanded table position while probing
+  TablePose current_pose;           // commanded table position now
+  Vec3 outward_hint_machine = Vec3::Zero();
+};
+
+struct LevelSolution {
+  double c_deg = 0.0;
+  double a_deg = 0.0;
+  bool reachable = false;
+};
+
+struct LevelResult {
+  LevelSolution chosen;
+  LevelSolution other;
+  Vec3 normal_table = Vec3::UnitZ();  // outward unit normal, table at zero
+  double tilt_deg = 0.0;              // angle between normal_table and +Z
+  double tilt_sigma_arcsec = 0.0;
+  double c_sigma_arcsec = 0.0;
+  double direction_sigma_arcsec = 0.0;  // sigma / s_v: the worst-case 1-sigma direction error
+  double flatness_mm = 0.0;
+  std::size_t count = 0;
+  std::size_t outlier_point = 0;  // 1-based; 0 when none is flagged
+  double max_standardized_residual = 0.0;
+};
+
+[[nodiscard]] Status validate(const LevelConfig& config);
+
+[[nodiscard]] Result<LevelResult> level_face(const LevelInput& input, const LevelConfig& config);
+
+// R_machine_table for commanded angles: p_machine = R * p_table (convention 1, 2).
+Mat3 table_rotation(const TablePose& pose, const LevelConfig& config);
+
+}  // namespace trueaxis::core

@@ -1,0 +1,119 @@
+// Status codes and Result<T>: how every trueaxis routine reports failure.
+//
+// Conventions
+//  1. Errors are values. No routine throws, asserts on data or returns NaN in
+//     an output; a routine that fails returns a Status and leaves its outputs
+//     untouched.
+//  2. The numbers are stable: they appear in register #9002 and in
+//     macros/register_map.json. Never renumber; add new codes at the end of
+//     their group.
+//       0        success
+//       100-199  input values (not finite, out of range, wrong count)
+//       200-299  geometry (degenerate point sets, unreachable poses)
+//       300-399  configuration
+//       400-499  the macro layer and the platform (unknown macro, storage)
+#pragma once
+
+#include <cstdint>
+
+namespace trueaxis::core {
+
+enum class Status : std::uint16_t {
+  kOk = 0,
+
+  kNotFinite = 100,        // an input value is NaN or infinite
+  kTooFewPoints = 101,     // fewer points than the fit needs
+  kTooManyPoints = 102,    // more points than the compile-time capacity
+  kArgumentOutOfRange = 103,  // a macro argument is outside its documented range
+
+  kPointsCoincident = 200,  // the points do not span a line
+  kPointsCollinear = 201,   // the points do not span a plane
+  kPointsTooClose = 202,    // probe repeatability swamps the face's direction
+  kOrientationAmbiguous = 203,  // the face is perpendicular to the orientation hint
+  kUnreachable = 204,       // neither leveling solution lies inside the travel limits
+
+  kConfigInvalid = 300,     // the stored configuration is inconsistent
+
+  kUnknownMacro = 400,      // no macro has that number
+  kStorageFailure = 401,    // non-volatile storage could not be written or read
+};
+
+struct StatusInfo {
+  Status status;
+  const char* name;     // snake_case identifier, stable
+  const char* message;  // one sentence for an operator's screen
+};
+
+// Every status with its name and message, sorted by number. Single source for
+// the register map's JSON and for status_message().
+inline constexpr StatusInfo kStatusTable[] = {
+    {Status::kOk, "ok", "The macro succeeded."},
+    {Status::kNotFinite, "not_finite", "An input value is not a finite number."},
+    {Status::kTooFewPoints, "too_few_points", "Fewer points were given than the method needs."},
+    {Status::kTooManyPoints, "too_many_points", "More points were given than the module can hold."},
+    {Status::kArgumentOutOfRange, "argument_out_of_range",
+     "A macro argument is outside its documented range."},
+    {Status::kPointsCoincident, "points_coincident",
+     "The probed points coincide: they do not span a line."},
+    {Status::kPointsCollinear, "points_collinear",
+     "The probed points lie on one line: they do not span a plane."},
+    {Status::kPointsTooClose, "points_too_close",
+     "The probed points are too close together for the probe repeatability: "
+     "the face's direction would be uncertain by more than the configured limit."},
+    {Status::kOrientationAmbiguous, "orientation_ambiguous",
+     "The face is perpendicular to the orientation hint: give its outward direction "
+     "in I, J, K."},
+    {Status::kUnreachable, "unreachable",
+     "Neither leveling solution lies inside the rotary axes' travel limits."},
+    {Status::kConfigInvalid, "config_invalid",
+     "The stored configuration is inconsistent (for example a lower limit above the "
+     "upper one)."},
+    {Status::kUnknownMacro, "unknown_macro", "No macro has that number."},
+    {Status::kStorageFailure, "storage_failure",
+     "Non-volatile storage could not be written; nothing was changed."},
+};
+
+constexpr bool status_table_is_sorted() {
+  for (std::size_t i = 1; i < sizeof(kStatusTable) / sizeof(kStatusTable[0]); ++i) {
+    if (static_cast<int>(kStatusTable[i - 1].status) >= static_cast<int>(kStatusTable[i].status)) {
+      return false;
+    }
+  }
+  return true;
+}
+static_assert(status_table_is_sorted(), "kStatusTable must be sorted by number, without repeats");
+
+// The operator message of a status; "Unknown status." for a number not in the table.
+constexpr const char* status_message(Status s) {
+  for (const StatusInfo& info : kStatusTable) {
+    if (info.status == s) return info.message;
+  }
+  return "Unknown status.";
+}
+
+constexpr const char* status_name(Status s) {
+  for (const StatusInfo& info : kStatusTable) {
+    if (info.status == s) return info.name;
+  }
+  return "unknown";
+}
+
+// A value or the Status that explains why there is none. T must be
+// default-constructible and trivially copyable enough for firmware use.
+template <typename T>
+class [[nodiscard]] Result {
+ public:
+  constexpr Result(const T& value) : status_(Status::kOk), value_(value) {}  // NOLINT: implicit by design
+  constexpr Result(Status status) : status_(status), value_() {}             // NOLINT: implicit by design
+
+  constexpr bool ok() const { return status_ == Status::kOk; }
+  constexpr Status status() const { return status_; }
+  // Only meaningful when ok(); a default-constructed T otherwise.
+  constexpr const T& value() const { return value_; }
+
+ private:
+  Status status_;
+  T value_;
+};
+
+}  // namespace trueaxis::core

@@ -1,0 +1,154 @@
+#include "trueaxis/core/leveling.hpp"
+
+#include <limits>
+
+#include "trueaxis/core/plane_fit.hpp"
+
+namespace trueaxis::core {
+
+namespace {
+
+constexpr double kArcsecPerRad = 180.0 / kPi * 3600.0;
+
+bool is_sign(double s) { return s == 1.0 || s == -1.0; }
+
+// The representative c + k 360 inside [lo, hi] nearest to `current`; false when
+// the range holds none.
+bool nearest_representative(double c_deg, double current_deg, double lo, double hi, double& out) {
+  const double first = c_deg + 360.0 * std::ceil((lo - c_deg) / 360.0);
+  if (first > hi) return false;
+  const double steps = std::floor((hi - first) / 360.0);
+  double k = std::round((current_deg - first) / 360.0);
+  k = std::min(std::max(k, 0.0), steps);
+  out = first + 360.0 * k;
+  return true;
+}
+
+LevelSolution make_solution(double c_phys_rad, double a_phys_rad, const TablePose& current,
+                            const LevelConfig& cfg) {
+  LevelSolution s;
+  s.a_deg = cfg.a_sign * rad_to_deg(a_phys_rad) + 0.0;  // + 0.0 turns -0 into 0
+  const double c_cmd = wrap_deg_180(cfg.c_sign * rad_to_deg(c_phys_rad));
+  s.c_deg = c_cmd;
+  const bool c_ok = nearest_representative(c_cmd, current.c_deg, cfg.c_min_deg, cfg.c_max_deg, s.c_deg);
+  s.reachable = c_ok && s.a_deg >= cfg.a_min_deg && s.a_deg <= cfg.a_max_deg;
+  return s;
+}
+
+double move_cost_deg(const LevelSolution& s, const TablePose& current) {
+  return std::abs(s.a_deg - current.a_deg) + std::abs(s.c_deg - current.c_deg);
+}
+
+}  // namespace
+
+Status validate(const LevelConfig& c) {
+  const double values[] = {c.a_min_deg, c.a_max_deg, c.c_min_deg, c.c_max_deg,
+                           c.probe_sigma_mm, c.max_direction_sigma_deg};
+  for (double v : values) {
+    if (!std::isfinite(v)) return Status::kConfigInvalid;
+  }
+  if (!(c.a_min_deg <= c.a_max_deg) || !(c.c_min_deg <= c.c_max_deg)) return Status::kConfigInvalid;
+  if (!is_sign(c.a_sign) || !is_sign(c.c_sign)) return Status::kConfigInvalid;
+  if (c.probe_sigma_mm < 0.0 || !(c.max_direction_sigma_deg > 0.0)) return Status::kConfigInvalid;
+  return Status::kOk;
+}
+
+Mat3 table_rotation(const TablePose& pose, const LevelConfig& config) {
+  return rot_x(config.a_sign * deg_to_rad(pose.a_deg)) * rot_z(config.c_sign * deg_to_rad(pose.c_deg));
+}
+
+Result<LevelResult> level_face(const LevelInput& in, const LevelConfig& cfg) {
+  const Status config_status = validate(cfg);
+  if (config_status != Status::kOk) return config_status;
+  if (in.points_mm == nullptr) return Status::kTooFewPoints;
+  const double pose_values[] = {in.probe_pose.a_deg, in.probe_pose.c_deg, in.current_pose.a_deg,
+                                in.current_pose.c_deg};
+  for (double v : pose_values) {
+    if (!std::isfinite(v)) return Status::kNotFinite;
+  }
+  if (!all_finite(in.outward_hint_machine)) return Status::kNotFinite;
+
+  const Result<PlaneFit> fitted = fit_plane(in.points_mm, in.count);
+  if (!fitted.ok()) return fitted.status();
+  const PlaneFit& fit = fitted.value();
+
+  const double sigma = cfg.probe_sigma_mm;
+  const double direction_sigma_rad = sigma / fit.spread_v_mm;
+  if (direction_sigma_rad > deg_to_rad(cfg.max_direction_sigma_deg)) return Status::kPointsTooClose;
+
+  const Vec3 hint = in.outward_hint_machine.squaredNorm() > 0.0 ? in.outward_hint_machine.normalized()
+                                                                 : Vec3::UnitZ();
+  const double hint_cos = fit.normal.dot(hint);
+  if (std::abs(hint_cos) < kOrientationMinCos) return Status::kOrientationAmbiguous;
+  const double orient = hint_cos > 0.0 ? 1.0 : -1.0;
+
+  // The probe saw the face with the table at probe_pose: n_machine = R n_table.
+  const Mat3 R_table_machine = table_rotation(in.probe_pose, cfg).transpose();
+  const Vec3 n = R_table_machine * (orient * fit.normal);
+  const Vec3 u = R_table_machine * fit.axis_u;
+  const Vec3 v = R_table_machine * fit.axis_v;
+
+  LevelResult out;
+  out.normal_table = n;
+  out.count = fit.count;
+  out.flatness_mm = fit.flatness_mm;
+  out.direction_sigma_arcsec = direction_sigma_rad * kArcsecPerRad;
+
+  const double rho = std::hypot(n.x(), n.y());
+  const double tilt_rad = std::atan2(rho, n.z());
+  out.tilt_deg = rad_to_deg(tilt_rad);
+
+  if (rho == 0.0) {
+    out.chosen.a_deg = 0.0;
+    out.chosen.c_deg = in.current_pose.c_deg;
+    out.chosen.reachable = cfg.a_min_deg <= 0.0 && 0.0 <= cfg.a_max_deg &&
+                           cfg.c_min_deg <= out.chosen.c_deg && out.chosen.c_deg <= cfg.c_max_deg;
+    out.other = out.chosen;
+  } else {
+    const double c1 = std::atan2(n.x(), n.y());
+    const LevelSolution s1 = make_solution(c1, tilt_rad, in.current_pose, cfg);
+    const LevelSolution s2 = make_solution(c1 + kPi, -tilt_rad, in.current_pose, cfg);
+    const bool take_second =
+        s2.reachable && (!s1.reachable || move_cost_deg(s2, in.current_pose) < move_cost_deg(s1, in.current_pose));
+    out.chosen = take_second ? s2 : s1;
+    out.other = take_second ? s1 : s2;
+  }
+  if (!out.chosen.reachable) return Status::kUnreachable;
+
+  // Propagate the fit's direction covariance sigma^2 diag(1/s_u^2, 1/s_v^2).
+  const auto propagate = [&](const Vec3& dir) {
+    const double du = dir.dot(u) / fit.spread_u_mm;
+    const double dv = dir.dot(v) / fit.spread_v_mm;
+    return sigma * std::sqrt(du * du + dv * dv);
+  };
+  const Vec3 z_tangent = Vec3::UnitZ() - n.z() * n;
+  if (z_tangent.norm() > 0.0 && tilt_rad > 0.0) {
+    const Vec3 d = z_tangent.normalized();
+    out.tilt_sigma_arcsec = propagate(d) * kArcsecPerRad;
+    const double c_sigma_rad = propagate(n.cross(d)) / std::sin(tilt_rad);
+    out.c_sigma_arcsec = std::min(c_sigma_rad, kPi) * kArcsecPerRad;
+  } else {
+    out.tilt_sigma_arcsec = direction_sigma_rad * kArcsecPerRad;
+    out.c_sigma_arcsec = (sigma > 0.0 ? kPi : 0.0) * kArcsecPerRad;
+  }
+
+  if (fit.count >= 5 && sigma > 0.0) {
+    const double n_pts = static_cast<double>(fit.count);
+    for (std::size_t i = 0; i < fit.count; ++i) {
+      const Vec3 q = in.points_mm[i] - fit.centroid_mm;
+      const double qu = q.dot(fit.axis_u) / fit.spread_u_mm;
+      const double qv = q.dot(fit.axis_v) / fit.spread_v_mm;
+      const double leverage = 1.0 / n_pts + qu * qu + qv * qv;
+      const double room = std::max(1.0 - leverage, std::numeric_limits<double>::epsilon());
+      const double t = std::abs(fit.normal.dot(q)) / (sigma * std::sqrt(room));
+      if (t > out.max_standardized_residual) {
+        out.max_standardized_residual = t;
+        out.outlier_point = i + 1;
+      }
+    }
+    if (out.max_standardized_residual <= kOutlierLimit) out.outlier_point = 0;
+  }
+  return out;
+}
+
+}  // namespace trueaxis::core

@@ -1,0 +1,150 @@
+// The shape of one entry of a register map, and the checks every write passes.
+// The module's map (register_map.hpp) and the simulator's own variables are both
+// tables of VarInfo, so one encoder, one validator and one JSON writer serve both.
+//
+// Conventions
+//  1. An entry describes `count` consecutive variables #number .. #number+count-1
+//     that share access, kind, range and default (count is 1 for most entries;
+//     blocks are for buffers such as the leveling point list).
+//  2. Values are doubles. kReal takes any finite value in [min, max]; kInteger a
+//     finite whole number in [min, max]; kSign exactly -1 or +1.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+namespace trueaxis::macros {
+
+inline constexpr std::uint16_t kMaxVariableNumber = 16383;
+
+enum class Access : std::uint8_t {
+  kReadWrite,   // volatile, any client may write (macro arguments)
+  kReadOnly,    // written only by the module (results, handshake state)
+  kPersistent,  // kept in non-volatile storage, any client may write (work offsets)
+  kConfig,      // kept in non-volatile storage, writable only while unlocked
+  kCommand,     // #9000: writing runs a macro
+  kUnlock,      // #9004: writing the code unlocks, 0 locks; reads 1 when unlocked
+};
+
+enum class ValueKind : std::uint8_t { kReal, kInteger, kSign };
+
+// Why a register access was refused. Each maps to one Modbus exception code
+// (modbus_exception()); the module keeps the last one in #9007 so an HMI can tell
+// apart the refusals that share an exception code.
+enum class AccessFault : std::uint8_t {
+  kNone = 0,
+  kUndefined = 1,       // a number the map does not define                    -> 02
+  kMisaligned = 2,      // not whole variables (register address or count)      -> 02
+  kReadOnly = 3,        // write to a read-only variable                        -> 02
+  kLocked = 4,          // write to a configuration variable while locked       -> 02
+  kNotFinite = 5,       // NaN or infinity                                      -> 03
+  kOutOfRange = 6,      // outside [min, max], not whole, not a sign            -> 03
+  kBadUnlockCode = 7,   // #9004 written with neither the code nor 0            -> 03
+  kBusy = 8,            // a macro is running                                   -> 06
+  kStorageFailure = 9,  // non-volatile storage refused the write               -> 04
+  kBadFunction = 10,    // a function code the server does not serve            -> 01
+};
+
+// Modbus exception codes (Modbus Application Protocol V1.1b3, section 7).
+enum class ModbusException : std::uint8_t {
+  kNone = 0,
+  kIllegalFunction = 1,
+  kIllegalDataAddress = 2,
+  kIllegalDataValue = 3,
+  kServerDeviceFailure = 4,
+  kServerDeviceBusy = 6,
+};
+
+constexpr ModbusException modbus_exception(AccessFault f) {
+  switch (f) {
+    case AccessFault::kNone: return ModbusException::kNone;
+    case AccessFault::kUndefined:
+    case AccessFault::kMisaligned:
+    case AccessFault::kReadOnly:
+    case AccessFault::kLocked: return ModbusException::kIllegalDataAddress;
+    case AccessFault::kNotFinite:
+    case AccessFault::kOutOfRange:
+    case AccessFault::kBadUnlockCode: return ModbusException::kIllegalDataValue;
+    case AccessFault::kBusy: return ModbusException::kServerDeviceBusy;
+    case AccessFault::kStorageFailure: return ModbusException::kServerDeviceFailure;
+    case AccessFault::kBadFunction: return ModbusException::kIllegalFunction;
+  }
+  return ModbusException::kServerDeviceFailure;
+}
+
+struct VarInfo {
+  std::uint16_t number;
+  std::uint16_t count;
+  Access access;
+  ValueKind kind;
+  double min;
+  double max;
+  double default_value;
+  const char* name;         // snake_case, unique in the map
+  const char* unit;         // "mm", "deg", "arcsec", "" for plain numbers
+  const char* description;  // one sentence
+};
+
+// The first fault a value would meet being written to `info` (kind and range only;
+// access is the owner's to check).
+constexpr AccessFault check_value(const VarInfo& info, double value) {
+  if (!(value == value) || value - value != 0.0) return AccessFault::kNotFinite;  // NaN or inf, constexpr-safe
+  if (info.kind == ValueKind::kSign) {
+    return (value == 1.0 || value == -1.0) ? AccessFault::kNone : AccessFault::kOutOfRange;
+  }
+  if (!(value >= info.min && value <= info.max)) return AccessFault::kOutOfRange;
+  // In range, so the cast below is defined (every integer range fits in long long).
+  if (info.kind == ValueKind::kInteger && static_cast<double>(static_cast<long long>(value)) != value) {
+    return AccessFault::kOutOfRange;
+  }
+  return AccessFault::kNone;
+}
+
+// Compile-time checks of a table: sorted by number, blocks not overlapping, every
+// number in 0..kMaxVariableNumber, every range and default consistent.
+template <std::size_t N>
+constexpr bool map_is_well_formed(const VarInfo (&table)[N]) {
+  for (std::size_t i = 0; i < N; ++i) {
+    const VarInfo& v = table[i];
+    if (v.count == 0) return false;
+    if (static_cast<std::uint32_t>(v.number) + v.count - 1 > kMaxVariableNumber) return false;
+    if (!(v.min <= v.max)) return false;
+    if (v.access != Access::kCommand && v.access != Access::kUnlock &&
+        check_value(v, v.default_value) != AccessFault::kNone) {
+      return false;
+    }
+    if (i > 0 && static_cast<std::uint32_t>(table[i - 1].number) + table[i - 1].count > v.number) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Total number of variables (blocks expanded) in a table.
+template <std::size_t N>
+constexpr std::size_t variable_count(const VarInfo (&table)[N]) {
+  std::size_t n = 0;
+  for (const VarInfo& v : table) n += v.count;
+  return n;
+}
+
+// The entry holding #number, or nullptr; binary search over a sorted table.
+constexpr const VarInfo* find_in(const VarInfo* table, std::size_t size, std::uint16_t number) {
+  std::size_t lo = 0;
+  std::size_t hi = size;
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    const VarInfo& v = table[mid];
+    if (number < v.number) {
+      hi = mid;
+    } else if (number >= static_cast<std::uint32_t>(v.number) + v.count) {
+      lo = mid + 1;
+    } else {
+      return &v;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace trueaxis::macros
