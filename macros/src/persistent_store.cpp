@@ -53,8 +53,9 @@ bool PersistentStore::read_slot(std::size_t slot, std::uint32_t& sequence, std::
   if (get_u16(buffer_ + 4) != kLayoutVersion) return false;
   count = get_u16(buffer_ + 6);
   if (count > kPersistentCount) return false;
-  const std::size_t covered = kHeaderBytes + count * kEntryBytes - (kCrcOffset + 4);
-  if (crc32(buffer_ + kCrcOffset + 4, covered) != get_u32(buffer_ + kCrcOffset)) return false;
+  const std::uint32_t stored_crc = get_u32(buffer_ + kCrcOffset);
+  put_u32(buffer_ + kCrcOffset, 0);
+  if (crc32(buffer_, kHeaderBytes + count * kEntryBytes) != stored_crc) return false;
   sequence = get_u32(buffer_ + 8);
   return true;
 }
@@ -99,8 +100,9 @@ core::Status PersistentStore::save(const PersistentEntry* entries, std::size_t c
     std::memcpy(&bits, &entries[i].value, sizeof bits);
     put_u64(p + 2, bits);
   }
-  const std::size_t covered = kHeaderBytes + count * kEntryBytes - (kCrcOffset + 4);
-  put_u32(buffer_ + kCrcOffset, crc32(buffer_ + kCrcOffset + 4, covered));
+  // The CRC covers the whole record, header included, with its own field as zero:
+  // a cut that leaves a new sequence number over an old payload must not pass.
+  put_u32(buffer_ + kCrcOffset, crc32(buffer_, kHeaderBytes + count * kEntryBytes));
 
   const std::size_t target = 1 - newest_slot_;
   if (storage_.write(target * kSlotBytes, buffer_, kSlotBytes) != hal::IoStatus::kOk) {

@@ -9,7 +9,7 @@
 
 namespace trueaxis::hal {
 
-class RamNvStorage : public NvStorage {
+class RamNvStorage final : public NvStorage {
  public:
   RamNvStorage(std::uint8_t* bytes, std::size_t size) : bytes_(bytes), size_(size) {}
 

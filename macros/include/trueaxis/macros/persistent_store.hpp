@@ -3,7 +3,7 @@
 //
 // Layout: two slots of kSlotBytes at offsets 0 and kSlotBytes. A slot is
 //   magic "TAX1" (4 bytes) | layout version (u16) | entry count (u16) |
-//   sequence (u32) | CRC-32 of everything after this field (u32) |
+//   sequence (u32) | CRC-32 of the whole record with this field as 0 (u32) |
 //   count x { variable number (u16) | value (IEEE-754 binary64) }
 // all little-endian. A save writes the slot that does not hold the newest valid
 // copy, with sequence + 1, so the newest valid copy survives a cut at any byte of

@@ -1,0 +1,47 @@
+// Fakes for the hal interfaces: trivial subclasses, as the interfaces intend.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "trueaxis/hal/clock.hpp"
+#include "trueaxis/hal/ram_nv_storage.hpp"
+#include "trueaxis/macros/persistent_store.hpp"
+
+namespace trueaxis::test {
+
+class FakeClock final : public hal::Clock {
+ public:
+  std::uint64_t now = 1000;
+  std::uint64_t step = 7;
+
+ private:
+  std::uint64_t do_now_us() override { return now += step; }
+};
+
+// RAM storage that can refuse writes, or stop after a number of bytes as a power
+// cut would (the write returns kIoError and the bytes after the cut keep their
+// old value).
+class FlakyStorage final : public hal::NvStorage {
+ public:
+  std::array<std::uint8_t, macros::PersistentStore::kRequiredBytes> bytes{};
+  bool refuse = false;
+  long cut_after_bytes = -1;  // -1: no cut
+
+ private:
+  std::size_t do_size_bytes() const override { return bytes.size(); }
+  hal::IoStatus do_read(std::size_t offset, std::uint8_t* out, std::size_t length) override {
+    for (std::size_t i = 0; i < length; ++i) out[i] = bytes[offset + i];
+    return hal::IoStatus::kOk;
+  }
+  hal::IoStatus do_write(std::size_t offset, const std::uint8_t* data, std::size_t length) override {
+    if (refuse) return hal::IoStatus::kIoError;
+    for (std::size_t i = 0; i < length; ++i) {
+      if (cut_after_bytes >= 0 && static_cast<long>(i) >= cut_after_bytes) return hal::IoStatus::kIoError;
+      bytes[offset + i] = data[i];
+    }
+    return hal::IoStatus::kOk;
+  }
+};
+
+}  // namespace trueaxis::test

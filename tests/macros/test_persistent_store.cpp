@@ -1,0 +1,121 @@
+#include <catch2/catch.hpp>
+
+#include <array>
+
+#include "fakes.hpp"
+#include "trueaxis/core/types.hpp"
+#include "trueaxis/macros/module.hpp"
+#include "trueaxis/macros/persistent_store.hpp"
+
+namespace m = trueaxis::macros;
+using trueaxis::core::Status;
+
+namespace {
+
+std::array<m::PersistentEntry, 3> table(double base) {
+  return {{{500, base}, {501, base + 1}, {5281, base + 2}}};
+}
+
+}  // namespace
+
+TEST_CASE("crc32 matches the standard check value", "[store]") {
+  const std::uint8_t text[] = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
+  CHECK(m::crc32(text, sizeof text) == 0xCBF43926u);
+}
+
+TEST_CASE("blank storage loads as no entries", "[store]") {
+  trueaxis::test::FlakyStorage storage;
+  m::PersistentStore store(storage);
+  std::array<m::PersistentEntry, m::kPersistentCount> out{};
+  std::size_t n = 99;
+  REQUIRE(store.load(out.data(), out.size(), n) == Status::kOk);
+  CHECK(n == 0);
+}
+
+TEST_CASE("the newest save wins and alternates slots", "[store]") {
+  trueaxis::test::FlakyStorage storage;
+  m::PersistentStore store(storage);
+  std::array<m::PersistentEntry, m::kPersistentCount> out{};
+  std::size_t n = 0;
+  REQUIRE(store.load(out.data(), out.size(), n) == Status::kOk);
+  for (int i = 0; i < 5; ++i) {
+    const auto t = table(10.0 * i);
+    REQUIRE(store.save(t.data(), t.size()) == Status::kOk);
+    m::PersistentStore fresh(storage);
+    REQUIRE(fresh.load(out.data(), out.size(), n) == Status::kOk);
+    REQUIRE(n == 3);
+    CHECK(out[0].value == 10.0 * i);
+    CHECK(out[2].number == 5281);
+  }
+}
+
+TEST_CASE("a power cut at any byte of a save keeps the previous table", "[store][powercut]") {
+  for (long cut = 0; cut < static_cast<long>(m::PersistentStore::kSlotBytes); cut += 1) {
+    trueaxis::test::FlakyStorage storage;
+    {
+      m::PersistentStore store(storage);
+      std::array<m::PersistentEntry, m::kPersistentCount> scratch{};
+      std::size_t n = 0;
+      REQUIRE(store.load(scratch.data(), scratch.size(), n) == Status::kOk);
+      const auto a = table(1.0);
+      const auto b = table(2.0);
+      REQUIRE(store.save(a.data(), a.size()) == Status::kOk);
+      REQUIRE(store.save(b.data(), b.size()) == Status::kOk);
+      storage.cut_after_bytes = cut;
+      const auto c = table(3.0);
+      CHECK(store.save(c.data(), c.size()) == Status::kStorageFailure);
+    }
+    storage.cut_after_bytes = -1;
+    m::PersistentStore after(storage);
+    std::array<m::PersistentEntry, m::kPersistentCount> out{};
+    std::size_t n = 0;
+    REQUIRE(after.load(out.data(), out.size(), n) == Status::kOk);
+    REQUIRE(n == 3);
+    // The previous table, or the new one when every byte that differs had been
+    // written before the cut; never a mixture of the two.
+    CHECK((out[0].value == 2.0 || out[0].value == 3.0));
+    if (cut <= 8) CHECK(out[0].value == 2.0);  // the new sequence number never landed
+    CHECK(out[1].value == out[0].value + 1.0);
+    CHECK(out[2].value == out[0].value + 2.0);
+    // And the store goes on working after the cut.
+    const auto d = table(4.0);
+    REQUIRE(after.save(d.data(), d.size()) == Status::kOk);
+    m::PersistentStore again(storage);
+    REQUIRE(again.load(out.data(), out.size(), n) == Status::kOk);
+    CHECK(out[0].value == 4.0);
+  }
+}
+
+TEST_CASE("a corrupted newest slot falls back to the other", "[store]") {
+  trueaxis::test::FlakyStorage storage;
+  m::PersistentStore store(storage);
+  std::array<m::PersistentEntry, m::kPersistentCount> out{};
+  std::size_t n = 0;
+  REQUIRE(store.load(out.data(), out.size(), n) == Status::kOk);
+  const auto a = table(1.0);
+  const auto b = table(2.0);
+  REQUIRE(store.save(a.data(), a.size()) == Status::kOk);  // slot 0
+  REQUIRE(store.save(b.data(), b.size()) == Status::kOk);  // slot 1
+  storage.bytes[m::PersistentStore::kSlotBytes + m::PersistentStore::kHeaderBytes + 3] ^= 0x10;
+  m::PersistentStore fresh(storage);
+  REQUIRE(fresh.load(out.data(), out.size(), n) == Status::kOk);
+  CHECK(out[0].value == 1.0);
+}
+
+TEST_CASE("the module skips stored numbers it no longer holds as persistent", "[store]") {
+  trueaxis::test::FlakyStorage storage;
+  {
+    m::PersistentStore store(storage);
+    std::array<m::PersistentEntry, m::kPersistentCount> scratch{};
+    std::size_t n = 0;
+    REQUIRE(store.load(scratch.data(), scratch.size(), n) == Status::kOk);
+    const std::array<m::PersistentEntry, 4> entries{{{1, 7.0}, {500, -60.0}, {504, 0.25}, {4000, 1.0}}};
+    REQUIRE(store.save(entries.data(), entries.size()) == Status::kOk);
+  }
+  trueaxis::test::FakeClock clock;
+  m::Module module(storage, clock);
+  REQUIRE(module.start() == Status::kOk);
+  CHECK(module.value(1) == 0.0);        // an argument is never loaded
+  CHECK(module.value(500) == -60.0);    // a known configuration value is
+  CHECK(module.value(504) == 1.0);      // a value the map would refuse keeps the default
+}
