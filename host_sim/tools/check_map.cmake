@@ -1,0 +1,15 @@
+# Fails when the committed register map differs from the generator's output.
+# Regenerate with: toolchain/regenerate-map.sh
+foreach(pair "--json;${JSON}" "--markdown;${MARKDOWN}")
+  list(GET pair 0 flag)
+  list(GET pair 1 file)
+  execute_process(COMMAND ${GENERATOR} ${flag} OUTPUT_VARIABLE generated RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "trueaxis-map ${flag} failed")
+  endif()
+  file(READ ${file} committed)
+  if(NOT generated STREQUAL committed)
+    message(FATAL_ERROR "${file} differs from the code's register map: run toolchain/regenerate-map.sh")
+  endif()
+endforeach()
+message(STATUS "register map files match the code")
