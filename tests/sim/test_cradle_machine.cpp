@@ -1,0 +1,82 @@
+// The virtual machine itself: its geometry must be what cradle_machine.hpp says,
+// or every ground-truth comparison in the other tests means nothing.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "trueaxis/sim/cradle_machine.hpp"
+
+namespace {
+
+using trueaxis::core::Vec3;
+using trueaxis::sim::CradleMachine;
+using trueaxis::sim::FaceConfig;
+using trueaxis::sim::SimRng;
+
+constexpr double kPi = 3.14159265358979323846;
+
+}  // namespace
+
+TEST_CASE("the face normal at table zero follows tilt and azimuth") {
+  const CradleMachine m(FaceConfig{12.5, 30.0, 40.0});
+  const Vec3 n = m.normal_table();
+  CHECK(n.norm() == Approx(1.0).epsilon(1e-15));
+  CHECK(std::acos(n.z()) * 180.0 / kPi == Approx(12.5).epsilon(1e-12));
+  CHECK(std::atan2(n.y(), n.x()) * 180.0 / kPi == Approx(30.0).epsilon(1e-12));
+  CHECK(m.tilt_deg_at(0.0, 0.0) == Approx(12.5).epsilon(1e-12));
+}
+
+TEST_CASE("turning the table to the METHODS.md M1 angles makes the face level") {
+  for (double azimuth : {-170.0, -90.0, 0.0, 30.0, 135.0}) {
+    const CradleMachine m(FaceConfig{20.0, azimuth, 40.0});
+    const Vec3 n = m.normal_table();
+    const double c1 = std::atan2(n.x(), n.y()) * 180.0 / kPi;
+    const double a1 = std::atan2(std::hypot(n.x(), n.y()), n.z()) * 180.0 / kPi;
+    CHECK(m.tilt_deg_at(a1, c1) < 1e-9);
+    CHECK(m.tilt_deg_at(-a1, c1 + 180.0) < 1e-9);
+  }
+}
+
+TEST_CASE("rotations are right-handed: +A turns +Y towards +Z, +C turns +X towards +Y") {
+  const Vec3 y = CradleMachine::table_rotation(90.0, 0.0) * Vec3::UnitY();
+  CHECK(y.z() == Approx(1.0));
+  const Vec3 x = CradleMachine::table_rotation(0.0, 90.0) * Vec3::UnitX();
+  CHECK(x.y() == Approx(1.0));
+}
+
+TEST_CASE("a touch point lies on the face and below the probe") {
+  const CradleMachine m(FaceConfig{12.5, 30.0, 40.0});
+  for (double a : {0.0, 10.0, -30.0}) {
+    Vec3 p;
+    REQUIRE(m.touch(a, 45.0, 25.0, -10.0, p));
+    CHECK(p.x() == 25.0);
+    CHECK(p.y() == -10.0);
+    const auto R = CradleMachine::table_rotation(a, 45.0);
+    const Vec3 p_table = R.transpose() * p;
+    CHECK(m.normal_table().dot(p_table - Vec3(0.0, 0.0, 40.0)) == Approx(0.0).margin(1e-12));
+  }
+}
+
+TEST_CASE("the probe refuses a face too steep to touch from above") {
+  const CradleMachine m(FaceConfig{12.5, 90.0, 40.0});
+  Vec3 p(1.0, 2.0, 3.0);
+  CHECK_FALSE(m.touch(-70.0, 0.0, 0.0, 0.0, p));  // 82.5 deg
+  CHECK(p == Vec3(1.0, 2.0, 3.0));
+  CHECK(m.touch(-60.0, 0.0, 0.0, 0.0, p));  // 72.5 deg
+}
+
+TEST_CASE("the noise generator is deterministic and has unit variance") {
+  SimRng a(7);
+  SimRng b(7);
+  double sum = 0.0;
+  double sum_sq = 0.0;
+  constexpr int kN = 200000;
+  for (int i = 0; i < kN; ++i) {
+    const double x = a.normal();
+    REQUIRE(x == b.normal());
+    sum += x;
+    sum_sq += x * x;
+  }
+  CHECK(std::abs(sum / kN) < 0.01);
+  CHECK(sum_sq / kN == Approx(1.0).epsilon(0.02));
+}

@@ -1,0 +1,162 @@
+// The Modbus protocol core without a socket: request PDUs in, decisions and the
+// register image out, over the real module on RAM storage.
+#include <catch2/catch.hpp>
+
+#include <cstdint>
+#include <initializer_list>
+#include <vector>
+
+#include "trueaxis/hal/ram_nv_storage.hpp"
+#include "trueaxis/macros/module.hpp"
+#include "trueaxis/sim/request_handler.hpp"
+#include "trueaxis/sim/simulator.hpp"
+#include "trueaxis/sim/variable_router.hpp"
+
+namespace {
+
+using trueaxis::macros::ModbusException;
+namespace simvar = trueaxis::sim::simvar;
+
+class FakeClock final : public trueaxis::hal::Clock {
+ private:
+  std::uint64_t do_now_us() override { return now_ += 10; }
+  std::uint64_t now_ = 0;
+};
+
+struct Bench {
+  std::vector<std::uint8_t> nv_bytes = std::vector<std::uint8_t>(trueaxis::macros::PersistentStore::kRequiredBytes);
+  trueaxis::hal::RamNvStorage nv{nv_bytes.data(), nv_bytes.size()};
+  FakeClock clock;
+  trueaxis::macros::Module module{nv, clock};
+  trueaxis::sim::Simulator simulator{module, trueaxis::sim::FaceConfig{}, 1};
+  trueaxis::sim::VariableRouter router{module, simulator};
+  trueaxis::sim::RequestHandler handler{router};
+  std::vector<std::uint16_t> image = std::vector<std::uint16_t>(trueaxis::sim::kImageRegisters);
+
+  Bench() { (void)module.start(); }
+
+  ModbusException run(const std::vector<std::uint8_t>& pdu) {
+    const ModbusException e = handler.handle(pdu.data(), pdu.size(), image.data());
+    simulator.after_request();
+    return e;
+  }
+};
+
+std::vector<std::uint8_t> read_pdu(std::uint16_t address, std::uint16_t quantity) {
+  return {0x03, std::uint8_t(address >> 8), std::uint8_t(address), std::uint8_t(quantity >> 8), std::uint8_t(quantity)};
+}
+
+void put_words(std::vector<std::uint8_t>& pdu, const std::vector<std::uint16_t>& words) {
+  for (std::uint16_t w : words) {
+    pdu.push_back(std::uint8_t(w >> 8));
+    pdu.push_back(std::uint8_t(w));
+  }
+}
+
+std::vector<std::uint8_t> write_pdu(std::uint16_t address, const std::vector<std::uint16_t>& words) {
+  const auto n = static_cast<std::uint16_t>(words.size());
+  std::vector<std::uint8_t> pdu = {0x10, std::uint8_t(address >> 8), std::uint8_t(address), std::uint8_t(n >> 8),
+                                   std::uint8_t(n), std::uint8_t(2 * n)};
+  put_words(pdu, words);
+  return pdu;
+}
+
+std::vector<std::uint16_t> words_of(std::initializer_list<double> values) {
+  std::vector<std::uint16_t> words;
+  for (double v : values) {
+    std::uint16_t w[4];
+    trueaxis::macros::encode_double(v, w);
+    words.insert(words.end(), w, w + 4);
+  }
+  return words;
+}
+
+const std::vector<std::uint16_t> kOne = {0x3FF0, 0, 0, 0};  // 1.0
+const std::vector<std::uint16_t> kTwo = {0x4000, 0, 0, 0};  // 2.0
+
+}  // namespace
+
+TEST_CASE("a write of #1 = 1.0 reads back as 0x3FF0 0 0 0 at registers 4..7") {
+  Bench b;
+  REQUIRE(b.run(write_pdu(4, kOne)) == ModbusException::kNone);
+  CHECK(b.module.value(1) == 1.0);
+  REQUIRE(b.run(read_pdu(4, 4)) == ModbusException::kNone);
+  CHECK(std::vector<std::uint16_t>(b.image.begin() + 4, b.image.begin() + 8) == kOne);
+}
+
+TEST_CASE("FC23 writes first, then reads what it wrote") {
+  Bench b;
+  std::vector<std::uint8_t> pdu = {0x17, 0, 4, 0, 4, 0, 4, 0, 4, 8};
+  put_words(pdu, kTwo);
+  REQUIRE(b.run(pdu) == ModbusException::kNone);
+  CHECK(b.module.value(1) == 2.0);
+  CHECK(std::vector<std::uint16_t>(b.image.begin() + 4, b.image.begin() + 8) == kTwo);
+}
+
+TEST_CASE("FC23 whose write is refused reads nothing and changes nothing") {
+  Bench b;
+  std::vector<std::uint8_t> pdu = {0x17, 0, 4, 0, 4, 0x01, 0x90, 0, 4, 8};  // write #100 (read-only)
+  put_words(pdu, kTwo);
+  CHECK(b.run(pdu) == ModbusException::kIllegalDataAddress);
+  CHECK(b.module.value(100) == 0.0);
+}
+
+TEST_CASE("FC6 is answered with exception 02 and writes nothing") {
+  Bench b;
+  CHECK(b.run({0x06, 0, 4, 0x3F, 0xF0}) == ModbusException::kIllegalDataAddress);
+  CHECK(b.module.value(1) == 0.0);
+}
+
+TEST_CASE("a function code other than 3, 6, 16, 23 is answered with exception 01") {
+  Bench b;
+  for (std::uint8_t fc : {std::uint8_t{0x01}, std::uint8_t{0x02}, std::uint8_t{0x04}, std::uint8_t{0x05}, std::uint8_t{0x0F}, std::uint8_t{0x16}, std::uint8_t{0x2B}, std::uint8_t{0x41}}) {
+    CHECK(b.run({fc, 0, 0, 0, 1}) == ModbusException::kIllegalFunction);
+  }
+}
+
+TEST_CASE("a PDU shorter than its function or with a wrong byte count is exception 03") {
+  Bench b;
+  CHECK(b.run({0x03, 0, 4}) == ModbusException::kIllegalDataValue);
+  CHECK(b.run({0x10, 0, 4, 0, 4, 6, 0x3F, 0xF0, 0, 0, 0, 0}) == ModbusException::kIllegalDataValue);
+  CHECK(b.run({}) == ModbusException::kIllegalDataValue);
+  CHECK(b.module.value(1) == 0.0);
+}
+
+TEST_CASE("a read past the last register is exception 02") {
+  Bench b;
+  CHECK(b.run(read_pdu(65532, 8)) == ModbusException::kIllegalDataAddress);
+}
+
+TEST_CASE("the simulator's variables are reached through the same decoder") {
+  Bench b;
+  REQUIRE(b.run(write_pdu(4 * simvar::kAxisA, kTwo)) == ModbusException::kNone);
+  CHECK(b.simulator.value(simvar::kAxisA) == 2.0);
+  REQUIRE(b.run(read_pdu(4 * simvar::kTrueNormalZ, 4)) == ModbusException::kNone);
+}
+
+TEST_CASE("a range spanning the simulator's variables and another number is exception 02") {
+  Bench b;
+  CHECK(b.run(read_pdu(4 * (simvar::kFirst - 1), 8)) == ModbusException::kIllegalDataAddress);
+  CHECK(b.run(read_pdu(4 * simvar::kLast, 8)) == ModbusException::kIllegalDataAddress);
+  CHECK(b.run(write_pdu(4 * (simvar::kFirst - 1), {0, 0, 0, 0, 0x4000, 0, 0, 0})) ==
+        ModbusException::kIllegalDataAddress);
+  CHECK(b.simulator.value(simvar::kAxisA) == 0.0);
+}
+
+TEST_CASE("probing stores the touch point into a work offset through the module") {
+  Bench b;
+  REQUIRE(b.run(write_pdu(4 * simvar::kProbeX, words_of({10.0, -5.0, 5281.0}))) == ModbusException::kNone);
+  CHECK(b.module.value(5281) == Approx(10.0).margin(0.01));
+  CHECK(b.module.value(5282) == Approx(-5.0).margin(0.01));
+  CHECK(b.module.value(5283) == Approx(b.simulator.value(simvar::kLastProbeZ)));
+  CHECK(b.module.value(5283) > 30.0);
+}
+
+TEST_CASE("probing into a number that is not a work offset or point-list X is exception 03") {
+  Bench b;
+  for (double target : {5282.0, 5222.0, 1002.0, 100.0, 0.0}) {
+    CHECK(b.run(write_pdu(4 * simvar::kProbeInto, words_of({target}))) == ModbusException::kIllegalDataValue);
+  }
+  CHECK(b.simulator.value(simvar::kProbeInto) == 0.0);
+  CHECK(b.module.value(5281) == 0.0);
+}

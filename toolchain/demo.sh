@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# The operator demo: builds the host tree if needed, starts trueaxis-sim on a free
+# port with a temporary NV file, runs trueaxis-level (probe, level, verify), stops
+# the sim and exits with the client's code (0 when the true residual tilt after
+# leveling is within 3 sigma of the module's uncertainty).
+#
+# usage: toolchain/demo.sh [--bin-dir DIR] [-- extra trueaxis-sim options]
+#   --bin-dir DIR  use the programs in DIR and build nothing (ctest does this)
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+bin_dir=""
+sim_args=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --bin-dir) bin_dir="$2"; shift 2 ;;
+    --) shift; sim_args=("$@"); break ;;
+    *) echo "usage: $0 [--bin-dir DIR] [-- trueaxis-sim options]" >&2; exit 2 ;;
+  esac
+done
+
+if [ -z "$bin_dir" ]; then
+  bash "$root/toolchain/setup.sh"
+  cmake -S "$root" -B "$root/build/host" -G Ninja >/dev/null
+  cmake --build "$root/build/host" --target trueaxis-sim trueaxis-level
+  bin_dir="$root/build/host/bin"
+fi
+
+work="$(mktemp -d "${TMPDIR:-/tmp}/trueaxis-demo.XXXXXX")"
+sim_pid=""
+cleanup() {
+  if [ -n "$sim_pid" ]; then
+    kill -TERM "$sim_pid" 2>/dev/null || true
+    wait "$sim_pid" 2>/dev/null || true
+  fi
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+mkfifo "$work/out"
+"$bin_dir/trueaxis-sim" --port 0 --nv "$work/demo.nv" "${sim_args[@]}" >"$work/out" &
+sim_pid=$!
+exec 3<"$work/out"
+port=""
+if IFS= read -r -t 10 line <&3; then
+  case "$line" in
+    "listening on "*) port="${line##*:}" ;;
+  esac
+fi
+if [ -z "$port" ]; then
+  echo "demo: trueaxis-sim did not start" >&2
+  exit 3
+fi
+echo "demo: trueaxis-sim (pid $sim_pid) $line"
+
+set +e
+"$bin_dir/trueaxis-level" --port "$port"
+code=$?
+set -e
+exit "$code"
