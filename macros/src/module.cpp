@@ -6,6 +6,15 @@ namespace {
 
 double state_value(MacroState s) { return static_cast<double>(static_cast<int>(s)); }
 
+// Calls f(number) for every defined result variable (#100..#199).
+template <typename F>
+void for_each_result(F f) {
+  for (const VarInfo& v : kRegisterMap) {
+    if (v.number < var::kResultFirst || v.number > var::kResultLast) continue;
+    for (std::uint16_t k = 0; k < v.count; ++k) f(static_cast<std::uint16_t>(v.number + k));
+  }
+}
+
 }  // namespace
 
 Module::Module(hal::NvStorage& storage, hal::Clock& clock) : store_(storage), clock_(clock) {
@@ -115,16 +124,11 @@ void Module::step() {
   const MacroInfo* macro = find_macro(pending_);
   core::Status status = core::Status::kUnknownMacro;
   if (macro != nullptr) {
-    for (std::size_t i = 0; i < kResultSlots; ++i) {
-      staged_[i] = value(static_cast<std::uint16_t>(var::kResultFirst + i));
-    }
+    for_each_result([this](std::uint16_t number) { staged_[number - var::kResultFirst] = value(number); });
     MacroContext ctx(values_, staged_);
     status = macro->run(ctx);
     if (status == core::Status::kOk) {
-      for (std::size_t i = 0; i < kResultSlots; ++i) {
-        const std::uint16_t number = static_cast<std::uint16_t>(var::kResultFirst + i);
-        if (find_var(number) != nullptr) set(number, staged_[i]);
-      }
+      for_each_result([this](std::uint16_t number) { set(number, staged_[number - var::kResultFirst]); });
     }
   }
   finish(status, started_us);

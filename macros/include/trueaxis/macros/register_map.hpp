@@ -14,6 +14,8 @@
 // A number not in the table is not defined: reading or writing it is refused.
 #pragma once
 
+#include <array>
+
 #include "trueaxis/core/leveling.hpp"
 #include "trueaxis/core/plane_fit.hpp"
 #include "trueaxis/macros/var_info.hpp"
@@ -183,17 +185,27 @@ constexpr const VarInfo* find_var(std::uint16_t number) {
   return find_in(kRegisterMap, kRegisterMapSize, number);
 }
 
+namespace detail {
+// The slot of each entry's first variable: the running sum of the counts before it.
+constexpr std::array<std::size_t, kRegisterMapSize> first_slots() {
+  std::array<std::size_t, kRegisterMapSize> slots{};
+  std::size_t slot = 0;
+  for (std::size_t i = 0; i < kRegisterMapSize; ++i) {
+    slots[i] = slot;
+    slot += kRegisterMap[i].count;
+  }
+  return slots;
+}
+inline constexpr std::array<std::size_t, kRegisterMapSize> kFirstSlot = first_slots();
+}  // namespace detail
+
 // Position of #number in a flat array of every variable of the map (blocks
 // expanded, table order); kVariableCount when the number is not defined.
+// A binary search plus a table look-up: it runs on every variable access.
 constexpr std::size_t slot_of(std::uint16_t number) {
-  std::size_t slot = 0;
-  for (const VarInfo& v : kRegisterMap) {
-    if (number >= v.number && number < static_cast<std::uint32_t>(v.number) + v.count) {
-      return slot + (number - v.number);
-    }
-    slot += v.count;
-  }
-  return kVariableCount;
+  const VarInfo* v = find_var(number);
+  if (v == nullptr) return kVariableCount;
+  return detail::kFirstSlot[static_cast<std::size_t>(v - kRegisterMap)] + (number - v->number);
 }
 
 constexpr bool is_persistent(const VarInfo& v) {

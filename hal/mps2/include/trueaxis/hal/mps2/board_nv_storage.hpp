@@ -1,0 +1,25 @@
+// The MPS2 board's non-volatile storage: kBoardNvBytes of battery-backed RAM.
+//
+// Contract
+//  1. board_nv_storage() returns a hal::RamNvStorage over one static array in the
+//     .noinit section, which the start-up code neither loads nor zeroes, so it
+//     keeps its content over a warm reset (QEMU starts every run with it zeroed,
+//     like a fresh battery).
+//  2. Every object it returns views the same bytes (there is one device): main
+//     makes one and passes it by reference.
+//  3. Its content after power-up is arbitrary: the user validates it
+//     (macros/persistent_store.hpp keeps two copies with a version and a CRC).
+#pragma once
+
+#include <cstddef>
+
+#include "trueaxis/hal/ram_nv_storage.hpp"
+
+namespace trueaxis::hal::mps2 {
+
+inline constexpr std::size_t kBoardNvBytes = 4096;
+
+// The board's storage; C++17 returns it in place (NvStorage cannot be copied).
+RamNvStorage board_nv_storage();
+
+}  // namespace trueaxis::hal::mps2

@@ -1,0 +1,134 @@
+// Bench: Cortex-M7 instructions of one run of macro 9810 (three-point level),
+// measured with SysTick under QEMU's instruction counting.
+//
+// Run (the custom target run_bench_level does exactly this):
+//   qemu-system-arm -M mps2-an500 -nographic -monitor none -serial none
+//       -semihosting -no-reboot -icount shift=6 -kernel bench_level_target
+// Under -icount shift=6 every instruction takes 64 ns of virtual time and SysTick
+// runs at the 25 MHz CPU clock: 1.6 ticks per instruction (systick_clock.hpp).
+// Without -icount the numbers are host-speed noise; the bench says so by
+// checking a calibration loop of known length first.
+//
+// What is timed: Module::step() running the pending 9810 (reading G57..G59 and
+// the arguments, level_face, staging and publishing the results, clearing the
+// arguments), the median of kRuns runs, minus the median cost of an empty
+// measurement; and, for comparison, core::level_face alone on the same face.
+#include <cstdint>
+
+#include "fixtures.hpp"
+#include "trueaxis/core/leveling.hpp"
+#include "trueaxis/hal/mps2/board_nv_storage.hpp"
+#include "trueaxis/hal/mps2/semihosting.hpp"
+#include "trueaxis/hal/mps2/systick_clock.hpp"
+#include "trueaxis/macros/module.hpp"
+
+namespace {
+
+namespace mps2 = trueaxis::hal::mps2;
+namespace var = trueaxis::macros::var;
+using trueaxis::macros::AccessFault;
+
+constexpr int kRuns = 9;
+constexpr std::uint32_t kCalibrationLoops = 10000;  // 2 instructions each (subs, bne)
+
+std::uint64_t ticks_to_instructions(std::uint64_t ticks) {
+  return (ticks * 10 + mps2::kTicksPer10Instructions / 2) / mps2::kTicksPer10Instructions;
+}
+
+std::uint64_t median(std::uint64_t (&v)[kRuns]) {
+  for (int i = 1; i < kRuns; ++i) {
+    for (int j = i; j > 0 && v[j - 1] > v[j]; --j) {
+      const std::uint64_t t = v[j];
+      v[j] = v[j - 1];
+      v[j - 1] = t;
+    }
+  }
+  return v[kRuns / 2];
+}
+
+void print(const char* label, std::uint64_t value, const char* unit) {
+  mps2::console_write(label);
+  mps2::console_write_uint(value);
+  mps2::console_write(unit);
+}
+
+bool prepare_run(trueaxis::macros::Module& module, const trueaxis::test::Face& f) {
+  const double ijk[3] = {f.hint_machine.x(), f.hint_machine.y(), f.hint_machine.z()};
+  const double cmd = 9810.0;
+  return module.write(var::kArgA, 1, &f.probe_a_deg) == AccessFault::kNone &&
+         module.write(var::kArgC, 1, &f.probe_c_deg) == AccessFault::kNone &&
+         module.write(var::kArgI, 3, ijk) == AccessFault::kNone &&
+         module.write(var::kCmd, 1, &cmd) == AccessFault::kNone;
+}
+
+bool load_points(trueaxis::macros::Module& module, const trueaxis::test::Face& f) {
+  const std::uint16_t first[3] = {var::kG57, var::kG58, var::kG59};
+  for (int k = 0; k < 3; ++k) {
+    const double xyz[3] = {f.points_machine[k].x(), f.points_machine[k].y(), f.points_machine[k].z()};
+    if (module.write(first[k], 3, xyz) != AccessFault::kNone) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+int main() {
+  trueaxis::hal::RamNvStorage storage = mps2::board_nv_storage();
+  mps2::SysTickClock clock;
+  trueaxis::macros::Module module(storage, clock);
+  static_cast<void>(module.start());
+
+  std::uint64_t samples[kRuns];
+  for (std::uint64_t& s : samples) {
+    const std::uint64_t t0 = clock.ticks();
+    const std::uint64_t t1 = clock.ticks();
+    s = t1 - t0;
+  }
+  const std::uint64_t overhead = median(samples);
+
+  const std::uint64_t c0 = clock.ticks();
+  std::uint32_t n = kCalibrationLoops;
+  asm volatile(
+      "1: subs %0, %0, #1\n"
+      "   bne 1b\n"
+      : "+r"(n)
+      :
+      : "cc");
+  const std::uint64_t calibration = ticks_to_instructions(clock.ticks() - c0 - overhead);
+  print("calibration: ", calibration, " instructions measured for ");
+  print("", 2 * std::uint64_t{kCalibrationLoops}, " executed\n");
+
+  trueaxis::test::SplitMix64 rng(0x5EED'0005);
+  const trueaxis::test::Face face = trueaxis::test::random_face(rng);
+  if (!load_points(module, face)) return 2;
+  for (std::uint64_t& s : samples) {
+    if (!prepare_run(module, face)) return 3;
+    const std::uint64_t t0 = clock.ticks();
+    module.step();
+    const std::uint64_t t1 = clock.ticks();
+    if (module.value(var::kStatus) != static_cast<double>(trueaxis::macros::MacroState::kDone)) return 4;
+    s = t1 - t0 - overhead;
+  }
+  const std::uint64_t ticks = median(samples);
+  print("macro 9810: ", ticks_to_instructions(ticks), " instructions");
+  print(" (median of 9 runs, ", ticks, " SysTick ticks at 1.6 per instruction)\n");
+
+  trueaxis::core::LevelInput in;
+  in.points_mm = face.points_machine;
+  in.count = 3;
+  in.probe_pose = {face.probe_a_deg, face.probe_c_deg};
+  in.current_pose = in.probe_pose;
+  in.outward_hint_machine = face.hint_machine;
+  trueaxis::core::LevelConfig cfg;
+  cfg.a_sign = module.value(var::kASign);
+  cfg.c_sign = module.value(var::kCSign);
+  for (std::uint64_t& s : samples) {
+    const std::uint64_t t0 = clock.ticks();
+    const auto r = trueaxis::core::level_face(in, cfg);
+    const std::uint64_t t1 = clock.ticks();
+    if (!r.ok()) return 5;
+    s = t1 - t0 - overhead;
+  }
+  print("core::level_face alone: ", ticks_to_instructions(median(samples)), " instructions\n");
+  return 0;
+}
