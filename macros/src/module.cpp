@@ -140,11 +140,12 @@ void Module::finish(core::Status status, std::uint64_t started_us) {
   set(var::kError, static_cast<double>(static_cast<int>(status)));
   set(var::kDoneCount, value(var::kDoneCount) + 1.0);
   set(var::kRunTime, static_cast<double>(clock_.now_us() - started_us));
+  std::size_t slot = 0;  // walk the slots with the table instead of looking each one up
   for (const VarInfo& v : kRegisterMap) {
-    const bool is_argument = v.access == Access::kReadWrite;
-    for (std::uint16_t k = 0; is_argument && k < v.count; ++k) {
-      set(static_cast<std::uint16_t>(v.number + k), v.default_value);
+    if (v.access == Access::kReadWrite) {
+      for (std::uint16_t k = 0; k < v.count; ++k) values_[slot + k] = v.default_value;
     }
+    slot += v.count;
   }
   pending_ = 0;
 }
