@@ -1,5 +1,6 @@
 #include "trueaxis/core/leveling.hpp"
 
+#include <algorithm>
 #include <limits>
 
 #include "trueaxis/core/plane_fit.hpp"
@@ -15,13 +16,14 @@ bool is_sign(double s) { return s == 1.0 || s == -1.0; }
 // The representative c + k 360 inside [lo, hi] nearest to `current`; false when
 // the range holds none.
 bool nearest_representative(double c_deg, double current_deg, double lo, double hi, double& out) {
-  const double first = c_deg + 360.0 * std::ceil((lo - c_deg) / 360.0);
-  if (first > hi) return false;
-  const double steps = std::floor((hi - first) / 360.0);
-  double k = std::round((current_deg - first) / 360.0);
-  k = std::min(std::max(k, 0.0), steps);
-  out = first + 360.0 * k;
-  return true;
+  // Whole turns k are chosen first and added once, so the result is rounded once,
+  // at its own magnitude (stepping from a far limit would lose digits of c).
+  const double k_min = std::ceil((lo - c_deg) / 360.0);
+  const double k_max = std::floor((hi - c_deg) / 360.0);
+  if (k_min > k_max) return false;
+  const double k = std::min(std::max(std::round((current_deg - c_deg) / 360.0), k_min), k_max);
+  out = c_deg + 360.0 * k;
+  return out >= lo && out <= hi;
 }
 
 LevelSolution make_solution(double c_phys_rad, double a_phys_rad, const TablePose& current,
@@ -79,7 +81,11 @@ Result<LevelResult> level_face(const LevelInput& in, const LevelConfig& cfg) {
   const Vec3 hint = in.outward_hint_machine.squaredNorm() > 0.0 ? in.outward_hint_machine.normalized()
                                                                  : Vec3::UnitZ();
   const double hint_cos = fit.normal.dot(hint);
-  if (std::abs(hint_cos) < kOrientationMinCos) return Status::kOrientationAmbiguous;
+  // Refuse when the face is so close to perpendicular to the hint that the probe
+  // noise could flip which side is outward (3 sigma of the normal's direction).
+  if (std::abs(hint_cos) < std::max(kOrientationMinCos, 3.0 * direction_sigma_rad)) {
+    return Status::kOrientationAmbiguous;
+  }
   const double orient = hint_cos > 0.0 ? 1.0 : -1.0;
 
   // The probe saw the face with the table at probe_pose: n_machine = R n_table.
@@ -98,7 +104,11 @@ Result<LevelResult> level_face(const LevelInput& in, const LevelConfig& cfg) {
   const double tilt_rad = std::atan2(rho, n.z());
   out.tilt_deg = rad_to_deg(tilt_rad);
 
-  if (rho == 0.0) {
+  // Level as far as the measurement can tell: the tilt is not larger than the
+  // normal's 1-sigma direction error, so C would be set by noise. Keep C, A = 0.
+  // A face facing down (n.z < 0) is never level: it needs A near 180 deg.
+  const bool level = n.z() > 0.0 && (rho == 0.0 || tilt_rad <= direction_sigma_rad);
+  if (level) {
     out.chosen.a_deg = 0.0;
     out.chosen.c_deg = in.current_pose.c_deg;
     out.chosen.reachable = cfg.a_min_deg <= 0.0 && 0.0 <= cfg.a_max_deg &&

@@ -82,6 +82,10 @@ bool ModbusTcpServer::serve_one(int fd) {
   if (length <= header) return false;
   const macros::ModbusException e =
       handler_.handle(adu + header, static_cast<std::size_t>(length - header), image_->tab_registers);
+  if (e == macros::ModbusException::kNone) {
+    RequestHandler::prepare_read_write_reply(adu + header, static_cast<std::size_t>(length - header),
+                                             image_->tab_registers);
+  }
   const int sent = e == macros::ModbusException::kNone
                        ? modbus_reply(ctx_, adu, length, image_)
                        : modbus_reply_exception(ctx_, adu, static_cast<unsigned>(e));

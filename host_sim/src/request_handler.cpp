@@ -57,9 +57,27 @@ ModbusException RequestHandler::read_write_multiple(const std::uint8_t* pdu, std
   if (pdu[9] != 2u * write_quantity || length < 10u + 2u * write_quantity) {
     return ModbusException::kIllegalDataValue;
   }
+  // The read range is checked before the write is applied, so a request whose
+  // read would be refused changes nothing.
+  const ModbusException checked = read_into(be16(pdu + 1), be16(pdu + 3), image);
+  if (checked != ModbusException::kNone) return checked;
   const ModbusException e = write_from(be16(pdu + 5), write_quantity, pdu + 10);
   if (e != ModbusException::kNone) return e;
   return read_into(be16(pdu + 1), be16(pdu + 3), image);
+}
+
+void RequestHandler::prepare_read_write_reply(std::uint8_t* pdu, std::size_t length, const std::uint16_t* image) {
+  if (length < 10 || pdu[0] != kReadWriteMultiple) return;
+  const std::uint32_t read_first = be16(pdu + 1);
+  const std::uint32_t read_end = read_first + be16(pdu + 3);
+  const std::uint32_t write_first = be16(pdu + 5);
+  const std::uint16_t write_quantity = be16(pdu + 7);
+  for (std::uint32_t i = 0; i < write_quantity && 10u + 2u * i + 1u < length; ++i) {
+    const std::uint32_t reg = write_first + i;
+    if (reg < read_first || reg >= read_end) continue;
+    pdu[10 + 2 * i] = static_cast<std::uint8_t>(image[reg] >> 8);
+    pdu[11 + 2 * i] = static_cast<std::uint8_t>(image[reg]);
+  }
 }
 
 // FC6 write single register
@@ -78,7 +96,7 @@ ModbusException RequestHandler::read_into(std::uint16_t address, std::uint16_t q
 }
 
 ModbusException RequestHandler::write_from(std::uint16_t address, std::uint16_t quantity, const std::uint8_t* bytes) {
-  std::uint16_t words[macros::kMaxVariablesPerRequest * macros::kRegistersPerVariable];
+  std::uint16_t words[macros::kMaxVariablesPerWrite * macros::kRegistersPerVariable];
   if (quantity > sizeof words / sizeof words[0]) {
     return modbus_exception(vars_.fault(AccessFault::kMisaligned));
   }

@@ -107,9 +107,9 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
       continue;
     }
     set(number, values[i]);
-    if (access == Access::kCommand) {
+    if (access == Access::kCommand && values[i] != 0.0) {  // 0 runs nothing and changes no state
       pending_ = static_cast<std::uint16_t>(values[i]);
-      set(var::kStatus, state_value(pending_ != 0 ? MacroState::kBusy : MacroState::kIdle));
+      set(var::kStatus, state_value(MacroState::kBusy));
       set(var::kError, 0.0);
     }
   }

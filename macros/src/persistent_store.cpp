@@ -47,17 +47,17 @@ std::uint32_t crc32(const std::uint8_t* data, std::size_t length) {
   return ~crc;
 }
 
-bool PersistentStore::read_slot(std::size_t slot, std::uint32_t& sequence, std::size_t& count) {
-  if (storage_.read(slot * kSlotBytes, buffer_, kSlotBytes) != hal::IoStatus::kOk) return false;
-  if (std::memcmp(buffer_, kMagic, sizeof kMagic) != 0) return false;
-  if (get_u16(buffer_ + 4) != kLayoutVersion) return false;
+PersistentStore::SlotState PersistentStore::read_slot(std::size_t slot, std::uint32_t& sequence, std::size_t& count) {
+  if (storage_.read(slot * kSlotBytes, buffer_, kSlotBytes) != hal::IoStatus::kOk) return SlotState::kUnreadable;
+  if (std::memcmp(buffer_, kMagic, sizeof kMagic) != 0) return SlotState::kInvalid;
+  if (get_u16(buffer_ + 4) != kLayoutVersion) return SlotState::kInvalid;
   count = get_u16(buffer_ + 6);
-  if (count > kPersistentCount) return false;
+  if (count > kPersistentCount) return SlotState::kInvalid;
   const std::uint32_t stored_crc = get_u32(buffer_ + kCrcOffset);
   put_u32(buffer_ + kCrcOffset, 0);
-  if (crc32(buffer_, kHeaderBytes + count * kEntryBytes) != stored_crc) return false;
+  if (crc32(buffer_, kHeaderBytes + count * kEntryBytes) != stored_crc) return SlotState::kInvalid;
   sequence = get_u32(buffer_ + 8);
-  return true;
+  return SlotState::kValid;
 }
 
 core::Status PersistentStore::load(PersistentEntry* entries, std::size_t capacity, std::size_t& count) {
@@ -65,14 +65,22 @@ core::Status PersistentStore::load(PersistentEntry* entries, std::size_t capacit
   if (storage_.size_bytes() < kRequiredBytes) return core::Status::kStorageFailure;
   std::uint32_t seq[2] = {0, 0};
   std::size_t n[2] = {0, 0};
-  const bool valid[2] = {read_slot(0, seq[0], n[0]), read_slot(1, seq[1], n[1])};
+  const SlotState state[2] = {read_slot(0, seq[0], n[0]), read_slot(1, seq[1], n[1])};
+  // A slot that could not be read may hold the newest table: saving over the other
+  // one would then lose it, so the store stays unusable until a load succeeds.
+  if (state[0] == SlotState::kUnreadable || state[1] == SlotState::kUnreadable) return core::Status::kStorageFailure;
+  const bool valid[2] = {state[0] == SlotState::kValid, state[1] == SlotState::kValid};
+  loaded_ = true;
   if (!valid[0] && !valid[1]) {
     newest_slot_ = 1;
     sequence_ = 0;
     return core::Status::kOk;
   }
   const std::size_t best = (valid[0] && (!valid[1] || newer(seq[0], seq[1]))) ? 0 : 1;
-  if (!read_slot(best, seq[best], n[best])) return core::Status::kStorageFailure;
+  if (read_slot(best, seq[best], n[best]) != SlotState::kValid) {
+    loaded_ = false;
+    return core::Status::kStorageFailure;
+  }
   newest_slot_ = best;
   sequence_ = seq[best];
   count = n[best] < capacity ? n[best] : capacity;
@@ -86,7 +94,9 @@ core::Status PersistentStore::load(PersistentEntry* entries, std::size_t capacit
 }
 
 core::Status PersistentStore::save(const PersistentEntry* entries, std::size_t count) {
-  if (count > kPersistentCount || storage_.size_bytes() < kRequiredBytes) return core::Status::kStorageFailure;
+  if (!loaded_ || count > kPersistentCount || storage_.size_bytes() < kRequiredBytes) {
+    return core::Status::kStorageFailure;
+  }
   const std::uint32_t sequence = sequence_ + 1;
   std::memset(buffer_, 0, kSlotBytes);
   std::memcpy(buffer_, kMagic, sizeof kMagic);
@@ -106,6 +116,10 @@ core::Status PersistentStore::save(const PersistentEntry* entries, std::size_t c
 
   const std::size_t target = 1 - newest_slot_;
   if (storage_.write(target * kSlotBytes, buffer_, kSlotBytes) != hal::IoStatus::kOk) {
+    // The refused record may have landed whole (written, then the sync failed);
+    // the caller keeps the old values, so make sure a restart does too.
+    const std::uint8_t blank[sizeof kMagic] = {};
+    (void)storage_.write(target * kSlotBytes, blank, sizeof blank);
     return core::Status::kStorageFailure;
   }
   newest_slot_ = target;

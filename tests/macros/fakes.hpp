@@ -26,11 +26,14 @@ class FlakyStorage final : public hal::NvStorage {
  public:
   std::array<std::uint8_t, macros::PersistentStore::kRequiredBytes> bytes{};
   bool refuse = false;
-  long cut_after_bytes = -1;  // -1: no cut
+  bool refuse_reads = false;
+  bool land_then_fail = false;  // the bytes land, then the write reports failure (fsync failed)
+  long cut_after_bytes = -1;    // -1: no cut
 
  private:
   std::size_t do_size_bytes() const override { return bytes.size(); }
   hal::IoStatus do_read(std::size_t offset, std::uint8_t* out, std::size_t length) override {
+    if (refuse_reads) return hal::IoStatus::kIoError;
     for (std::size_t i = 0; i < length; ++i) out[i] = bytes[offset + i];
     return hal::IoStatus::kOk;
   }
@@ -40,7 +43,7 @@ class FlakyStorage final : public hal::NvStorage {
       if (cut_after_bytes >= 0 && static_cast<long>(i) >= cut_after_bytes) return hal::IoStatus::kIoError;
       bytes[offset + i] = data[i];
     }
-    return hal::IoStatus::kOk;
+    return land_then_fail ? hal::IoStatus::kIoError : hal::IoStatus::kOk;
   }
 };
 

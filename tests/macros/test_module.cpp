@@ -76,9 +76,12 @@ TEST_CASE("macro 9810 levels a face and completes the handshake", "[module][9810
   const double tilt = std::atan(0.2) * 180.0 / trueaxis::core::kPi;
   CHECK(r[7] == Approx(tilt).margin(1e-12));
   // The normal (-0.2, 0, 1)/|.| needs C = -90 and A = tilt, or C = 90 and A = -tilt.
-  CHECK(std::abs(r[1]) == Approx(tilt).margin(1e-12));
-  CHECK(std::abs(std::abs(r[0]) - 90.0) < 1e-12);
-  CHECK(r[3] == Approx(-r[1]).margin(1e-12));
+  // From the table at zero both cost 90 + tilt degrees of travel: the tie goes to
+  // solution 1 (C = atan2(nx, ny) = -90).
+  CHECK(r[0] == Approx(-90.0).margin(1e-12));
+  CHECK(r[1] == Approx(tilt).margin(1e-12));
+  CHECK(r[2] == Approx(90.0).margin(1e-12));
+  CHECK(r[3] == Approx(-tilt).margin(1e-12));
   CHECK(r[12] == 3.0);
   CHECK(r[15] == 1.0);
   CHECK(r[8] > 0.0);
@@ -278,4 +281,29 @@ TEST_CASE("a whole level cycle through the module allocates nothing", "[module][
   double out[16];
   REQUIRE(rig.module.read(v::kLevelC, 16, out) == F::kNone);
   CHECK(scope.count() == 0);
+}
+
+TEST_CASE("the chosen solution is the one nearest the table's present position", "[module][9810]") {
+  Rig rig;
+  rig.put_inclined_face();  // probed with the table at zero
+  REQUIRE(rig.put(v::kArgC, 80.0) == F::kNone);  // ...but say it was at C = 80
+  REQUIRE(rig.put(v::kArgA, 0.0) == F::kNone);
+  // The points are the same, so the face normal at table zero is Rz(80)^T (-0.2, 0, 1):
+  // C1 = -90 + 80 = -10 or C2 = 170; from C = 80 solution 1 is nearer.
+  REQUIRE(rig.run(9810) == 2.0);
+  const auto r = rig.results();
+  const double tilt = std::atan(0.2) * 180.0 / trueaxis::core::kPi;
+  CHECK(r[0] == Approx(-10.0).margin(1e-9));
+  CHECK(r[1] == Approx(tilt).margin(1e-12));
+  CHECK(r[2] == Approx(170.0).margin(1e-9));
+}
+
+TEST_CASE("writing 0 to the command runs nothing and keeps the last status and error", "[module]") {
+  Rig rig;
+  CHECK(rig.run(1234) == 3.0);
+  REQUIRE(rig.put(v::kCmd, 0.0) == F::kNone);
+  CHECK_FALSE(rig.module.busy());
+  CHECK(rig.get(v::kStatus) == 3.0);
+  CHECK(rig.get(v::kError) == static_cast<double>(Status::kUnknownMacro));
+  CHECK(rig.get(v::kDoneCount) == 1.0);
 }

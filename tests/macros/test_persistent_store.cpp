@@ -119,3 +119,47 @@ TEST_CASE("the module skips stored numbers it no longer holds as persistent", "[
   CHECK(module.value(500) == -60.0);    // a known configuration value is
   CHECK(module.value(504) == 1.0);      // a value the map would refuse keeps the default
 }
+
+TEST_CASE("a read failure at start-up is reported and no save may overwrite the unread table", "[store]") {
+  trueaxis::test::FlakyStorage storage;
+  trueaxis::test::FakeClock clock;
+  {
+    m::Module module(storage, clock);
+    REQUIRE(module.start() == Status::kOk);
+    const double offsets[2] = {4.0, 5.0};
+    REQUIRE(module.write(5221, 2, offsets) == m::AccessFault::kNone);
+  }
+  const auto stored = storage.bytes;
+  {
+    storage.refuse_reads = true;
+    m::Module blind(storage, clock);
+    CHECK(blind.start() == Status::kStorageFailure);
+    storage.refuse_reads = false;
+    const double value = 42.0;
+    CHECK(blind.write(5222, 1, &value) == m::AccessFault::kStorageFailure);
+    CHECK(storage.bytes == stored);
+  }
+  m::Module again(storage, clock);
+  REQUIRE(again.start() == Status::kOk);
+  CHECK(again.value(5221) == 4.0);
+  CHECK(again.value(5222) == 5.0);
+}
+
+TEST_CASE("a refused save that landed anyway is not loaded after a restart", "[store]") {
+  trueaxis::test::FlakyStorage storage;
+  trueaxis::test::FakeClock clock;
+  {
+    m::Module module(storage, clock);
+    REQUIRE(module.start() == Status::kOk);
+    const double v = 1.0;
+    REQUIRE(module.write(5221, 1, &v) == m::AccessFault::kNone);
+    storage.land_then_fail = true;
+    const double w = 2.0;
+    CHECK(module.write(5221, 1, &w) == m::AccessFault::kStorageFailure);
+    CHECK(module.value(5221) == 1.0);
+    storage.land_then_fail = false;
+  }
+  m::Module again(storage, clock);
+  REQUIRE(again.start() == Status::kOk);
+  CHECK(again.value(5221) == 1.0);
+}

@@ -61,6 +61,7 @@ TA_TEST("level_face levels random faces with both solutions, the chosen one with
     LevelConfig cfg;
     cfg.a_sign = f.a_sign;
     cfg.c_sign = f.c_sign;
+    cfg.probe_sigma_mm = 0.0;  // a perfect probe: exactness is the property here
     // Every third face gets one-sided A travel, so only one solution is reachable.
     if (i % 3 == 1) cfg.a_min_deg = 0.0;
     if (i % 3 == 2) cfg.a_max_deg = 0.0;

@@ -63,10 +63,12 @@ double run_9810(Module& m, const trueaxis::core::Vec3 (&points)[3], double a_deg
   return read1(m, var::kStatus);
 }
 
+// Axis signs, and a perfect probe: exactness is the property these cases check
+// (under probe noise a face tilted less than the noise is left at A = 0).
 bool set_signs(Module& m, double a_sign, double c_sign) {
   return write1(m, var::kUnlock, trueaxis::macros::kUnlockCode) == AccessFault::kNone &&
          write1(m, var::kASign, a_sign) == AccessFault::kNone && write1(m, var::kCSign, c_sign) == AccessFault::kNone &&
-         write1(m, var::kUnlock, 0.0) == AccessFault::kNone;
+         write1(m, var::kProbeSigma, 0.0) == AccessFault::kNone && write1(m, var::kUnlock, 0.0) == AccessFault::kNone;
 }
 
 constexpr double kDone = static_cast<double>(MacroState::kDone);

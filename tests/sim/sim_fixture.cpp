@@ -112,12 +112,16 @@ std::vector<double> SimFixture::snapshot() {
     REQUIRE(client_.read(first, count, v.data()));
     all.insert(all.end(), v.begin(), v.end());
   };
+  grab(1, 9);  // arguments A..F
+  grab(11, 1);
+  grab(13, 1);
+  grab(17, 10);  // arguments Q..Z
   grab(100, 16);
   grab(500, 8);
   grab(5281, 3);
   grab(5301, 3);
   grab(5321, 3);
-  grab(9001, 3);
+  grab(9000, 7);  // the handshake; #9007 is left out: a refusal sets it by design
   grab(simvar::kFirst, 10);  // #12000..#12009: table, probe, hold
   return all;
 }

@@ -101,6 +101,38 @@ TEST_CASE("FC23 whose write is refused reads nothing and changes nothing") {
   CHECK(b.module.value(100) == 0.0);
 }
 
+TEST_CASE("FC23 whose read is refused writes nothing") {
+  Bench b;
+  // Read #10 (undefined), write #1 = 2.0.
+  std::vector<std::uint8_t> pdu = {0x17, 0, 40, 0, 4, 0, 4, 0, 4, 8};
+  put_words(pdu, kTwo);
+  CHECK(b.run(pdu) == ModbusException::kIllegalDataAddress);
+  CHECK(b.module.value(1) == 0.0);
+}
+
+TEST_CASE("FC23 reads back the module's value, not the words it wrote") {
+  Bench b;
+  // Write the unlock code to #9004 and read #9004 in the same request: it reads 1.
+  std::vector<std::uint8_t> pdu = {0x17, 0x8C, 0xB0, 0, 4, 0x8C, 0xB0, 0, 4, 8};  // register 36016 = #9004
+  put_words(pdu, words_of({trueaxis::macros::kUnlockCode}));
+  REQUIRE(b.run(pdu) == ModbusException::kNone);
+  CHECK(b.module.unlocked());
+  trueaxis::sim::RequestHandler::prepare_read_write_reply(pdu.data(), pdu.size(), b.image.data());
+  const std::vector<std::uint8_t> echoed(pdu.begin() + 10, pdu.end());
+  CHECK(echoed == std::vector<std::uint8_t>({0x3F, 0xF0, 0, 0, 0, 0, 0, 0}));
+}
+
+TEST_CASE("a write of more than 30 variables is exception 02 and changes nothing") {
+  Bench b;
+  std::vector<std::uint16_t> words;
+  for (int i = 0; i < 31; ++i) words.insert(words.end(), kOne.begin(), kOne.end());
+  CHECK(b.run(write_pdu(4 * 1001, words)) == ModbusException::kIllegalDataAddress);
+  CHECK(b.module.value(1001) == 0.0);
+  words.resize(30 * 4);
+  CHECK(b.run(write_pdu(4 * 1001, words)) == ModbusException::kNone);
+  CHECK(b.module.value(1030) == 1.0);
+}
+
 TEST_CASE("FC6 is answered with exception 02 and writes nothing") {
   Bench b;
   CHECK(b.run({0x06, 0, 4, 0x3F, 0xF0}) == ModbusException::kIllegalDataAddress);

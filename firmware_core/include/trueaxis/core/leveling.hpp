@@ -21,8 +21,12 @@
 //         C2 = C1 + 180 deg,   A2 = -A1
 //     Both satisfy Rx(A) Rz(C) n = +Z. atan2, not the seed's atan, keeps the
 //     face right side up in every quadrant.
-//  5. A face already level (rho == 0) has no defined C: both solutions keep C at
-//     the current position and set A = 0.
+//  5. A face already level has no defined C: both solutions keep C at the current
+//     position and set A = 0. Level means facing up (nz > 0) with a tilt no larger
+//     than the normal's 1-sigma direction error sigma / s_v (item 7), so that
+//     probe noise on a level face never swings C; with a perfect probe
+//     (sigma = 0) only rho == 0 is level. A face facing down (nz < 0) is never
+//     level: it needs A near +-180 deg.
 //  6. C is written as the representative (C + k 360) nearest to the current C
 //     inside the C travel limits. A solution is reachable when its A lies inside
 //     the A limits and such a representative exists. Of the reachable ones the one
@@ -42,7 +46,8 @@
 // Status codes: those of fit_plane, plus kNotFinite (pose or hint),
 // kConfigInvalid, kPointsTooClose (the normal's 1-sigma direction error sigma / s_v
 // exceeds max_direction_sigma_deg), kOrientationAmbiguous (|cos| between normal
-// and hint below kOrientationMinCos), kUnreachable.
+// and hint below kOrientationMinCos or below 3 sigma / s_v, where probe noise could
+// flip the side), kUnreachable.
 #pragma once
 
 #include <cstddef>

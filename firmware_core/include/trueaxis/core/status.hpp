@@ -14,6 +14,7 @@
 //       400-499  the macro layer and the platform (unknown macro, storage)
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 namespace trueaxis::core {

@@ -34,6 +34,13 @@ class RequestHandler {
 
   [[nodiscard]] macros::ModbusException handle(const std::uint8_t* pdu, std::size_t length, std::uint16_t* image);
 
+  // libmodbus's modbus_reply answers FC23 by writing the request's words into the
+  // image and reading the image back, so an overlap of the two ranges would echo
+  // the written words (#9004 would read the code, not 1). After a successful
+  // handle(), this overwrites the request's written words inside the read range
+  // with what the read produced. Other function codes are left alone.
+  static void prepare_read_write_reply(std::uint8_t* pdu, std::size_t length, const std::uint16_t* image);
+
  private:
   macros::ModbusException read_holding(const std::uint8_t* pdu, std::size_t length, std::uint16_t* image);
   macros::ModbusException write_multiple(const std::uint8_t* pdu, std::size_t length);

@@ -39,20 +39,25 @@ class PersistentStore {
 
   // Reads both slots; on kOk, `entries`/`count` hold the newest valid copy, or
   // count == 0 when neither slot is valid (a new device). kStorageFailure when
-  // the device is too small or cannot be read.
+  // the device is too small or a slot cannot be read; save() then refuses until a
+  // later load succeeds, so an unreadable newest copy is never overwritten.
   [[nodiscard]] core::Status load(PersistentEntry* entries, std::size_t capacity, std::size_t& count);
 
   // Writes `count` entries as the new newest copy. kStorageFailure when the
-  // device refused; the previous copy is then still the newest valid one.
+  // device refused (the slot written is then invalidated, best effort, in case the
+  // bytes landed anyway) or no load has succeeded; the previous copy is then still
+  // the newest valid one.
   [[nodiscard]] core::Status save(const PersistentEntry* entries, std::size_t count);
 
  private:
-  bool read_slot(std::size_t slot, std::uint32_t& sequence, std::size_t& count);
+  enum class SlotState : std::uint8_t { kValid, kInvalid, kUnreadable };
+  SlotState read_slot(std::size_t slot, std::uint32_t& sequence, std::size_t& count);
 
   hal::NvStorage& storage_;
   std::uint8_t buffer_[kSlotBytes] = {};
   std::uint32_t sequence_ = 0;
   std::size_t newest_slot_ = 1;  // so the first save goes to slot 0
+  bool loaded_ = false;
 };
 
 std::uint32_t crc32(const std::uint8_t* data, std::size_t length);

@@ -6,8 +6,9 @@
 //  1. Variable #N is the four registers 4N .. 4N+3; register 4N holds bits 63..48
 //     of the IEEE-754 binary64, register 4N+3 bits 15..0.
 //  2. A range that does not start at 4N or does not cover whole variables is
-//     kMisaligned; more than kMaxVariablesPerRequest variables is kMisaligned too
-//     (Modbus itself caps a read at 125 registers).
+//     kMisaligned; so is a read of more than kMaxVariablesPerRead variables or a
+//     write of more than kMaxVariablesPerWrite (Modbus caps a read at 125 and a
+//     write at 123 registers; FC23 writes at most 121).
 //  3. Reads and writes are whole or nothing (variable_access.hpp).
 #pragma once
 
@@ -19,7 +20,8 @@
 namespace trueaxis::macros {
 
 inline constexpr std::uint16_t kRegistersPerVariable = 4;
-inline constexpr std::uint16_t kMaxVariablesPerRequest = 31;  // 124 registers
+inline constexpr std::uint16_t kMaxVariablesPerRead = 31;   // 124 registers
+inline constexpr std::uint16_t kMaxVariablesPerWrite = 30;  // 120 registers
 
 constexpr std::uint32_t register_of(std::uint16_t variable) {
   return static_cast<std::uint32_t>(variable) * kRegistersPerVariable;

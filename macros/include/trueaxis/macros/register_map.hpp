@@ -165,7 +165,7 @@ inline constexpr VarInfo kRegisterMap[] = {
   detail::offset(5321, "g59_x", "mm"), detail::offset(5322, "g59_y", "mm"), detail::offset(5323, "g59_z", "mm"),
   detail::offset(5324, "g59_a", "deg"), detail::offset(5325, "g59_b", "deg"), detail::offset(5326, "g59_c", "deg"),
 
-  {9000, 1, Access::kCommand, ValueKind::kInteger, 0.0, 9999.0, 0.0, "cmd", "", "Write a macro number to run that macro; reads the last number written."},
+  {9000, 1, Access::kCommand, ValueKind::kInteger, 0.0, 9999.0, 0.0, "cmd", "", "Write a macro number to run that macro (0 runs nothing); reads the last number written."},
   {9001, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 3.0, 0.0, "status", "", "0 idle, 1 busy, 2 done, 3 error."},
   {9002, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, 0.0, "error", "", "0 when the last macro succeeded, else its error code."},
   {9003, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "done_count", "", "+1 each time a macro finishes, with success or error."},
