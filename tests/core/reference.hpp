@@ -7,24 +7,19 @@
 #include <cmath>
 #include <cstdint>
 
+#include "fixtures.hpp"
+
 namespace trueaxis::test {
 
 using Vec3L = Eigen::Matrix<long double, 3, 1>;
 using Mat3L = Eigen::Matrix<long double, 3, 3>;
 
-// Deterministic generator for every randomised test (splitmix64).
-class Rng {
+// Deterministic generator for every randomised test: the portable tests'
+// splitmix64, plus the normal deviates and directions the host tests need.
+class Rng : public SplitMix64 {
  public:
-  explicit Rng(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  double uniform(double lo, double hi) {
-    return lo + (hi - lo) * static_cast<double>(next() >> 11) * 0x1.0p-53;
-  }
+  using SplitMix64::SplitMix64;
+  using SplitMix64::uniform;
   double normal() {  // Box-Muller
     const double u1 = uniform(1e-300, 1.0);
     const double u2 = uniform(0.0, 1.0);
@@ -37,9 +32,6 @@ class Rng {
       if (n > 0.1 && n <= 1.0) return v / n;
     }
   }
-
- private:
-  std::uint64_t state_;
 };
 
 inline Mat3L hat_l(const Vec3L& w) {

@@ -67,6 +67,25 @@ core::LevelInput input_for(const Face& f, const core::TablePose& pose) {
   return in;
 }
 
+// Root mean square spread of `value(result)` about its value for the noise-free
+// face, over `trials` probings with isotropic Gaussian noise of cfg.probe_sigma_mm.
+template <typename Value>
+double monte_carlo_sd(const Face& f, const core::LevelConfig& cfg, t::Rng& rng, int trials, Value value) {
+  const auto nominal = core::level_face(input_for(f, {}), cfg);
+  REQUIRE(nominal.ok());
+  const double centre = value(nominal.value());
+  double sum_sq = 0;
+  for (int k = 0; k < trials; ++k) {
+    Face noisy = f;
+    for (auto& p : noisy.machine_points) p += cfg.probe_sigma_mm * Vec3(rng.normal(), rng.normal(), rng.normal());
+    const auto r = core::level_face(input_for(noisy, {}), cfg);
+    REQUIRE(r.ok());
+    const double d = value(r.value()) - centre;
+    sum_sq += d * d;
+  }
+  return std::sqrt(sum_sq / trials);
+}
+
 }  // namespace
 
 TEST_CASE("levels 100000 random faces to +Z within 1e-12 rad, both solutions", "[level]") {
@@ -249,19 +268,8 @@ TEST_CASE("the tilt uncertainty matches a Monte Carlo of probe noise", "[level][
     const Face f = make_face(tilt, 0.7, {}, cfg, rng);
     const auto nominal = core::level_face(input_for(f, {}), cfg);
     REQUIRE(nominal.ok());
-    const int trials = 4000;
-    double sum = 0;
-    double sum_sq = 0;
-    for (int k = 0; k < trials; ++k) {
-      Face noisy = f;
-      for (auto& p : noisy.machine_points) p += cfg.probe_sigma_mm * Vec3(rng.normal(), rng.normal(), rng.normal());
-      const auto r = core::level_face(input_for(noisy, {}), cfg);
-      REQUIRE(r.ok());
-      sum += r.value().tilt_deg;
-      sum_sq += r.value().tilt_deg * r.value().tilt_deg;
-    }
-    const double mean = sum / trials;
-    const double sd_arcsec = std::sqrt(sum_sq / trials - mean * mean) * 3600.0;
+    const double sd_arcsec =
+        3600.0 * monte_carlo_sd(f, cfg, rng, 4000, [](const core::LevelResult& r) { return r.tilt_deg; });
     INFO("tilt " << tilt << " MC " << sd_arcsec << " model " << nominal.value().tilt_sigma_arcsec);
     CHECK(nominal.value().tilt_sigma_arcsec == Approx(sd_arcsec).epsilon(0.06));
   }
@@ -382,18 +390,11 @@ TEST_CASE("the C uncertainty matches a Monte Carlo of probe noise", "[level][unc
     const Face f = make_face(tilt, 0.7, {}, cfg, rng);
     const auto nominal = core::level_face(input_for(f, {}), cfg);
     REQUIRE(nominal.ok());
+    // C wrapped next to the nominal one, so a turn of 360 is no error.
     const double c0 = nominal.value().chosen.c_deg;
-    const int trials = 4000;
-    double sum_sq = 0;
-    for (int k = 0; k < trials; ++k) {
-      Face noisy = f;
-      for (auto& p : noisy.machine_points) p += cfg.probe_sigma_mm * Vec3(rng.normal(), rng.normal(), rng.normal());
-      const auto r = core::level_face(input_for(noisy, {}), cfg);
-      REQUIRE(r.ok());
-      const double d = core::wrap_deg_180(r.value().chosen.c_deg - c0);
-      sum_sq += d * d;
-    }
-    const double sd_arcsec = std::sqrt(sum_sq / trials) * 3600.0;
+    const double sd_arcsec = 3600.0 * monte_carlo_sd(f, cfg, rng, 4000, [c0](const core::LevelResult& r) {
+                               return c0 + core::wrap_deg_180(r.chosen.c_deg - c0);
+                             });
     INFO("tilt " << tilt << " MC " << sd_arcsec << " model " << nominal.value().c_sigma_arcsec);
     CHECK(nominal.value().c_sigma_arcsec == Approx(sd_arcsec).epsilon(0.06));
   }
