@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 
 #include <array>
+#include <initializer_list>
 
 #include "fakes.hpp"
 #include "trueaxis/core/types.hpp"
@@ -12,8 +13,34 @@ using trueaxis::core::Status;
 
 namespace {
 
+using Entries = std::array<m::PersistentEntry, m::kPersistentCount>;
+
 std::array<m::PersistentEntry, 3> table(double base) {
   return {{{500, base}, {501, base + 1}, {5281, base + 2}}};
+}
+
+// What a store that has just been constructed over `storage` loads.
+struct Loaded {
+  Status status = Status::kOk;
+  Entries entries{};
+  std::size_t count = 0;
+};
+Loaded load_fresh(trueaxis::hal::NvStorage& storage) {
+  m::PersistentStore store(storage);
+  Loaded l;
+  l.status = store.load(l.entries.data(), l.entries.size(), l.count);
+  return l;
+}
+
+// Loads (as start-up does), then saves table(base) for each base in turn.
+void load_and_save(m::PersistentStore& store, std::initializer_list<double> bases) {
+  Entries scratch{};
+  std::size_t n = 0;
+  REQUIRE(store.load(scratch.data(), scratch.size(), n) == Status::kOk);
+  for (double base : bases) {
+    const auto t = table(base);
+    REQUIRE(store.save(t.data(), t.size()) == Status::kOk);
+  }
 }
 
 }  // namespace
@@ -25,27 +52,23 @@ TEST_CASE("crc32 matches the standard check value", "[store]") {
 
 TEST_CASE("blank storage loads as no entries", "[store]") {
   trueaxis::test::FlakyStorage storage;
-  m::PersistentStore store(storage);
-  std::array<m::PersistentEntry, m::kPersistentCount> out{};
-  std::size_t n = 99;
-  REQUIRE(store.load(out.data(), out.size(), n) == Status::kOk);
-  CHECK(n == 0);
+  const Loaded l = load_fresh(storage);
+  REQUIRE(l.status == Status::kOk);
+  CHECK(l.count == 0);
 }
 
 TEST_CASE("the newest save wins and alternates slots", "[store]") {
   trueaxis::test::FlakyStorage storage;
   m::PersistentStore store(storage);
-  std::array<m::PersistentEntry, m::kPersistentCount> out{};
-  std::size_t n = 0;
-  REQUIRE(store.load(out.data(), out.size(), n) == Status::kOk);
+  load_and_save(store, {});
   for (int i = 0; i < 5; ++i) {
     const auto t = table(10.0 * i);
     REQUIRE(store.save(t.data(), t.size()) == Status::kOk);
-    m::PersistentStore fresh(storage);
-    REQUIRE(fresh.load(out.data(), out.size(), n) == Status::kOk);
-    REQUIRE(n == 3);
-    CHECK(out[0].value == 10.0 * i);
-    CHECK(out[2].number == 5281);
+    const Loaded l = load_fresh(storage);
+    REQUIRE(l.status == Status::kOk);
+    REQUIRE(l.count == 3);
+    CHECK(l.entries[0].value == 10.0 * i);
+    CHECK(l.entries[2].number == 5281);
   }
 }
 
@@ -54,20 +77,14 @@ TEST_CASE("a power cut at any byte of a save keeps the previous table", "[store]
     trueaxis::test::FlakyStorage storage;
     {
       m::PersistentStore store(storage);
-      std::array<m::PersistentEntry, m::kPersistentCount> scratch{};
-      std::size_t n = 0;
-      REQUIRE(store.load(scratch.data(), scratch.size(), n) == Status::kOk);
-      const auto a = table(1.0);
-      const auto b = table(2.0);
-      REQUIRE(store.save(a.data(), a.size()) == Status::kOk);
-      REQUIRE(store.save(b.data(), b.size()) == Status::kOk);
+      load_and_save(store, {1.0, 2.0});
       storage.cut_after_bytes = cut;
       const auto c = table(3.0);
       CHECK(store.save(c.data(), c.size()) == Status::kStorageFailure);
     }
     storage.cut_after_bytes = -1;
     m::PersistentStore after(storage);
-    std::array<m::PersistentEntry, m::kPersistentCount> out{};
+    Entries out{};
     std::size_t n = 0;
     REQUIRE(after.load(out.data(), out.size(), n) == Status::kOk);
     REQUIRE(n == 3);
@@ -80,35 +97,27 @@ TEST_CASE("a power cut at any byte of a save keeps the previous table", "[store]
     // And the store goes on working after the cut.
     const auto d = table(4.0);
     REQUIRE(after.save(d.data(), d.size()) == Status::kOk);
-    m::PersistentStore again(storage);
-    REQUIRE(again.load(out.data(), out.size(), n) == Status::kOk);
-    CHECK(out[0].value == 4.0);
+    const Loaded again = load_fresh(storage);
+    REQUIRE(again.status == Status::kOk);
+    CHECK(again.entries[0].value == 4.0);
   }
 }
 
 TEST_CASE("a corrupted newest slot falls back to the other", "[store]") {
   trueaxis::test::FlakyStorage storage;
   m::PersistentStore store(storage);
-  std::array<m::PersistentEntry, m::kPersistentCount> out{};
-  std::size_t n = 0;
-  REQUIRE(store.load(out.data(), out.size(), n) == Status::kOk);
-  const auto a = table(1.0);
-  const auto b = table(2.0);
-  REQUIRE(store.save(a.data(), a.size()) == Status::kOk);  // slot 0
-  REQUIRE(store.save(b.data(), b.size()) == Status::kOk);  // slot 1
+  load_and_save(store, {1.0, 2.0});  // slot 0, then slot 1
   storage.bytes[m::PersistentStore::kSlotBytes + m::PersistentStore::kHeaderBytes + 3] ^= 0x10;
-  m::PersistentStore fresh(storage);
-  REQUIRE(fresh.load(out.data(), out.size(), n) == Status::kOk);
-  CHECK(out[0].value == 1.0);
+  const Loaded l = load_fresh(storage);
+  REQUIRE(l.status == Status::kOk);
+  CHECK(l.entries[0].value == 1.0);
 }
 
 TEST_CASE("the module skips stored numbers it no longer holds as persistent", "[store]") {
   trueaxis::test::FlakyStorage storage;
   {
     m::PersistentStore store(storage);
-    std::array<m::PersistentEntry, m::kPersistentCount> scratch{};
-    std::size_t n = 0;
-    REQUIRE(store.load(scratch.data(), scratch.size(), n) == Status::kOk);
+    load_and_save(store, {});
     const std::array<m::PersistentEntry, 4> entries{{{1, 7.0}, {500, -60.0}, {504, 0.25}, {4000, 1.0}}};
     REQUIRE(store.save(entries.data(), entries.size()) == Status::kOk);
   }
