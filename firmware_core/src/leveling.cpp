@@ -26,15 +26,22 @@ bool nearest_representative(double c_deg, double current_deg, double lo, double 
   return out >= lo && out <= hi;
 }
 
-LevelSolution make_solution(double c_phys_rad, double a_phys_rad, const TablePose& current,
-                            const LevelConfig& cfg) {
+// A solution from commanded angles (deg): C moved to its representative nearest
+// the current C inside the C limits, reachability judged against both limits.
+LevelSolution make_solution(double c_cmd_deg, double a_cmd_deg, const TablePose& current, const LevelConfig& cfg) {
   LevelSolution s;
-  s.a_deg = cfg.a_sign * rad_to_deg(a_phys_rad) + 0.0;  // + 0.0 turns -0 into 0
-  const double c_cmd = wrap_deg_180(cfg.c_sign * rad_to_deg(c_phys_rad));
-  s.c_deg = c_cmd;
-  const bool c_ok = nearest_representative(c_cmd, current.c_deg, cfg.c_min_deg, cfg.c_max_deg, s.c_deg);
+  s.a_deg = a_cmd_deg + 0.0;  // + 0.0 turns -0 into 0
+  s.c_deg = c_cmd_deg;
+  const bool c_ok = nearest_representative(c_cmd_deg, current.c_deg, cfg.c_min_deg, cfg.c_max_deg, s.c_deg);
   s.reachable = c_ok && s.a_deg >= cfg.a_min_deg && s.a_deg <= cfg.a_max_deg;
   return s;
+}
+
+// The commanded solution for physical angles (rad), convention 2 of the header.
+LevelSolution make_physical_solution(double c_phys_rad, double a_phys_rad, const TablePose& current,
+                                     const LevelConfig& cfg) {
+  return make_solution(wrap_deg_180(cfg.c_sign * rad_to_deg(c_phys_rad)), cfg.a_sign * rad_to_deg(a_phys_rad),
+                       current, cfg);
 }
 
 double move_cost_deg(const LevelSolution& s, const TablePose& current) {
@@ -109,15 +116,12 @@ Result<LevelResult> level_face(const LevelInput& in, const LevelConfig& cfg) {
   // A face facing down (n.z < 0) is never level: it needs A near 180 deg.
   const bool level = n.z() > 0.0 && (rho == 0.0 || tilt_rad <= direction_sigma_rad);
   if (level) {
-    out.chosen.a_deg = 0.0;
-    out.chosen.c_deg = in.current_pose.c_deg;
-    out.chosen.reachable = cfg.a_min_deg <= 0.0 && 0.0 <= cfg.a_max_deg &&
-                           cfg.c_min_deg <= out.chosen.c_deg && out.chosen.c_deg <= cfg.c_max_deg;
+    out.chosen = make_solution(in.current_pose.c_deg, 0.0, in.current_pose, cfg);
     out.other = out.chosen;
   } else {
     const double c1 = std::atan2(n.x(), n.y());
-    const LevelSolution s1 = make_solution(c1, tilt_rad, in.current_pose, cfg);
-    const LevelSolution s2 = make_solution(c1 + kPi, -tilt_rad, in.current_pose, cfg);
+    const LevelSolution s1 = make_physical_solution(c1, tilt_rad, in.current_pose, cfg);
+    const LevelSolution s2 = make_physical_solution(c1 + kPi, -tilt_rad, in.current_pose, cfg);
     const bool take_second =
         s2.reachable && (!s1.reachable || move_cost_deg(s2, in.current_pose) < move_cost_deg(s1, in.current_pose));
     out.chosen = take_second ? s2 : s1;

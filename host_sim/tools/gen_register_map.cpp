@@ -17,26 +17,6 @@ namespace {
 namespace m = trueaxis::macros;
 namespace core = trueaxis::core;
 
-struct FaultInfo {
-  m::AccessFault fault;
-  const char* name;
-  const char* message;
-};
-
-constexpr FaultInfo kFaults[] = {
-    {m::AccessFault::kUndefined, "undefined", "The map does not define that variable number."},
-    {m::AccessFault::kMisaligned, "misaligned",
-     "The register range does not start on a variable or does not cover whole variables."},
-    {m::AccessFault::kReadOnly, "read_only", "The variable is read-only."},
-    {m::AccessFault::kLocked, "locked", "Configuration is writable only after the unlock code is written to #9004."},
-    {m::AccessFault::kNotFinite, "not_finite", "NaN or infinity where a number is needed."},
-    {m::AccessFault::kOutOfRange, "out_of_range", "Outside the variable's range, or not a whole number or a sign."},
-    {m::AccessFault::kBadUnlockCode, "bad_unlock_code", "#9004 takes the unlock code or 0."},
-    {m::AccessFault::kBusy, "busy", "A macro is running: commands and macro inputs wait until it is done."},
-    {m::AccessFault::kStorageFailure, "storage_failure", "Non-volatile storage refused the write; nothing changed."},
-    {m::AccessFault::kBadFunction, "bad_function", "The server does not serve that Modbus function code."},
-};
-
 std::string escaped(const char* s) {
   std::string out;
   for (; *s != '\0'; ++s) {
@@ -112,7 +92,7 @@ void print_json() {
   }
   std::printf("\n  ],\n  \"access_faults\": [");
   first = true;
-  for (const FaultInfo& f : kFaults) {
+  for (const m::AccessFaultInfo& f : m::kAccessFaultTable) {
     std::printf("%s\n    {\"code\": %d, \"name\": \"%s\", \"modbus_exception\": %d, \"message\": \"%s\"}",
                 first ? "" : ",", as_int(f.fault), f.name, as_int(m::modbus_exception(f.fault)),
                 escaped(f.message).c_str());
@@ -171,7 +151,7 @@ void print_markdown() {
   }
   std::printf("\n## Refused register accesses (#9007 and the Modbus exception)\n\n"
               "| code | name | Modbus exception | meaning |\n|---|---|---|---|\n");
-  for (const FaultInfo& f : kFaults) {
+  for (const m::AccessFaultInfo& f : m::kAccessFaultTable) {
     std::printf("| %d | %s | %02d | %s |\n", as_int(f.fault), f.name, as_int(m::modbus_exception(f.fault)), f.message);
   }
 }

@@ -5,6 +5,7 @@
 
 #include "fixtures.hpp"
 #include "portable_test.hpp"
+#include "fakes.hpp"
 #include "trueaxis/hal/clock.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
@@ -20,17 +21,11 @@ namespace var = trueaxis::macros::var;
 constexpr std::size_t kStorageBytes = 4096;
 static_assert(trueaxis::macros::PersistentStore::kRequiredBytes <= kStorageBytes);
 
-class FakeClock final : public trueaxis::hal::Clock {
- private:
-  std::uint64_t do_now_us() override { return now_us_ += 7; }
-  std::uint64_t now_us_ = 1000;
-};
-
 // A fresh device: storage, clock and a started module, as main would own them.
 struct Bench {
   std::uint8_t bytes[kStorageBytes] = {};
   trueaxis::hal::RamNvStorage storage{bytes, kStorageBytes};
-  FakeClock clock;
+  trueaxis::test::FakeClock clock;
   Module module{storage, clock};
 
   Bench() { static_cast<void>(module.start()); }
@@ -177,7 +172,7 @@ TA_TEST("after unlocking, a configuration write is taken, and locking again refu
 TA_TEST("a second module over the same storage sees the configuration after start") {
   std::uint8_t bytes[kStorageBytes] = {};
   trueaxis::hal::RamNvStorage storage(bytes, kStorageBytes);
-  FakeClock clock;
+  trueaxis::test::FakeClock clock;
   {
     Module first(storage, clock);
     TA_REQUIRE(first.start() == Status::kOk);

@@ -6,6 +6,7 @@
 #include <initializer_list>
 #include <vector>
 
+#include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/sim/request_handler.hpp"
@@ -17,16 +18,10 @@ namespace {
 using trueaxis::macros::ModbusException;
 namespace simvar = trueaxis::sim::simvar;
 
-class FakeClock final : public trueaxis::hal::Clock {
- private:
-  std::uint64_t do_now_us() override { return now_ += 10; }
-  std::uint64_t now_ = 0;
-};
-
 struct Bench {
   std::vector<std::uint8_t> nv_bytes = std::vector<std::uint8_t>(trueaxis::macros::PersistentStore::kRequiredBytes);
   trueaxis::hal::RamNvStorage nv{nv_bytes.data(), nv_bytes.size()};
-  FakeClock clock;
+  trueaxis::test::FakeClock clock;
   trueaxis::macros::Module module{nv, clock};
   trueaxis::sim::Simulator simulator{module, trueaxis::sim::FaceConfig{}, 1};
   trueaxis::sim::VariableRouter router{module, simulator};

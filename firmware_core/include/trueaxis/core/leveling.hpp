@@ -22,7 +22,8 @@
 //     Both satisfy Rx(A) Rz(C) n = +Z. atan2, not the seed's atan, keeps the
 //     face right side up in every quadrant.
 //  5. A face already level has no defined C: both solutions keep C at the current
-//     position and set A = 0. Level means facing up (nz > 0) with a tilt no larger
+//     position (its representative nearest it, if it lies outside the C limits)
+//     and set A = 0. Level means facing up (nz > 0) with a tilt no larger
 //     than the normal's 1-sigma direction error sigma / s_v (item 7), so that
 //     probe noise on a level face never swings C; with a perfect probe
 //     (sigma = 0) only rho == 0 is level. A face facing down (nz < 0) is never

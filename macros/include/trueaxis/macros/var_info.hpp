@@ -73,6 +73,28 @@ constexpr ModbusException modbus_exception(AccessFault f) {
   return ModbusException::kServerDeviceFailure;
 }
 
+struct AccessFaultInfo {
+  AccessFault fault;
+  const char* name;     // snake_case, stable
+  const char* message;  // one sentence for an HMI
+};
+
+// Every refusal with its name and message: the register map's JSON and human page
+// list them from here.
+inline constexpr AccessFaultInfo kAccessFaultTable[] = {
+    {AccessFault::kUndefined, "undefined", "The map does not define that variable number."},
+    {AccessFault::kMisaligned, "misaligned",
+     "The register range does not start on a variable or does not cover whole variables."},
+    {AccessFault::kReadOnly, "read_only", "The variable is read-only."},
+    {AccessFault::kLocked, "locked", "Configuration is writable only after the unlock code is written to #9004."},
+    {AccessFault::kNotFinite, "not_finite", "NaN or infinity where a number is needed."},
+    {AccessFault::kOutOfRange, "out_of_range", "Outside the variable's range, or not a whole number or a sign."},
+    {AccessFault::kBadUnlockCode, "bad_unlock_code", "#9004 takes the unlock code or 0."},
+    {AccessFault::kBusy, "busy", "A macro is running: commands and macro inputs wait until it is done."},
+    {AccessFault::kStorageFailure, "storage_failure", "Non-volatile storage refused the write; nothing changed."},
+    {AccessFault::kBadFunction, "bad_function", "The server does not serve that Modbus function code."},
+};
+
 struct VarInfo {
   std::uint16_t number;
   std::uint16_t count;

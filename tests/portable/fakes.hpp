@@ -1,4 +1,5 @@
 // Fakes for the hal interfaces: trivial subclasses, as the interfaces intend.
+// Heap-free, so the portable tests use them on the Cortex-M7 as well.
 #pragma once
 
 #include <array>
