@@ -10,7 +10,7 @@
 #include "trueaxis/hal/posix/file_nv_storage.hpp"
 #include "trueaxis/hal/posix/steady_clock.hpp"
 #include "trueaxis/macros/module.hpp"
-#include "trueaxis/macros/persistent_store.hpp"
+#include "trueaxis/macros/records.hpp"
 #include "trueaxis/sim/modbus_server.hpp"
 #include "trueaxis/sim/request_handler.hpp"
 #include "trueaxis/sim/simulator.hpp"
@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
   }
 
   hal::FileNvStorage nv;
-  if (nv.open(nv_path.c_str(), macros::PersistentStore::kRequiredBytes) != hal::IoStatus::kOk) {
+  if (nv.open(nv_path.c_str(), macros::kRequiredStorageBytes) != hal::IoStatus::kOk) {
     std::fprintf(stderr, "trueaxis-sim: cannot open %s: %s\n", nv_path.c_str(), std::strerror(errno));
     return 1;
   }

@@ -7,7 +7,9 @@
 #include <string>
 
 #include "trueaxis/core/status.hpp"
-#include "trueaxis/macros/macro_table.hpp"
+#include "trueaxis/macros/methods.hpp"
+#include "trueaxis/macros/module.hpp"
+#include "trueaxis/macros/records.hpp"
 #include "trueaxis/macros/register_codec.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/sim/sim_map.hpp"
@@ -47,11 +49,34 @@ const char* kind_name(m::ValueKind k) {
   return "?";
 }
 
+// The streaming sessions, for the map's readers: capacity from the code.
+struct SessionDoc {
+  const char* method;
+  std::size_t capacity;
+  const char* sample;
+  unsigned clear, add, compute;
+};
+const SessionDoc kSessions[] = {
+    {"level", m::level::kSessionCapacity, "X, Y, Z (#24..#26, mm, machine frame)", 9812, 9813, 9814},
+};
+
+const char* var_name(std::uint16_t number) {
+  const m::VarInfo* v = m::find_var(number);
+  return v != nullptr ? v->name : "?";
+}
+
+bool method_built(const char* method) {
+  for (const m::MacroSource& src : m::kMacroSources) {
+    if (std::strcmp(src.method, method) == 0) return true;
+  }
+  return false;
+}
+
 int as_int(m::AccessFault f) { return static_cast<int>(f); }
 int as_int(m::ModbusException e) { return static_cast<int>(e); }
 
-template <std::size_t N>
-void json_variables(const m::VarInfo (&table)[N], bool sim_only, bool& first) {
+template <typename Table>
+void json_variables(const Table& table, bool sim_only, bool& first) {
   for (const m::VarInfo& v : table) {
     std::printf("%s\n    {\"number\": %u, \"count\": %u, \"register\": %u, \"name\": \"%s\", \"access\": \"%s\", "
                 "\"kind\": \"%s\", \"min\": %.17g, \"max\": %.17g, \"default\": %.17g, \"unit\": \"%s\", "
@@ -78,12 +103,53 @@ void print_json() {
   json_variables(trueaxis::sim::kSimMap, true, first);
   std::printf("\n  ],\n  \"macros\": [");
   first = true;
-  for (const m::MacroInfo& mi : m::kMacroTable) {
-    std::printf("%s\n    {\"number\": %u, \"name\": \"%s\", \"description\": \"%s\"}", first ? "" : ",", mi.number,
-                mi.name, escaped(mi.description).c_str());
+  for (const m::MacroSource& src : m::kMacroSources) {
+    for (std::size_t i = 0; i < src.count; ++i) {
+      const m::MacroInfo& mi = src.macros[i];
+      std::printf("%s\n    {\"number\": %u, \"name\": \"%s\", \"method\": \"%s\", \"description\": \"%s\",",
+                  first ? "" : ",", mi.number, mi.name, src.method, escaped(mi.description).c_str());
+      std::printf("\n     \"inputs\": [");
+      for (std::size_t k = 0; k < mi.input_count; ++k) {
+        const m::InputRef& in = mi.inputs[k];
+        std::printf("%s{\"number\": %u, \"count\": %u, \"name\": \"%s\", \"note\": \"%s\"}", k ? ", " : "",
+                    in.first, in.count, var_name(in.first), escaped(in.note).c_str());
+      }
+      std::printf("],\n     \"outputs\": [");
+      for (std::size_t k = 0; k < mi.output_count; ++k) {
+        const m::OutputInfo& o = mi.outputs[k];
+        std::printf("%s{\"number\": %u, \"name\": \"%s\", \"unit\": \"%s\", \"description\": \"%s\"}",
+                    k ? ", " : "", o.number, o.name, o.unit, escaped(o.description).c_str());
+      }
+      std::printf("]}");
+      first = false;
+    }
+  }
+  std::printf("\n  ],\n  \"methods\": [");
+  first = true;
+  for (const m::MethodBlock& b : m::kMethodBlocks) {
+    std::printf("%s\n    {\"name\": \"%s\", \"config_block\": [%u, %u], \"data_block\": [%u, %u], \"built\": %s",
+                first ? "" : ",", b.method, b.config_first, b.config_last, b.data_first, b.data_last,
+                method_built(b.method) ? "true" : "false");
+    for (const SessionDoc& sd : kSessions) {
+      if (std::strcmp(sd.method, b.method) == 0) {
+        std::printf(",\n     \"session\": {\"capacity\": %zu, \"sample\": \"%s\", \"clear\": %u, \"add\": %u, "
+                    "\"compute\": %u}",
+                    sd.capacity, sd.sample, sd.clear, sd.add, sd.compute);
+      }
+    }
+    std::printf("}");
     first = false;
   }
-  std::printf("\n  ],\n  \"errors\": [");
+  std::printf("\n  ],\n  \"records\": [");
+  first = true;
+  for (const m::RecordSpec& r : m::kRecordSpecs) {
+    std::printf("%s\n    {\"key\": %u, \"name\": \"%s\", \"layout_version\": %u, \"capacity_bytes\": %zu}",
+                first ? "" : ",", r.key, r.name, r.layout_version, r.capacity_bytes);
+    first = false;
+  }
+  std::printf("\n  ],\n  \"storage_bytes\": %zu,\n  \"step_bound_instructions\": %u,",
+              m::kRequiredStorageBytes, static_cast<unsigned>(m::Module::kStepBoundInstructions));
+  std::printf("\n  \"errors\": [");
   first = true;
   for (const core::StatusInfo& s : core::kStatusTable) {
     std::printf("%s\n    {\"code\": %d, \"name\": \"%s\", \"message\": \"%s\"}", first ? "" : ",",
@@ -109,8 +175,8 @@ std::string range_text(const m::VarInfo& v) {
   return buf;
 }
 
-template <std::size_t N>
-void markdown_rows(const m::VarInfo (&table)[N]) {
+template <typename Table>
+void markdown_rows(const Table& table) {
   for (const m::VarInfo& v : table) {
     char number[32];
     if (v.count == 1) {
@@ -143,8 +209,52 @@ void print_markdown() {
   std::printf("\n## Simulator-only variables\n\nServed by `trueaxis-sim` only; never by the module in a "
               "controller.\n\n%s", header);
   markdown_rows(trueaxis::sim::kSimMap);
-  std::printf("\n## Macros\n\n| number | name | what it does |\n|---|---|---|\n");
-  for (const m::MacroInfo& mi : m::kMacroTable) std::printf("| %u | %s | %s |\n", mi.number, mi.name, mi.description);
+  std::printf("\n## Methods and their blocks\n\nEach method defines variables only inside its blocks; blocks of "
+              "methods not built yet are reserved.\n\n| method | configuration | data | built | session |\n"
+              "|---|---|---|---|---|\n");
+  for (const m::MethodBlock& b : m::kMethodBlocks) {
+    std::string session = "";
+    for (const SessionDoc& sd : kSessions) {
+      if (std::strcmp(sd.method, b.method) == 0) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "%zu samples of %s; clear %u, add %u, compute %u", sd.capacity, sd.sample,
+                      sd.clear, sd.add, sd.compute);
+        session = buf;
+      }
+    }
+    std::printf("| %s | #%u..#%u | #%u..#%u | %s | %s |\n", b.method, b.config_first, b.config_last, b.data_first,
+                b.data_last, method_built(b.method) ? "yes" : "reserved", session.c_str());
+  }
+  std::printf("\n## Macros\n\nEvery macro runs in steps of at most %u Cortex-M7 instructions "
+              "(#9008 tells how many steps the last one took).\n",
+              static_cast<unsigned>(m::Module::kStepBoundInstructions));
+  for (const m::MacroSource& src : m::kMacroSources) {
+    for (std::size_t i = 0; i < src.count; ++i) {
+      const m::MacroInfo& mi = src.macros[i];
+      std::printf("\n### %u %s (%s)\n\n%s\n\n| | variables |\n|---|---|\n", mi.number, mi.name, src.method,
+                  mi.description);
+      for (std::size_t k = 0; k < mi.input_count; ++k) {
+        const m::InputRef& in = mi.inputs[k];
+        if (in.count == 1) {
+          std::printf("| in | #%u %s: %s |\n", in.first, var_name(in.first), in.note);
+        } else {
+          std::printf("| in | #%u..#%u %s: %s |\n", in.first, in.first + in.count - 1, var_name(in.first),
+                      in.note);
+        }
+      }
+      for (std::size_t k = 0; k < mi.output_count; ++k) {
+        const m::OutputInfo& o = mi.outputs[k];
+        std::printf("| out | #%u %s (%s): %s |\n", o.number, o.name, o.unit[0] ? o.unit : "-", o.description);
+      }
+    }
+  }
+  std::printf("\n## Persistent records\n\nEach record is kept as two copies (A/B) with a layout version, a "
+              "sequence number and a CRC-32 over the whole record; a write to one record never rewrites another. "
+              "The storage needs %zu bytes.\n\n| key | record | layout | payload capacity (bytes) |\n|---|---|---|---|\n",
+              m::kRequiredStorageBytes);
+  for (const m::RecordSpec& r : m::kRecordSpecs) {
+    std::printf("| %u | %s | %u | %zu |\n", r.key, r.name, r.layout_version, r.capacity_bytes);
+  }
   std::printf("\n## Error codes (#9002)\n\n| code | name | message |\n|---|---|---|\n");
   for (const core::StatusInfo& s : core::kStatusTable) {
     std::printf("| %d | %s | %s |\n", static_cast<int>(s.status), s.name, s.message);

@@ -1,38 +1,119 @@
 #include "trueaxis/macros/module.hpp"
 
+#include "trueaxis/macros/record_codec.hpp"
+
 namespace trueaxis::macros {
 
 namespace {
 
 double state_value(MacroState s) { return static_cast<double>(static_cast<int>(s)); }
 
-// Calls f(number) for every defined result variable (#100..#199).
-template <typename F>
-void for_each_result(F f) {
+constexpr std::size_t kEntryBytes = 10;  // u16 number + f64 value
+
+constexpr RecordKey record_of(Access group) {
+  return group == Access::kConfig ? RecordKey::kConfig : RecordKey::kWorkOffsets;
+}
+
+static_assert(kConfigCount * kEntryBytes <= record_capacity(RecordKey::kConfig), "config record too small");
+static_assert(kWorkOffsetCount * kEntryBytes <= record_capacity(RecordKey::kWorkOffsets),
+              "work-offset record too small");
+static_assert(kConfigCount * kEntryBytes <= kVariableRecordBytes &&
+              kWorkOffsetCount * kEntryBytes <= kVariableRecordBytes);
+
+// Slot runs of the variables cleared after every macro (kReadWrite rows), merged
+// where adjacent, so clearing is a few tight loops rather than a walk of the map.
+struct SlotRun {
+  std::size_t first;
+  std::size_t count;
+};
+
+constexpr std::size_t readwrite_run_count() {
+  std::size_t runs = 0;
+  std::size_t end = kVariableCount + 1;
+  std::size_t slot = 0;
   for (const VarInfo& v : kRegisterMap) {
-    if (v.number < var::kResultFirst || v.number > var::kResultLast) continue;
-    for (std::uint16_t k = 0; k < v.count; ++k) f(static_cast<std::uint16_t>(v.number + k));
+    if (v.access == Access::kReadWrite) {
+      if (slot != end) ++runs;
+      end = slot + v.count;
+    }
+    slot += v.count;
   }
+  return runs;
+}
+
+constexpr std::array<SlotRun, readwrite_run_count()> readwrite_runs() {
+  std::array<SlotRun, readwrite_run_count()> runs{};
+  std::size_t n = 0;
+  std::size_t slot = 0;
+  for (const VarInfo& v : kRegisterMap) {
+    if (v.access == Access::kReadWrite) {
+      if (n > 0 && runs[n - 1].first + runs[n - 1].count == slot) {
+        runs[n - 1].count += v.count;
+      } else {
+        runs[n++] = {slot, v.count};
+      }
+    }
+    slot += v.count;
+  }
+  return runs;
+}
+constexpr auto kReadWriteRuns = readwrite_runs();
+
+constexpr bool readwrite_defaults_are_zero() {
+  for (const VarInfo& v : kRegisterMap) {
+    if (v.access == Access::kReadWrite && v.default_value != 0.0) return false;
+  }
+  return true;
+}
+static_assert(readwrite_defaults_are_zero(), "macro inputs are cleared to 0: their default must be 0");
+
+constexpr std::size_t kResultSlot = slot_of(var::kResultFirst);
+
+// The access of a defined number (callers have checked it is defined).
+Access access_of(std::uint16_t number) {
+  const VarInfo* info = find_var(number);
+  return info != nullptr ? info->access : Access::kReadOnly;
 }
 
 }  // namespace
 
-Module::Module(hal::NvStorage& storage, hal::Clock& clock) : store_(storage), clock_(clock) {
+Module::Module(hal::NvStorage& storage, hal::Clock& clock, const MacroInfo* extra_macros, std::size_t extra_count)
+    : clock_(clock),
+      extra_macros_(extra_macros),
+      extra_count_(extra_count),
+      store_(storage, kRecordSpecs, kRecordSpecCount, store_scratch_, sizeof store_scratch_) {
+  std::size_t slot = 0;
   for (const VarInfo& v : kRegisterMap) {
-    for (std::uint16_t i = 0; i < v.count; ++i) values_[slot_of(static_cast<std::uint16_t>(v.number + i))] = v.default_value;
+    for (std::uint16_t i = 0; i < v.count; ++i) values_[slot++] = v.default_value;
   }
 }
 
 core::Status Module::start() {
-  std::size_t count = 0;
-  const core::Status s = store_.load(entries_, kPersistentCount, count);
-  for (std::size_t i = 0; i < count; ++i) {
-    const VarInfo* info = find_var(entries_[i].number);
-    if (info != nullptr && is_persistent(*info) && check_value(*info, entries_[i].value) == AccessFault::kNone) {
-      set(entries_[i].number, entries_[i].value);
+  const core::Status s = store_.mount();
+  if (s != core::Status::kOk) return s;
+  load_variables(RecordKey::kConfig);
+  load_variables(RecordKey::kWorkOffsets);
+  return core::Status::kOk;
+}
+
+// Entries are looked up by number: a later map that adds variables still loads
+// an older record; numbers it no longer holds in that record, and values it
+// would refuse, are skipped.
+void Module::load_variables(RecordKey key) {
+  std::size_t length = 0;
+  if (store_.load(static_cast<std::uint8_t>(key), variable_record_, sizeof variable_record_, length) !=
+      core::Status::kOk) {
+    return;
+  }
+  for (std::size_t at = 0; at + kEntryBytes <= length; at += kEntryBytes) {
+    const std::uint16_t number = get_u16(variable_record_ + at);
+    const double v = get_f64(variable_record_ + at + 2);
+    const VarInfo* info = find_var(number);
+    if (info != nullptr && is_persistent(*info) && record_of(info->access) == key &&
+        check_value(*info, v) == AccessFault::kNone) {
+      set(number, v);
     }
   }
-  return s;
 }
 
 double Module::value(std::uint16_t number) const {
@@ -74,34 +155,47 @@ AccessFault Module::check_write(std::uint16_t number, double value) const {
   return AccessFault::kUndefined;
 }
 
+// The whole record of one group (config or work offsets) with the written
+// values in place, saved as that group's record alone.
+AccessFault Module::save_variables(Access group, std::uint16_t first, std::uint16_t count, const double* values) {
+  std::size_t length = 0;
+  for (const VarInfo& v : kRegisterMap) {
+    if (v.access != group) continue;
+    for (std::uint16_t k = 0; k < v.count; ++k) {
+      const auto number = static_cast<std::uint16_t>(v.number + k);
+      const bool written = number >= first && number - first < count;
+      put_u16(variable_record_ + length, number);
+      put_f64(variable_record_ + length + 2, written ? values[number - first] : value(number));
+      length += kEntryBytes;
+    }
+  }
+  const core::Status s = store_.save(static_cast<std::uint8_t>(record_of(group)), variable_record_, length);
+  return s == core::Status::kOk ? AccessFault::kNone : AccessFault::kStorageFailure;
+}
+
 AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const double* values) {
-  bool touches_storage = false;
+  bool touches[2] = {false, false};  // config, work offsets
   for (std::uint16_t i = 0; i < count; ++i) {
-    const std::uint16_t number = static_cast<std::uint16_t>(first + i);
+    const auto number = static_cast<std::uint16_t>(first + i);
     const AccessFault f = check_write(number, values[i]);
     if (f != AccessFault::kNone) return fault(f);
-    const VarInfo* info = find_var(number);
-    touches_storage = touches_storage || (info != nullptr && is_persistent(*info));
+    const Access access = access_of(number);
+    touches[0] = touches[0] || access == Access::kConfig;
+    touches[1] = touches[1] || access == Access::kPersistent;
   }
-
-  if (touches_storage) {
-    // Storage first: if it refuses, the variables keep their old values.
-    std::size_t n = 0;
-    for (const VarInfo& v : kRegisterMap) {
-      if (!is_persistent(v)) continue;
-      for (std::uint16_t k = 0; k < v.count; ++k) {
-        const std::uint16_t number = static_cast<std::uint16_t>(v.number + k);
-        const bool written = number >= first && number - first < count;
-        entries_[n++] = {number, written ? values[number - first] : value(number)};
-      }
-    }
-    if (store_.save(entries_, n) != core::Status::kOk) return fault(AccessFault::kStorageFailure);
+  // Storage first: if it refuses, the variables keep their old values. The two
+  // groups lie thousands of numbers apart with undefined numbers between, so a
+  // write that passed the checks touches at most one of them.
+  if (touches[0] && save_variables(Access::kConfig, first, count, values) != AccessFault::kNone) {
+    return fault(AccessFault::kStorageFailure);
+  }
+  if (touches[1] && save_variables(Access::kPersistent, first, count, values) != AccessFault::kNone) {
+    return fault(AccessFault::kStorageFailure);
   }
 
   for (std::uint16_t i = 0; i < count; ++i) {
-    const std::uint16_t number = static_cast<std::uint16_t>(first + i);
-    const VarInfo* info = find_var(number);
-    const Access access = info != nullptr ? info->access : Access::kReadOnly;
+    const auto number = static_cast<std::uint16_t>(first + i);
+    const Access access = access_of(number);
     if (access == Access::kUnlock) {
       unlocked_ = values[i] == kUnlockCode;
       continue;
@@ -109,6 +203,7 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
     set(number, values[i]);
     if (access == Access::kCommand && values[i] != 0.0) {  // 0 runs nothing and changes no state
       pending_ = static_cast<std::uint16_t>(values[i]);
+      phase_ = Phase::kStart;
       set(var::kStatus, state_value(MacroState::kBusy));
       set(var::kError, 0.0);
     }
@@ -118,35 +213,76 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
 
 void Module::do_note_fault(AccessFault f) { set(var::kAccessFault, static_cast<double>(static_cast<int>(f))); }
 
-void Module::step() {
-  if (pending_ == 0) return;
-  const std::uint64_t started_us = clock_.now_us();
-  const MacroInfo* macro = find_macro(pending_);
-  core::Status status = core::Status::kUnknownMacro;
-  if (macro != nullptr) {
-    for_each_result([this](std::uint16_t number) { staged_[number - var::kResultFirst] = value(number); });
-    MacroContext ctx(values_, staged_);
-    status = macro->run(ctx);
-    if (status == core::Status::kOk) {
-      for_each_result([this](std::uint16_t number) { set(number, staged_[number - var::kResultFirst]); });
-    }
+const MacroInfo* Module::lookup(std::uint16_t number) const {
+  const MacroInfo* m = find_macro(number);
+  for (std::size_t i = 0; m == nullptr && i < extra_count_; ++i) {
+    if (extra_macros_[i].number == number) m = &extra_macros_[i];
   }
-  finish(status, started_us);
+  return m;
 }
 
-void Module::finish(core::Status status, std::uint64_t started_us) {
+void Module::step() {
+  if (pending_ == 0) return;
+  bool first_step = false;
+  if (phase_ == Phase::kStart) {
+    started_us_ = clock_.now_us();
+    steps_ = 0;
+    running_ = lookup(pending_);
+    if (running_ == nullptr) {
+      ++steps_;
+      finish(core::Status::kUnknownMacro);
+      return;
+    }
+    for (std::size_t i = 0; i < kResultSlots; ++i) staged_[i] = values_[kResultSlot + i];
+    record_.staged = false;
+    phase_ = Phase::kRunning;
+    first_step = true;
+  }
+  ++steps_;
+
+  if (phase_ == Phase::kRunning) {
+    MacroContext ctx(values_, staged_, methods_, record_, store_, first_step);
+    const MacroStep r = running_->run(ctx);
+    if (r.more) return;
+    if (r.status != core::Status::kOk) {
+      finish(r.status);
+    } else if (!record_.staged) {
+      publish_results();
+      finish(core::Status::kOk);
+    } else if (!unlocked_) {
+      finish(core::Status::kTableLocked);
+    } else {
+      phase_ = Phase::kCommitting;  // the save is a step of its own: it bounds the step
+    }
+    return;
+  }
+
+  // Phase::kCommitting: the table first, then the results.
+  if (store_.save(static_cast<std::uint8_t>(record_.key), record_.bytes, record_.length) != core::Status::kOk) {
+    finish(core::Status::kStorageFailure);
+    return;
+  }
+  publish_results();
+  finish(core::Status::kOk);
+}
+
+void Module::publish_results() {
+  for (std::size_t i = 0; i < kResultSlots; ++i) values_[kResultSlot + i] = staged_[i];
+}
+
+void Module::finish(core::Status status) {
   const bool ok = status == core::Status::kOk;
   set(var::kStatus, state_value(ok ? MacroState::kDone : MacroState::kError));
   set(var::kError, static_cast<double>(static_cast<int>(status)));
   set(var::kDoneCount, value(var::kDoneCount) + 1.0);
-  set(var::kRunTime, static_cast<double>(clock_.now_us() - started_us));
-  std::size_t slot = 0;  // walk the slots with the table instead of looking each one up
-  for (const VarInfo& v : kRegisterMap) {
-    if (v.access == Access::kReadWrite) {
-      for (std::uint16_t k = 0; k < v.count; ++k) values_[slot + k] = v.default_value;
-    }
-    slot += v.count;
+  set(var::kRunTime, static_cast<double>(clock_.now_us() - started_us_));
+  set(var::kStepCount, static_cast<double>(steps_));
+  for (const SlotRun& run : kReadWriteRuns) {
+    for (std::size_t k = 0; k < run.count; ++k) values_[run.first + k] = 0.0;
   }
+  record_.staged = false;
+  running_ = nullptr;
+  phase_ = Phase::kStart;
   pending_ = 0;
 }
 

@@ -25,7 +25,7 @@ class ChronoClock final : public trueaxis::hal::Clock {
 
 int main() {
   namespace m = trueaxis::macros;
-  static std::array<std::uint8_t, m::PersistentStore::kRequiredBytes> nv{};
+  static std::array<std::uint8_t, m::kRequiredStorageBytes> nv{};
   trueaxis::hal::RamNvStorage storage(nv.data(), nv.size());
   ChronoClock clock;
   m::Module module(storage, clock);

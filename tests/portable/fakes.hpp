@@ -3,11 +3,12 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include "trueaxis/hal/clock.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
-#include "trueaxis/macros/persistent_store.hpp"
+#include "trueaxis/macros/records.hpp"
 
 namespace trueaxis::test {
 
@@ -22,14 +23,24 @@ class FakeClock final : public hal::Clock {
 
 // RAM storage that can refuse writes, or stop after a number of bytes as a power
 // cut would (the write returns kIoError and the bytes after the cut keep their
-// old value).
+// old value). It notes the lowest and highest byte each write touched since
+// forget_writes(), so a test can tell which record a write landed in.
 class FlakyStorage final : public hal::NvStorage {
  public:
-  std::array<std::uint8_t, macros::PersistentStore::kRequiredBytes> bytes{};
+  std::array<std::uint8_t, macros::kRequiredStorageBytes> bytes{};
   bool refuse = false;
   bool refuse_reads = false;
   bool land_then_fail = false;  // the bytes land, then the write reports failure (fsync failed)
   long cut_after_bytes = -1;    // -1: no cut
+  std::size_t written_first = SIZE_MAX;  // lowest offset written since forget_writes()
+  std::size_t written_end = 0;           // one past the highest
+  std::size_t written_bytes = 0;
+
+  void forget_writes() {
+    written_first = SIZE_MAX;
+    written_end = 0;
+    written_bytes = 0;
+  }
 
  private:
   std::size_t do_size_bytes() const override { return bytes.size(); }
@@ -40,6 +51,9 @@ class FlakyStorage final : public hal::NvStorage {
   }
   hal::IoStatus do_write(std::size_t offset, const std::uint8_t* data, std::size_t length) override {
     if (refuse) return hal::IoStatus::kIoError;
+    if (offset < written_first) written_first = offset;
+    if (offset + length > written_end) written_end = offset + length;
+    written_bytes += length;
     for (std::size_t i = 0; i < length; ++i) {
       if (cut_after_bytes >= 0 && static_cast<long>(i) >= cut_after_bytes) return hal::IoStatus::kIoError;
       bytes[offset + i] = data[i];

@@ -18,17 +18,21 @@ using trueaxis::macros::MacroState;
 using trueaxis::macros::Module;
 namespace var = trueaxis::macros::var;
 
-constexpr std::size_t kStorageBytes = 4096;
-static_assert(trueaxis::macros::PersistentStore::kRequiredBytes <= kStorageBytes);
+constexpr std::size_t kStorageBytes = trueaxis::macros::kRequiredStorageBytes;
+
+// One device's bytes: static, so a Bench fits the target's stack.
+std::uint8_t g_storage_bytes[kStorageBytes];
 
 // A fresh device: storage, clock and a started module, as main would own them.
 struct Bench {
-  std::uint8_t bytes[kStorageBytes] = {};
-  trueaxis::hal::RamNvStorage storage{bytes, kStorageBytes};
+  trueaxis::hal::RamNvStorage storage{g_storage_bytes, kStorageBytes};
   trueaxis::test::FakeClock clock;
   Module module{storage, clock};
 
-  Bench() { static_cast<void>(module.start()); }
+  Bench() {
+    for (std::uint8_t& b : g_storage_bytes) b = 0;
+    static_cast<void>(module.start());
+  }
 };
 
 AccessFault write1(Module& m, std::uint16_t number, double value) { return m.write(number, 1, &value); }
@@ -170,8 +174,8 @@ TA_TEST("after unlocking, a configuration write is taken, and locking again refu
 }
 
 TA_TEST("a second module over the same storage sees the configuration after start") {
-  std::uint8_t bytes[kStorageBytes] = {};
-  trueaxis::hal::RamNvStorage storage(bytes, kStorageBytes);
+  for (std::uint8_t& b : g_storage_bytes) b = 0;
+  trueaxis::hal::RamNvStorage storage(g_storage_bytes, kStorageBytes);
   trueaxis::test::FakeClock clock;
   {
     Module first(storage, clock);

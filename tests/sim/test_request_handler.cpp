@@ -19,7 +19,7 @@ using trueaxis::macros::ModbusException;
 namespace simvar = trueaxis::sim::simvar;
 
 struct Bench {
-  std::vector<std::uint8_t> nv_bytes = std::vector<std::uint8_t>(trueaxis::macros::PersistentStore::kRequiredBytes);
+  std::vector<std::uint8_t> nv_bytes = std::vector<std::uint8_t>(trueaxis::macros::kRequiredStorageBytes);
   trueaxis::hal::RamNvStorage nv{nv_bytes.data(), nv_bytes.size()};
   trueaxis::test::FakeClock clock;
   trueaxis::macros::Module module{nv, clock};

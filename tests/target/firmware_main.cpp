@@ -34,6 +34,9 @@ std::uint64_t stack_used_bytes() {
 
 namespace var = trueaxis::macros::var;
 
+static_assert(trueaxis::hal::mps2::kBoardNvBytes >= trueaxis::macros::kRequiredStorageBytes,
+              "the board's storage must hold every record of the four methods");
+
 bool load_face(trueaxis::macros::Module& module) {
   const double g57[3] = {0.0, 0.0, 0.0};
   const double g58[3] = {100.0, 0.0, 0.0};

@@ -26,6 +26,7 @@ enum class Status : std::uint16_t {
   kTooFewPoints = 101,     // fewer points than the fit needs
   kTooManyPoints = 102,    // more points than the compile-time capacity
   kArgumentOutOfRange = 103,  // a macro argument is outside its documented range
+  kTooFewSamples = 104,    // a compute macro ran on a session with fewer samples than it needs
 
   kPointsCoincident = 200,  // the points do not span a line
   kPointsCollinear = 201,   // the points do not span a plane
@@ -37,6 +38,9 @@ enum class Status : std::uint16_t {
 
   kUnknownMacro = 400,      // no macro has that number
   kStorageFailure = 401,    // non-volatile storage could not be written or read
+  kSessionFull = 402,       // a sample was added to a session at its capacity
+  kTableLocked = 403,       // a macro would store a table while configuration is locked
+  kNoTable = 404,           // a query needs a stored table and there is none
 };
 
 struct StatusInfo {
@@ -54,6 +58,8 @@ inline constexpr StatusInfo kStatusTable[] = {
     {Status::kTooManyPoints, "too_many_points", "More points were given than the module can hold."},
     {Status::kArgumentOutOfRange, "argument_out_of_range",
      "A macro argument is outside its documented range."},
+    {Status::kTooFewSamples, "too_few_samples",
+     "The session holds fewer samples than the computation needs: add more, then compute again."},
     {Status::kPointsCoincident, "points_coincident",
      "The probed points coincide: they do not span a line."},
     {Status::kPointsCollinear, "points_collinear",
@@ -72,6 +78,11 @@ inline constexpr StatusInfo kStatusTable[] = {
     {Status::kUnknownMacro, "unknown_macro", "No macro has that number."},
     {Status::kStorageFailure, "storage_failure",
      "Non-volatile storage could not be written; nothing was changed."},
+    {Status::kSessionFull, "session_full",
+     "The session is full (its capacity is in the register map): the sample was not added."},
+    {Status::kTableLocked, "table_locked",
+     "Calibration tables are stored only after the unlock code is written to #9004; nothing was stored."},
+    {Status::kNoTable, "no_table", "There is no stored calibration table for this query."},
 };
 
 constexpr bool status_table_is_sorted() {

@@ -52,7 +52,7 @@ inline constexpr macros::VarInfo kSimMap[] = {
 };
 // clang-format on
 
-static_assert(macros::map_is_well_formed(kSimMap), "kSimMap: unsorted, overlapping or inconsistent entry");
+static_assert(macros::map_is_well_formed(kSimMap, sizeof(kSimMap) / sizeof(kSimMap[0])), "kSimMap: unsorted, overlapping or inconsistent entry");
 inline constexpr std::size_t kSimMapSize = sizeof(kSimMap) / sizeof(kSimMap[0]);
 
 constexpr const macros::VarInfo* find_sim_var(std::uint16_t number) {

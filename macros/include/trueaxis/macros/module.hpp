@@ -1,21 +1,32 @@
 // The trueaxis module as a controller sees it: the variables of the register map,
-// the handshake, the macros, and the persistent configuration.
+// the handshake, the macros, the methods' sessions and the persistent records.
 //
 // Contract
 //  1. Owned by main, handed a NvStorage and a Clock; holds every variable in a
 //     fixed array. No allocation, no exceptions, no clock but the one handed in.
-//  2. start() loads the persistent variables (the newer valid copy of the two
-//     kept in storage, see persistent_store.hpp), or the map's defaults when
-//     there is none. Call it once before anything else.
-//  3. Writing a macro number to #9000 makes the module busy (status 1); the macro
-//     runs at the next step(), which the controller calls from its background
-//     task. Then status is 2 (done) or 3 (error) with the code in #9002, and
-//     #9003 has grown by one. Arguments #1..#26 and the point list are cleared to
-//     0 after every macro.
-//  4. While busy, writes to #9000 and to any macro input (arguments, point list,
-//     work offsets, configuration) are refused with kBusy.
-//  5. Writes to persistent variables reach storage before they reach the
-//     variables; a storage failure refuses the write and changes nothing.
+//  2. start() mounts the keyed store (keyed_store.hpp) and loads the
+//     configuration and work-offset records, or keeps the map's defaults when
+//     there are none. Call it once before anything else.
+//  3. Writing a macro number to #9000 makes the module busy (status 1). Each
+//     step(), called from the controller's background task, does a bounded
+//     amount of work: at most kStepBoundInstructions instructions on a
+//     Cortex-M7 (measured by tests/target/bench_steps.cpp for every macro). A
+//     macro that needs more stays busy over several steps; a macro that stages
+//     a table commits it in a step of its own. Then status is 2 (done) or 3
+//     (error) with the code in #9002, #9003 has grown by one and #9008 holds
+//     the number of steps taken. Arguments #1..#26 and the methods' data
+//     blocks (the point list) are cleared to 0 after every macro.
+//  4. While busy, writes to #9000 and to any macro input (arguments, data
+//     blocks, work offsets, configuration) are refused with kBusy.
+//  5. Persistence is per record: configuration (#500..#999) and work offsets
+//     are two records, each calibration table one more (records.hpp). A write
+//     to a persistent variable saves only its own record, and reaches storage
+//     before it reaches the variables; a storage failure refuses the write and
+//     changes nothing. A table a macro staged is saved only while unlocked
+//     (else kTableLocked), before the macro's results are published; a failed
+//     save fails the macro with kStorageFailure and publishes nothing.
+//  6. Extra macros (an integrator's own, or a test's) may be handed in; they
+//     are looked up after the product's macros and share their contract.
 #pragma once
 
 #include <cstdint>
@@ -23,8 +34,10 @@
 #include "trueaxis/core/status.hpp"
 #include "trueaxis/hal/clock.hpp"
 #include "trueaxis/hal/nv_storage.hpp"
-#include "trueaxis/macros/macro_table.hpp"
-#include "trueaxis/macros/persistent_store.hpp"
+#include "trueaxis/macros/keyed_store.hpp"
+#include "trueaxis/macros/macro_context.hpp"
+#include "trueaxis/macros/methods.hpp"
+#include "trueaxis/macros/records.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/macros/variable_access.hpp"
 
@@ -32,12 +45,18 @@ namespace trueaxis::macros {
 
 class Module final : public VariableAccess {
  public:
-  Module(hal::NvStorage& storage, hal::Clock& clock);
+  // The longest step() of any macro on the Cortex-M7 (instructions, QEMU
+  // mps2-an500 -icount; tests/target/bench_steps.cpp prints each macro's).
+  static constexpr std::uint32_t kStepBoundInstructions = 60000;
 
-  // kOk, or kStorageFailure when storage could not be read (defaults are used).
+  Module(hal::NvStorage& storage, hal::Clock& clock, const MacroInfo* extra_macros = nullptr,
+         std::size_t extra_count = 0);
+
+  // kOk, or kStorageFailure when storage could not be read (defaults are used,
+  // and persistent writes are refused until a later start() succeeds).
   [[nodiscard]] core::Status start();
 
-  // Runs the pending macro, if any, to completion.
+  // Does one bounded piece of the pending macro, if any.
   void step();
 
   bool busy() const { return pending_ != 0; }
@@ -47,20 +66,35 @@ class Module final : public VariableAccess {
   double value(std::uint16_t number) const;
 
  private:
+  enum class Phase : std::uint8_t { kStart, kRunning, kCommitting };
+
   AccessFault do_read(std::uint16_t first, std::uint16_t count, double* out) override;
   AccessFault do_write(std::uint16_t first, std::uint16_t count, const double* values) override;
   void do_note_fault(AccessFault f) override;
 
   AccessFault check_write(std::uint16_t number, double value) const;
+  AccessFault save_variables(Access group, std::uint16_t first, std::uint16_t count, const double* values);
+  void load_variables(RecordKey key);
+  const MacroInfo* lookup(std::uint16_t number) const;
   void set(std::uint16_t number, double value);
-  void finish(core::Status status, std::uint64_t started_us);
+  void publish_results();
+  void finish(core::Status status);
 
-  PersistentStore store_;
   hal::Clock& clock_;
+  const MacroInfo* extra_macros_;
+  std::size_t extra_count_;
+  std::uint8_t store_scratch_[kStoreScratchBytes] = {};
+  KeyedStore store_;
   double values_[kVariableCount] = {};
   double staged_[kResultSlots] = {};
-  PersistentEntry entries_[kPersistentCount] = {};
+  std::uint8_t variable_record_[kVariableRecordBytes] = {};
+  RecordStage record_;
+  Methods methods_;
+  const MacroInfo* running_ = nullptr;
+  std::uint64_t started_us_ = 0;
+  std::uint32_t steps_ = 0;
   std::uint16_t pending_ = 0;
+  Phase phase_ = Phase::kStart;
   bool unlocked_ = false;
 };
 

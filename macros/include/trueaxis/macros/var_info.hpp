@@ -108,6 +108,31 @@ struct VarInfo {
   const char* description;  // one sentence
 };
 
+// One output of a macro: a result variable (#100..#199) and what that macro puts
+// there. Results are shared by every macro, so their meaning is per macro.
+struct OutputInfo {
+  std::uint16_t number;
+  const char* name;         // snake_case, unique within the macro
+  const char* unit;
+  const char* description;  // one sentence
+};
+
+// Variables a macro reads: #first .. #first+count-1 of the map, and what for.
+struct InputRef {
+  std::uint16_t first;
+  std::uint16_t count;
+  const char* note;  // one sentence; "" when the variable's own description says it
+};
+
+// The numbers a method may define rows in: its block of the persistent range
+// #500..#999 and its block of macro-input data (#1000..#4999). Both are
+// published in the JSON map; register_map.hpp checks every row against them.
+struct MethodBlock {
+  const char* method;
+  std::uint16_t config_first, config_last;
+  std::uint16_t data_first, data_last;
+};
+
 // The first fault a value would meet being written to `info` (kind and range only;
 // access is the owner's to check).
 constexpr AccessFault check_value(const VarInfo& info, double value) {
@@ -125,9 +150,8 @@ constexpr AccessFault check_value(const VarInfo& info, double value) {
 
 // Compile-time checks of a table: sorted by number, blocks not overlapping, every
 // number in 0..kMaxVariableNumber, every range and default consistent.
-template <std::size_t N>
-constexpr bool map_is_well_formed(const VarInfo (&table)[N]) {
-  for (std::size_t i = 0; i < N; ++i) {
+constexpr bool map_is_well_formed(const VarInfo* table, std::size_t size) {
+  for (std::size_t i = 0; i < size; ++i) {
     const VarInfo& v = table[i];
     if (v.count == 0) return false;
     if (static_cast<std::uint32_t>(v.number) + v.count - 1 > kMaxVariableNumber) return false;
@@ -144,10 +168,9 @@ constexpr bool map_is_well_formed(const VarInfo (&table)[N]) {
 }
 
 // Total number of variables (blocks expanded) in a table.
-template <std::size_t N>
-constexpr std::size_t variable_count(const VarInfo (&table)[N]) {
+constexpr std::size_t variable_count(const VarInfo* table, std::size_t size) {
   std::size_t n = 0;
-  for (const VarInfo& v : table) n += v.count;
+  for (std::size_t i = 0; i < size; ++i) n += table[i].count;
   return n;
 }
 

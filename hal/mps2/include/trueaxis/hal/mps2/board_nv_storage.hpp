@@ -8,7 +8,7 @@
 //  2. Every object it returns views the same bytes (there is one device): main
 //     makes one and passes it by reference.
 //  3. Its content after power-up is arbitrary: the user validates it
-//     (macros/persistent_store.hpp keeps two copies with a version and a CRC).
+//     (macros/keyed_store.hpp keeps two copies of each record with a version and a CRC).
 #pragma once
 
 #include <cstddef>
@@ -17,7 +17,7 @@
 
 namespace trueaxis::hal::mps2 {
 
-inline constexpr std::size_t kBoardNvBytes = 4096;
+inline constexpr std::size_t kBoardNvBytes = 32768;
 
 // The board's storage; C++17 returns it in place (NvStorage cannot be copied).
 RamNvStorage board_nv_storage();

@@ -1,0 +1,159 @@
+// The platform's rows of the register map: what every method shares.
+//
+// Conventions (INTERFACE.md, Fanuc / LinuxCNC custom-macro numbering)
+//  1. #1 .. #26      arguments of the next macro, by G65 letter; cleared to 0 after
+//                    every macro. Letters G L N O P have no variable.
+//  2. #100 .. #199   results of the last successful macro; read-only. Their
+//                    meaning is per macro (each macro's outputs in the JSON map).
+//  3. #500 .. #999   configuration; persistent; writable only while unlocked.
+//                    Each method owns a block (kMethodBlocks, methods.hpp).
+//  4. #1000 .. #4999 macro-input data of the methods (point lists), one block
+//                    per method; volatile, cleared after every macro.
+//  5. #5221 .. #5326 work offsets G54 .. G59 (+0 X .. +5 C); persistent.
+//  6. #9000 .. #9009 the handshake.
+// A number is written once, here or in its method's map file; rows are built
+// from these names.
+#pragma once
+
+#include <cstdint>
+
+#include "trueaxis/macros/var_info.hpp"
+
+namespace trueaxis::macros {
+
+namespace var {
+inline constexpr std::uint16_t kArgA = 1;
+inline constexpr std::uint16_t kArgB = 2;
+inline constexpr std::uint16_t kArgC = 3;
+inline constexpr std::uint16_t kArgI = 4;
+inline constexpr std::uint16_t kArgJ = 5;
+inline constexpr std::uint16_t kArgK = 6;
+inline constexpr std::uint16_t kArgD = 7;
+inline constexpr std::uint16_t kArgE = 8;
+inline constexpr std::uint16_t kArgF = 9;
+inline constexpr std::uint16_t kArgH = 11;
+inline constexpr std::uint16_t kArgM = 13;
+inline constexpr std::uint16_t kArgQ = 17;
+inline constexpr std::uint16_t kArgR = 18;
+inline constexpr std::uint16_t kArgS = 19;
+inline constexpr std::uint16_t kArgT = 20;
+inline constexpr std::uint16_t kArgU = 21;
+inline constexpr std::uint16_t kArgV = 22;
+inline constexpr std::uint16_t kArgW = 23;
+inline constexpr std::uint16_t kArgX = 24;
+inline constexpr std::uint16_t kArgY = 25;
+inline constexpr std::uint16_t kArgZ = 26;
+inline constexpr std::uint16_t kArgFirst = kArgA;
+inline constexpr std::uint16_t kArgLast = kArgZ;
+
+inline constexpr std::uint16_t kResultFirst = 100;
+inline constexpr std::uint16_t kResultLast = 199;
+
+inline constexpr std::uint16_t kConfigFirst = 500;
+inline constexpr std::uint16_t kConfigLast = 999;
+inline constexpr std::uint16_t kDataFirst = 1000;
+inline constexpr std::uint16_t kDataLast = 4999;
+
+inline constexpr std::uint16_t kG54 = 5221;
+inline constexpr std::uint16_t kG55 = 5241;
+inline constexpr std::uint16_t kG56 = 5261;
+inline constexpr std::uint16_t kG57 = 5281;
+inline constexpr std::uint16_t kG58 = 5301;
+inline constexpr std::uint16_t kG59 = 5321;
+inline constexpr std::uint16_t kWorkOffsetStride = 20;  // G(n+1) = G(n) + 20
+inline constexpr std::uint16_t kWorkOffsetAxes = 6;     // X Y Z A B C
+
+inline constexpr std::uint16_t kCmd = 9000;
+inline constexpr std::uint16_t kStatus = 9001;
+inline constexpr std::uint16_t kError = 9002;
+inline constexpr std::uint16_t kDoneCount = 9003;
+inline constexpr std::uint16_t kUnlock = 9004;
+inline constexpr std::uint16_t kRunTime = 9005;
+inline constexpr std::uint16_t kInterfaceVersion = 9006;
+inline constexpr std::uint16_t kAccessFault = 9007;
+inline constexpr std::uint16_t kStepCount = 9008;
+}  // namespace var
+
+// #9001 values.
+enum class MacroState : std::uint8_t { kIdle = 0, kBusy = 1, kDone = 2, kError = 3 };
+
+inline constexpr double kUnlockCode = 2718.0;
+inline constexpr double kInterfaceVersionValue = 1.0;
+
+namespace rows {
+inline constexpr double kBig = 1e5;  // bound of coordinates (mm) and angles (deg) macros take
+
+constexpr VarInfo arg(std::uint16_t n, const char* name, const char* what) {
+  return {n, 1, Access::kReadWrite, ValueKind::kReal, -kBig, kBig, 0.0, name, "", what};
+}
+constexpr VarInfo result(std::uint16_t n, std::uint16_t count, const char* name, const char* unit, const char* what) {
+  return {n, count, Access::kReadOnly, ValueKind::kReal, -kBig * 1e3, kBig * 1e3, 0.0, name, unit, what};
+}
+constexpr VarInfo config(std::uint16_t n, double min, double max, double dflt, const char* name, const char* unit,
+                         const char* what) {
+  return {n, 1, Access::kConfig, ValueKind::kReal, min, max, dflt, name, unit, what};
+}
+constexpr VarInfo sign_config(std::uint16_t n, double dflt, const char* name, const char* what) {
+  return {n, 1, Access::kConfig, ValueKind::kSign, -1.0, 1.0, dflt, name, "", what};
+}
+constexpr VarInfo data_block(std::uint16_t n, std::uint16_t count, const char* name, const char* unit,
+                             const char* what) {
+  return {n, count, Access::kReadWrite, ValueKind::kReal, -kBig, kBig, 0.0, name, unit, what};
+}
+constexpr VarInfo offset(std::uint16_t n, const char* name, const char* unit) {
+  return {n, 1, Access::kPersistent, ValueKind::kReal, -kBig, kBig, 0.0, name, unit, "Work offset."};
+}
+}  // namespace rows
+
+// clang-format off
+inline constexpr VarInfo kPlatformArgRows[] = {
+  rows::arg(var::kArgA, "arg_a", "G65 argument A. Macro 9810/9811: the commanded A (deg) while probing."),
+  rows::arg(var::kArgB, "arg_b", "G65 argument B."),
+  rows::arg(var::kArgC, "arg_c", "G65 argument C. Macro 9810/9811: the commanded C (deg) while probing."),
+  rows::arg(var::kArgI, "arg_i", "G65 argument I. Macro 9810/9811: X of the face's outward direction (machine frame, as probed); I=J=K=0 means +Z."),
+  rows::arg(var::kArgJ, "arg_j", "G65 argument J. Macro 9810/9811: Y of the outward direction."),
+  rows::arg(var::kArgK, "arg_k", "G65 argument K. Macro 9810/9811: Z of the outward direction."),
+  rows::arg(var::kArgD, "arg_d", "G65 argument D."),
+  rows::arg(var::kArgE, "arg_e", "G65 argument E."),
+  rows::arg(var::kArgF, "arg_f", "G65 argument F."),
+  rows::arg(var::kArgH, "arg_h", "G65 argument H."),
+  rows::arg(var::kArgM, "arg_m", "G65 argument M."),
+  rows::arg(var::kArgQ, "arg_q", "G65 argument Q. Macro 9811: the number of points in the point list."),
+  rows::arg(var::kArgR, "arg_r", "G65 argument R."),
+  rows::arg(var::kArgS, "arg_s", "G65 argument S."),
+  rows::arg(var::kArgT, "arg_t", "G65 argument T."),
+  rows::arg(var::kArgU, "arg_u", "G65 argument U."),
+  rows::arg(var::kArgV, "arg_v", "G65 argument V."),
+  rows::arg(var::kArgW, "arg_w", "G65 argument W."),
+  rows::arg(var::kArgX, "arg_x", "G65 argument X."),
+  rows::arg(var::kArgY, "arg_y", "G65 argument Y."),
+  rows::arg(var::kArgZ, "arg_z", "G65 argument Z."),
+};
+
+inline constexpr VarInfo kPlatformRows[] = {
+  rows::offset(var::kG54 + 0, "g54_x", "mm"), rows::offset(var::kG54 + 1, "g54_y", "mm"), rows::offset(var::kG54 + 2, "g54_z", "mm"),
+  rows::offset(var::kG54 + 3, "g54_a", "deg"), rows::offset(var::kG54 + 4, "g54_b", "deg"), rows::offset(var::kG54 + 5, "g54_c", "deg"),
+  rows::offset(var::kG55 + 0, "g55_x", "mm"), rows::offset(var::kG55 + 1, "g55_y", "mm"), rows::offset(var::kG55 + 2, "g55_z", "mm"),
+  rows::offset(var::kG55 + 3, "g55_a", "deg"), rows::offset(var::kG55 + 4, "g55_b", "deg"), rows::offset(var::kG55 + 5, "g55_c", "deg"),
+  rows::offset(var::kG56 + 0, "g56_x", "mm"), rows::offset(var::kG56 + 1, "g56_y", "mm"), rows::offset(var::kG56 + 2, "g56_z", "mm"),
+  rows::offset(var::kG56 + 3, "g56_a", "deg"), rows::offset(var::kG56 + 4, "g56_b", "deg"), rows::offset(var::kG56 + 5, "g56_c", "deg"),
+  rows::offset(var::kG57 + 0, "g57_x", "mm"), rows::offset(var::kG57 + 1, "g57_y", "mm"), rows::offset(var::kG57 + 2, "g57_z", "mm"),
+  rows::offset(var::kG57 + 3, "g57_a", "deg"), rows::offset(var::kG57 + 4, "g57_b", "deg"), rows::offset(var::kG57 + 5, "g57_c", "deg"),
+  rows::offset(var::kG58 + 0, "g58_x", "mm"), rows::offset(var::kG58 + 1, "g58_y", "mm"), rows::offset(var::kG58 + 2, "g58_z", "mm"),
+  rows::offset(var::kG58 + 3, "g58_a", "deg"), rows::offset(var::kG58 + 4, "g58_b", "deg"), rows::offset(var::kG58 + 5, "g58_c", "deg"),
+  rows::offset(var::kG59 + 0, "g59_x", "mm"), rows::offset(var::kG59 + 1, "g59_y", "mm"), rows::offset(var::kG59 + 2, "g59_z", "mm"),
+  rows::offset(var::kG59 + 3, "g59_a", "deg"), rows::offset(var::kG59 + 4, "g59_b", "deg"), rows::offset(var::kG59 + 5, "g59_c", "deg"),
+
+  {var::kCmd, 1, Access::kCommand, ValueKind::kInteger, 0.0, 9999.0, 0.0, "cmd", "", "Write a macro number to run that macro (0 runs nothing); reads the last number written."},
+  {var::kStatus, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 3.0, 0.0, "status", "", "0 idle, 1 busy, 2 done, 3 error."},
+  {var::kError, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, 0.0, "error", "", "0 when the last macro succeeded, else its error code."},
+  {var::kDoneCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "done_count", "", "+1 each time a macro finishes, with success or error."},
+  {var::kUnlock, 1, Access::kUnlock, ValueKind::kInteger, 0.0, 9999.0, 0.0, "unlock", "", "Write the unlock code to allow writes to #500..#999, 0 to lock; reads 1 when unlocked."},
+  {var::kRunTime, 1, Access::kReadOnly, ValueKind::kReal, 0.0, 9.0e15, 0.0, "run_time", "us", "Time the last macro ran, from the clock the controller hands the module."},
+  {var::kInterfaceVersion, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, kInterfaceVersionValue, "interface_version", "", "Version of this register map."},
+  {var::kAccessFault, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 255.0, 0.0, "access_fault", "", "Why the last refused register access was refused (see access_faults)."},
+  {var::kStepCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "step_count", "", "Number of step() calls the last macro took (1 for a macro that finishes in one step)."},
+};
+// clang-format on
+
+}  // namespace trueaxis::macros
