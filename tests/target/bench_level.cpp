@@ -15,6 +15,7 @@
 // measurement; and, for comparison, core::level_face alone on the same face.
 #include <cstdint>
 
+#include "bench_support.hpp"
 #include "fixtures.hpp"
 #include "trueaxis/core/leveling.hpp"
 #include "trueaxis/hal/mps2/board_nv_storage.hpp"
@@ -26,31 +27,12 @@ namespace {
 
 namespace mps2 = trueaxis::hal::mps2;
 namespace var = trueaxis::macros::var;
+using trueaxis::bench::median;
+using trueaxis::bench::print;
+using trueaxis::bench::ticks_to_instructions;
 using trueaxis::macros::AccessFault;
 
 constexpr int kRuns = 9;
-constexpr std::uint32_t kCalibrationLoops = 10000;  // 2 instructions each (subs, bne)
-
-std::uint64_t ticks_to_instructions(std::uint64_t ticks) {
-  return (ticks * 10 + mps2::kTicksPer10Instructions / 2) / mps2::kTicksPer10Instructions;
-}
-
-std::uint64_t median(std::uint64_t (&v)[kRuns]) {
-  for (int i = 1; i < kRuns; ++i) {
-    for (int j = i; j > 0 && v[j - 1] > v[j]; --j) {
-      const std::uint64_t t = v[j];
-      v[j] = v[j - 1];
-      v[j - 1] = t;
-    }
-  }
-  return v[kRuns / 2];
-}
-
-void print(const char* label, std::uint64_t value, const char* unit) {
-  mps2::console_write(label);
-  mps2::console_write_uint(value);
-  mps2::console_write(unit);
-}
 
 bool prepare_run(trueaxis::macros::Module& module, const trueaxis::test::Face& f) {
   const double ijk[3] = {f.hint_machine.x(), f.hint_machine.y(), f.hint_machine.z()};
@@ -79,24 +61,8 @@ int main() {
   static_cast<void>(module.start());
 
   std::uint64_t samples[kRuns];
-  for (std::uint64_t& s : samples) {
-    const std::uint64_t t0 = clock.ticks();
-    const std::uint64_t t1 = clock.ticks();
-    s = t1 - t0;
-  }
-  const std::uint64_t overhead = median(samples);
-
-  const std::uint64_t c0 = clock.ticks();
-  std::uint32_t n = kCalibrationLoops;
-  asm volatile(
-      "1: subs %0, %0, #1\n"
-      "   bne 1b\n"
-      : "+r"(n)
-      :
-      : "cc");
-  const std::uint64_t calibration = ticks_to_instructions(clock.ticks() - c0 - overhead);
-  print("calibration: ", calibration, " instructions measured for ");
-  print("", 2 * std::uint64_t{kCalibrationLoops}, " executed\n");
+  const std::uint64_t overhead = trueaxis::bench::clock_overhead(clock);
+  if (!trueaxis::bench::calibrated(clock, overhead)) return 6;
 
   trueaxis::test::SplitMix64 rng(0x5EED'0005);
   const trueaxis::test::Face face = trueaxis::test::random_face(rng);
