@@ -50,13 +50,13 @@ void ModbusTcpServer::serve(volatile std::sig_atomic_t& stop, const sigset_t& wa
     const int n = ::pselect(max_fd + 1, &readable, nullptr, nullptr, nullptr, &wait_mask);
     if (n < 0) continue;  // EINTR: the loop condition looks at `stop`
     if (FD_ISSET(listen_fd_, &readable)) accept_client();
-    // Iterate over a copy: serve_one may drop a client.
-    const std::vector<int> ready = clients_;
-    for (int fd : ready) {
+    // From the back: dropping client i moves none of those still to be served.
+    for (std::size_t i = clients_.size(); i-- > 0;) {
+      const int fd = clients_[i];
       if (!FD_ISSET(fd, &readable)) continue;
       if (!serve_one(fd)) {
         ::close(fd);
-        clients_.erase(std::find(clients_.begin(), clients_.end(), fd));
+        clients_.erase(clients_.begin() + static_cast<std::ptrdiff_t>(i));
       }
     }
   }

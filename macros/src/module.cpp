@@ -69,6 +69,20 @@ static_assert(readwrite_defaults_are_zero(), "macro inputs are cleared to 0: the
 
 constexpr std::size_t kResultSlot = slot_of(var::kResultFirst);
 
+// The numbers of every variable of one persistent group, in map order.
+template <std::size_t N>
+constexpr std::array<std::uint16_t, N> numbers_of(Access group) {
+  std::array<std::uint16_t, N> out{};
+  std::size_t n = 0;
+  for (const VarInfo& v : kRegisterMap) {
+    if (v.access != group) continue;
+    for (std::uint16_t k = 0; k < v.count; ++k) out[n++] = static_cast<std::uint16_t>(v.number + k);
+  }
+  return out;
+}
+constexpr auto kConfigNumbers = numbers_of<kConfigCount>(Access::kConfig);
+constexpr auto kWorkOffsetNumbers = numbers_of<kWorkOffsetCount>(Access::kPersistent);
+
 // The access of a defined number (callers have checked it is defined).
 Access access_of(std::uint16_t number) {
   const VarInfo* info = find_var(number);
@@ -158,18 +172,15 @@ AccessFault Module::check_write(std::uint16_t number, double value) const {
 // The whole record of one group (config or work offsets) with the written
 // values in place, saved as that group's record alone.
 AccessFault Module::save_variables(Access group, std::uint16_t first, std::uint16_t count, const double* values) {
-  std::size_t length = 0;
-  for (const VarInfo& v : kRegisterMap) {
-    if (v.access != group) continue;
-    for (std::uint16_t k = 0; k < v.count; ++k) {
-      const auto number = static_cast<std::uint16_t>(v.number + k);
-      const bool written = number >= first && number - first < count;
-      put_u16(variable_record_ + length, number);
-      put_f64(variable_record_ + length + 2, written ? values[number - first] : value(number));
-      length += kEntryBytes;
-    }
+  const std::uint16_t* numbers = group == Access::kConfig ? kConfigNumbers.data() : kWorkOffsetNumbers.data();
+  const std::size_t n = group == Access::kConfig ? kConfigNumbers.size() : kWorkOffsetNumbers.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint16_t number = numbers[i];
+    const bool written = number >= first && number - first < count;
+    put_u16(variable_record_ + kEntryBytes * i, number);
+    put_f64(variable_record_ + kEntryBytes * i + 2, written ? values[number - first] : value(number));
   }
-  const core::Status s = store_.save(static_cast<std::uint8_t>(record_of(group)), variable_record_, length);
+  const core::Status s = store_.save(static_cast<std::uint8_t>(record_of(group)), variable_record_, kEntryBytes * n);
   return s == core::Status::kOk ? AccessFault::kNone : AccessFault::kStorageFailure;
 }
 

@@ -12,7 +12,9 @@ FileNvStorage::~FileNvStorage() { close(); }
 
 IoStatus FileNvStorage::open(const char* path, std::size_t size_bytes) {
   close();
-  const int fd = ::open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  // O_DSYNC: each pwrite returns once its bytes are durable, one system call
+  // where pwrite + fsync took two (a work-offset write is on a PLC's hot path).
+  const int fd = ::open(path, O_RDWR | O_CREAT | O_CLOEXEC | O_DSYNC, 0644);
   if (fd < 0) return IoStatus::kIoError;
   struct stat st {};
   if (::fstat(fd, &st) != 0) {
@@ -56,7 +58,7 @@ IoStatus FileNvStorage::do_write(std::size_t offset, const std::uint8_t* data, s
     if (n <= 0) return IoStatus::kIoError;
     done += static_cast<std::size_t>(n);
   }
-  return ::fsync(fd_) == 0 ? IoStatus::kOk : IoStatus::kIoError;
+  return IoStatus::kOk;
 }
 
 }  // namespace trueaxis::hal

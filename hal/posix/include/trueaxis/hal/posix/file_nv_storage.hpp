@@ -5,8 +5,9 @@
 //  1. open(path, size) opens or creates the file. A new file, or the part of a
 //     shorter one beyond its end, reads as zero bytes (ftruncate); a longer file
 //     is used as is and only its first `size` bytes are addressed.
-//  2. write returns kOk only after pwrite of every byte and fsync succeeded, so
-//     the bytes are on the disk (NvStorage contract 2). Any failure is kIoError.
+//  2. The file is opened O_DSYNC: write returns kOk only after pwrite of every
+//     byte succeeded, each returning once its bytes are on the disk (NvStorage
+//     contract 2). Any failure is kIoError.
 //  3. Before a successful open, size_bytes() is 0, so every access is
 //     kOutOfRange. The destructor closes the file.
 #pragma once
