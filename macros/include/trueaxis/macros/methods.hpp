@@ -1,26 +1,51 @@
-// The one list of methods: the state each keeps in the module (its streaming
-// session) and the macros each brings. The register-map rows and blocks are
-// joined in register_map.hpp.
+// The one list of methods. Adding a method touches its own files (its map,
+// its handlers and state), one entry in each list below, and CMake.
 //
-// Adding a method touches its own files (map, handlers, state), one member of
-// Methods, one entry of kMacroSources, one of kRowSources and kMethodBlocks
-// (register_map.hpp), and CMake.
-//
-// Compile-time checks: macro numbers unique and in 1..9999; every output inside
-// #100..#199 and every input defined in the map.
+//  - kMethodBlocks:     its blocks of #500..#999 and #1000..#4999 (replacing the
+//                       reservation), published in the JSON map;
+//  - kMethodRowSources: its rows, joined into the register map
+//                       (register_map.hpp checks them against its blocks);
+//  - Methods:           its state (streaming session, live tables), owned by
+//                       the Module, reached by its handlers through
+//                       MacroContext::methods();
+//  - kMacroSources:     its macros (register_map.hpp checks numbers, inputs
+//                       and outputs at compile time).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
 
 #include "trueaxis/macros/level/level_macros.hpp"
+#include "trueaxis/macros/level/level_map.hpp"
 #include "trueaxis/macros/macro_info.hpp"
-#include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/macros/var_info.hpp"
 
 namespace trueaxis::macros {
 
-// Owned by the Module; each handler reaches its own member through
-// MacroContext::methods().
+// Every method's blocks, in number order. Blocks of methods not built yet are
+// reserved so that the published map does not move when they land.
+inline constexpr MethodBlock kMethodBlocks[] = {
+    level::kBlock,
+    {"rigidity", 600, 699, 2000, 2999},
+    {"gantry", 700, 799, 3000, 3999},
+    {"spindle", 800, 899, 4000, 4999},
+};
+
+struct RowSource {
+  const VarInfo* rows;
+  std::size_t count;
+  const MethodBlock* block;  // nullptr: the platform's rows
+};
+
+template <std::size_t N>
+constexpr RowSource row_source(const VarInfo (&t)[N], const MethodBlock* block) {
+  return {t, N, block};
+}
+
+inline constexpr RowSource kMethodRowSources[] = {
+    row_source(level::kRows, &level::kBlock),
+};
+
 struct Methods {
   level::State level;
 };
@@ -48,29 +73,5 @@ constexpr const MacroInfo* find_macro(std::uint16_t number) {
   }
   return nullptr;
 }
-
-namespace detail {
-constexpr bool macros_are_well_formed() {
-  for (const MacroSource& s : kMacroSources) {
-    for (std::size_t i = 0; i < s.count; ++i) {
-      const MacroInfo& m = s.macros[i];
-      if (m.number == 0 || m.number > 9999 || find_macro(m.number) != &m || m.run == nullptr) return false;
-      for (std::size_t k = 0; k < m.output_count; ++k) {
-        const std::uint16_t n = m.outputs[k].number;
-        if (n < var::kResultFirst || n > var::kResultLast) return false;
-      }
-      for (std::size_t k = 0; k < m.input_count; ++k) {
-        for (std::uint16_t j = 0; j < m.inputs[k].count; ++j) {
-          if (!is_defined(static_cast<std::uint16_t>(m.inputs[k].first + j))) return false;
-        }
-      }
-    }
-  }
-  return true;
-}
-static_assert(macros_are_well_formed(),
-              "a macro number repeats or is out of 1..9999, an output lies outside #100..#199, "
-              "or an input is not defined in the map");
-}  // namespace detail
 
 }  // namespace trueaxis::macros

@@ -10,30 +10,23 @@
 //  3. each method's rows lie inside its blocks (kMethodBlocks), and the
 //     platform's rows outside every method block;
 //  4. the result range #100..#199 is defined whole, so results are one
-//     contiguous run of slots.
+//     contiguous run of slots;
+//  5. every macro of methods.hpp has a unique number in 1..9999, outputs inside
+//     #100..#199 and inputs the map defines.
 // A number not in the table is not defined: reading or writing it is refused.
-//
-// Adding a method: its map file, one entry in kRowSources and one in
-// kMethodBlocks (replacing its reservation).
+// The lists of methods are in methods.hpp; the checks take their lists as
+// arguments so that tests can feed them bad ones (tests/macros/test_register_map.cpp).
 #pragma once
 
 #include <array>
 #include <cstddef>
 
 #include "trueaxis/macros/level/level_map.hpp"
+#include "trueaxis/macros/methods.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/macros/var_info.hpp"
 
 namespace trueaxis::macros {
-
-// Every method's blocks, in number order. Blocks of methods not built yet are
-// reserved so that the published map does not move when they land.
-inline constexpr MethodBlock kMethodBlocks[] = {
-    level::kBlock,
-    {"rigidity", 600, 699, 2000, 2999},
-    {"gantry", 700, 799, 3000, 3999},
-    {"spindle", 800, 899, 4000, 4999},
-};
 
 namespace detail {
 
@@ -52,36 +45,35 @@ constexpr std::array<VarInfo, N + 1> result_rows(const OutputInfo (&named)[N]) {
 }
 inline constexpr auto kResultRows = result_rows(level::kLevelOutputs);
 
-struct RowSource {
-  const VarInfo* rows;
-  std::size_t count;
-  const MethodBlock* block;  // nullptr: the platform's rows
-};
-
 template <std::size_t N>
-constexpr RowSource source(const VarInfo (&t)[N], const MethodBlock* block) {
-  return {t, N, block};
-}
-template <std::size_t N>
-constexpr RowSource source(const std::array<VarInfo, N>& t) {
+constexpr RowSource platform_source(const std::array<VarInfo, N>& t) {
   return {t.data(), N, nullptr};
 }
 
-}  // namespace detail
-
-// The one list of row sources.
-inline constexpr detail::RowSource kRowSources[] = {
-    detail::source(kPlatformArgRows, nullptr),
-    detail::source(detail::kResultRows),
-    detail::source(kPlatformRows, nullptr),
-    detail::source(level::kRows, &level::kBlock),
+// The platform's rows; the methods' come from methods.hpp.
+inline constexpr RowSource kPlatformRowSources[] = {
+    row_source(kPlatformArgRows, nullptr),
+    platform_source(kResultRows),
+    row_source(kPlatformRows, nullptr),
 };
 
-namespace detail {
+template <typename F>
+constexpr bool all_sources(F f) {
+  for (const RowSource& s : kPlatformRowSources) {
+    if (!f(s)) return false;
+  }
+  for (const RowSource& s : kMethodRowSources) {
+    if (!f(s)) return false;
+  }
+  return true;
+}
 
 constexpr std::size_t total_rows() {
   std::size_t n = 0;
-  for (const RowSource& s : kRowSources) n += s.count;
+  all_sources([&n](const RowSource& s) {
+    n += s.count;
+    return true;
+  });
   return n;
 }
 
@@ -89,37 +81,54 @@ constexpr bool inside(std::uint16_t first, std::uint16_t last, const VarInfo& v)
   return v.number >= first && static_cast<std::uint32_t>(v.number) + v.count - 1 <= last;
 }
 
-constexpr bool overlaps_any_block(const VarInfo& v) {
-  for (const MethodBlock& b : kMethodBlocks) {
+constexpr bool overlaps_any_block(const VarInfo& v, const MethodBlock* blocks, std::size_t block_count) {
+  for (std::size_t b = 0; b < block_count; ++b) {
     const std::uint32_t end = static_cast<std::uint32_t>(v.number) + v.count - 1;
-    if (end >= b.config_first && v.number <= b.config_last) return true;
-    if (end >= b.data_first && v.number <= b.data_last) return true;
+    if (end >= blocks[b].config_first && v.number <= blocks[b].config_last) return true;
+    if (end >= blocks[b].data_first && v.number <= blocks[b].data_last) return true;
   }
   return false;
 }
 
-constexpr bool sources_are_well_formed() {
-  for (std::size_t b = 0; b < sizeof(kMethodBlocks) / sizeof(kMethodBlocks[0]); ++b) {
-    const MethodBlock& m = kMethodBlocks[b];
+}  // namespace detail
+
+// Blocks inside #500..#999 and #1000..#4999, in order, not overlapping.
+constexpr bool blocks_are_well_formed(const MethodBlock* blocks, std::size_t count) {
+  for (std::size_t b = 0; b < count; ++b) {
+    const MethodBlock& m = blocks[b];
+    if (m.config_first > m.config_last || m.data_first > m.data_last) return false;
     if (m.config_first < var::kConfigFirst || m.config_last > var::kConfigLast) return false;
     if (m.data_first < var::kDataFirst || m.data_last > var::kDataLast) return false;
-    if (b > 0 && (kMethodBlocks[b - 1].config_last >= m.config_first || kMethodBlocks[b - 1].data_last >= m.data_first)) {
+    if (b > 0 && (blocks[b - 1].config_last >= m.config_first || blocks[b - 1].data_last >= m.data_first)) {
       return false;
     }
   }
-  for (const RowSource& s : kRowSources) {
-    if (!map_is_well_formed(s.rows, s.count)) return false;
-    for (std::size_t i = 0; i < s.count; ++i) {
-      const VarInfo& v = s.rows[i];
-      if (s.block == nullptr) {
-        if (overlaps_any_block(v)) return false;
-      } else if (!inside(s.block->config_first, s.block->config_last, v) &&
-                 !inside(s.block->data_first, s.block->data_last, v)) {
-        return false;
-      }
+  return true;
+}
+
+// A source is sorted and well formed; a method's rows lie inside its blocks;
+// the platform's (block nullptr) outside every block.
+constexpr bool source_is_well_formed(const RowSource& s, const MethodBlock* blocks, std::size_t block_count) {
+  if (!map_is_well_formed(s.rows, s.count)) return false;
+  for (std::size_t i = 0; i < s.count; ++i) {
+    const VarInfo& v = s.rows[i];
+    if (s.block == nullptr) {
+      if (detail::overlaps_any_block(v, blocks, block_count)) return false;
+    } else if (!detail::inside(s.block->config_first, s.block->config_last, v) &&
+               !detail::inside(s.block->data_first, s.block->data_last, v)) {
+      return false;
     }
   }
   return true;
+}
+
+namespace detail {
+
+constexpr std::size_t kBlockCount = sizeof(kMethodBlocks) / sizeof(kMethodBlocks[0]);
+
+constexpr bool sources_are_well_formed() {
+  if (!blocks_are_well_formed(kMethodBlocks, kBlockCount)) return false;
+  return all_sources([](const RowSource& s) { return source_is_well_formed(s, kMethodBlocks, kBlockCount); });
 }
 static_assert(sources_are_well_formed(),
               "a row source is unsorted or malformed, a method row lies outside its block, "
@@ -128,9 +137,10 @@ static_assert(sources_are_well_formed(),
 constexpr std::array<VarInfo, total_rows()> joined_rows() {
   std::array<VarInfo, total_rows()> out{};
   std::size_t n = 0;
-  for (const RowSource& s : kRowSources) {
+  all_sources([&out, &n](const RowSource& s) {
     for (std::size_t i = 0; i < s.count; ++i) out[n++] = s.rows[i];
-  }
+    return true;
+  });
   for (std::size_t i = 1; i < n; ++i) {  // insertion sort: a few hundred rows, once, at compile time
     for (std::size_t j = i; j > 0 && out[j - 1].number > out[j].number; --j) {
       const VarInfo t = out[j];
@@ -209,5 +219,34 @@ static_assert(is_defined(var::kCmd) && is_defined(var::kStepCount) && is_defined
 static_assert(is_defined(var::kMaxDirectionSigma) && is_defined(var::kG59 + 5) && !is_defined(var::kG59 + 6));
 static_assert(!is_defined(10), "#10 (letter G) is not an argument");
 static_assert(slot_of(var::kStepCount) == kVariableCount - 1);
+
+// Macro numbers unique and in 1..9999, a handler, outputs inside #100..#199,
+// inputs defined in the map.
+constexpr bool macros_are_well_formed(const MacroSource* sources, std::size_t count) {
+  for (std::size_t a = 0; a < count; ++a) {
+    for (std::size_t i = 0; i < sources[a].count; ++i) {
+      const MacroInfo& m = sources[a].macros[i];
+      if (m.number == 0 || m.number > 9999 || m.run == nullptr) return false;
+      for (std::size_t b = 0; b < count; ++b) {
+        for (std::size_t j = 0; j < sources[b].count; ++j) {
+          if (&sources[b].macros[j] != &m && sources[b].macros[j].number == m.number) return false;
+        }
+      }
+      for (std::size_t k = 0; k < m.output_count; ++k) {
+        const std::uint16_t n = m.outputs[k].number;
+        if (n < var::kResultFirst || n > var::kResultLast) return false;
+      }
+      for (std::size_t k = 0; k < m.input_count; ++k) {
+        for (std::uint16_t j = 0; j < m.inputs[k].count; ++j) {
+          if (!is_defined(static_cast<std::uint16_t>(m.inputs[k].first + j))) return false;
+        }
+      }
+    }
+  }
+  return true;
+}
+static_assert(macros_are_well_formed(kMacroSources, sizeof(kMacroSources) / sizeof(kMacroSources[0])),
+              "a macro number repeats or is out of 1..9999, an output lies outside #100..#199, "
+              "or an input is not defined in the map");
 
 }  // namespace trueaxis::macros
