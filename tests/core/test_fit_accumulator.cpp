@@ -6,101 +6,24 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
-#include "reference.hpp"
+#include "fit_clouds.hpp"
 #include "trueaxis/core/fit_accumulator.hpp"
 
 namespace core = trueaxis::core;
 namespace t = trueaxis::test;
 using core::Vec3;
-
-namespace {
-
-// Two-pass mean, scatter and index co-moment in long double: the reference the
-// one-pass sums must agree with.
-struct Moments {
-  t::Vec3L mean = t::Vec3L::Zero();
-  t::Mat3L scatter = t::Mat3L::Zero();
-  t::Vec3L index_moment = t::Vec3L::Zero();
-  t::Vec3L eigenvalues;  // ascending
-  t::Mat3L eigenvectors;
-};
-
-Moments two_pass(const std::vector<Vec3>& p) {
-  Moments m;
-  for (const Vec3& q : p) m.mean += q.cast<long double>();
-  const long double n = static_cast<long double>(p.size());
-  m.mean /= n;
-  for (std::size_t k = 0; k < p.size(); ++k) {
-    const t::Vec3L d = p[k].cast<long double>() - m.mean;
-    m.scatter += d * d.transpose();
-    m.index_moment += (static_cast<long double>(k) - 0.5L * (n - 1)) * d;
-  }
-  const Eigen::SelfAdjointEigenSolver<t::Mat3L> es(m.scatter);
-  m.eigenvalues = es.eigenvalues();
-  m.eigenvectors = es.eigenvectors();
-  return m;
-}
-
-core::PointAccumulator accumulate(const std::vector<Vec3>& p) {
-  core::PointAccumulator acc;
-  for (const Vec3& q : p) acc.add(q);
-  return acc;
-}
-
-double sin_angle(const Vec3& a, const t::Vec3L& b) {
-  return static_cast<double>(a.cast<long double>().cross(b).norm() / b.norm());
-}
-
-// Orthonormal (u, v, w) with w = `normal`.
-struct Frame {
-  Vec3 u, v, w;
-};
-Frame frame_around(const Vec3& normal) {
-  const Vec3 u = normal.unitOrthogonal();
-  return {u, normal.cross(u), normal};
-}
-
-// n points on a plane through `centre`: in-plane extents half_u x half_v (mm,
-// uniform), normal noise sigma (mm, Gaussian).
-std::vector<Vec3> plane_cloud(t::Rng& rng, std::size_t n, const Vec3& centre, const Frame& f, double half_u,
-                              double half_v, double sigma) {
-  std::vector<Vec3> p(n);
-  for (Vec3& q : p) {
-    q = centre + rng.uniform(-half_u, half_u) * f.u + rng.uniform(-half_v, half_v) * f.v + sigma * rng.normal() * f.w;
-  }
-  return p;
-}
-
-// n points stepping along `dir` from `start` (step mm), Gaussian noise sigma (mm) per axis.
-std::vector<Vec3> line_cloud(t::Rng& rng, std::size_t n, const Vec3& start, const Vec3& dir, double step, double sigma) {
-  std::vector<Vec3> p(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    p[k] = start + (step * static_cast<double>(k)) * dir + sigma * Vec3(rng.normal(), rng.normal(), rng.normal());
-  }
-  return p;
-}
-
-// Four points (+-a, 0, 0), (0, +-b, 0) in frame f about `centre`: scatter
-// diag(2a^2, 2b^2, 0), so s_2 / s_1 = b / a exactly.
-std::vector<Vec3> cross_points(const Vec3& centre, const Frame& f, double a, double b) {
-  return {centre + a * f.u, centre - a * f.u, centre + b * f.v, centre - b * f.v};
-}
-
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-// The mean is a double (half an ulp of |m|) plus the one-pass rounding of the
-// running mean relative to the first point, a few ulps of the points' reach from it.
-double mean_tolerance(const std::vector<Vec3>& p) {
-  double reach = 0;
-  for (const Vec3& q : p) reach = std::max(reach, (q - p.front()).norm());
-  Vec3 m = Vec3::Zero();
-  for (const Vec3& q : p) m += q;
-  return 2 * kEps * (m / static_cast<double>(p.size())).norm() + 16 * kEps * reach;
-}
-
-Vec3 far_offset(t::Rng& rng) { return std::exp(rng.uniform(std::log(1e3), std::log(1e4))) * rng.unit_vector(); }
-
-}  // namespace
+using t::accumulate;
+using t::cross_points;
+using t::far_offset;
+using t::frame_around;
+using t::Frame;
+using t::kEps;
+using t::line_cloud;
+using t::mean_tolerance;
+using t::Moments;
+using t::plane_cloud;
+using t::sin_angle;
+using t::two_pass;
 
 TEST_CASE("the one-pass sums match a long-double two-pass computation", "[accumulator]") {
   t::Rng rng(301);
