@@ -33,6 +33,7 @@ enum class Status : std::uint16_t {
   kPointsTooClose = 202,    // probe repeatability swamps the face's direction
   kOrientationAmbiguous = 203,  // the face is perpendicular to the orientation hint
   kUnreachable = 204,       // neither leveling solution lies inside the travel limits
+  kPointsNotOnLine = 205,   // the points are too wide across to define a line's direction
 
   kConfigInvalid = 300,     // the stored configuration is inconsistent
 
@@ -72,6 +73,9 @@ inline constexpr StatusInfo kStatusTable[] = {
      "in I, J, K."},
     {Status::kUnreachable, "unreachable",
      "Neither leveling solution lies inside the rotary axes' travel limits."},
+    {Status::kPointsNotOnLine, "points_not_on_line",
+     "The measured points do not run along one line: they spread too widely across it "
+     "for its direction to be defined."},
     {Status::kConfigInvalid, "config_invalid",
      "The stored configuration is inconsistent (for example a lower limit above the "
      "upper one)."},
