@@ -33,7 +33,7 @@ enum class Status : std::uint16_t {
   kPointsTooClose = 202,    // probe repeatability swamps the face's direction
   kOrientationAmbiguous = 203,  // the face is perpendicular to the orientation hint
   kUnreachable = 204,       // neither leveling solution lies inside the travel limits
-  kPointsNotOnLine = 205,   // the points are too wide across to define a line's direction
+  kPointsNotOnLine = 207,   // the points are too wide across to define a line's direction
 
   kConfigInvalid = 300,     // the stored configuration is inconsistent
 
