@@ -30,8 +30,9 @@
 //     exp: off-diagonal entries within 3 eps min(theta, 1) of the exact rotation
 //          [2.7], diagonal entries within 5 eps [4.2];
 //     log: for R the rotation of w rounded to double, |log(R) - w| <= 1.25 eps
-//          |w| below the threshold [1.0, about one ulp per component] and
-//          <= 3 eps |w| up to pi [2.2].
+//          |w| in the series of 4a, theta < 2 atan(threshold / 2) (3e-12 rad
+//          under the threshold) [1.0, about one ulp per component], and
+//          <= 3 eps |w| up to pi [2.2]; at pi, one of +-w.
 #pragma once
 
 #include "trueaxis/core/types.hpp"
