@@ -41,51 +41,52 @@ Mat3 so3_exp(const Vec3& w_rad) {
 
 namespace {
 
-// Unit quaternion (w, x, y, z) of a rotation matrix by Shepperd's method: the
-// largest of the four diagonal combinations is taken under the square root, so
-// no branch divides by a small number.
-void quaternion_from_matrix(const Mat3& r, double& qw, Vec3& qv) {
-  const double t = r.trace();
-  if (t >= r(0, 0) && t >= r(1, 1) && t >= r(2, 2)) {
-    const double s = 2.0 * std::sqrt(1.0 + t);  // 4 qw
-    qw = 0.25 * s;
-    qv = Vec3(r(2, 1) - r(1, 2), r(0, 2) - r(2, 0), r(1, 0) - r(0, 1)) / s;
-  } else if (r(0, 0) >= r(1, 1) && r(0, 0) >= r(2, 2)) {
-    const double s = 2.0 * std::sqrt(1.0 + r(0, 0) - r(1, 1) - r(2, 2));  // 4 qx
-    qw = (r(2, 1) - r(1, 2)) / s;
-    qv = Vec3(0.25 * s, (r(0, 1) + r(1, 0)) / s, (r(0, 2) + r(2, 0)) / s);
-  } else if (r(1, 1) >= r(2, 2)) {
-    const double s = 2.0 * std::sqrt(1.0 + r(1, 1) - r(0, 0) - r(2, 2));  // 4 qy
-    qw = (r(0, 2) - r(2, 0)) / s;
-    qv = Vec3((r(0, 1) + r(1, 0)) / s, 0.25 * s, (r(1, 2) + r(2, 1)) / s);
-  } else {
-    const double s = 2.0 * std::sqrt(1.0 + r(2, 2) - r(0, 0) - r(1, 1));  // 4 qz
-    qw = (r(1, 0) - r(0, 1)) / s;
-    qv = Vec3((r(0, 2) + r(2, 0)) / s, (r(1, 2) + r(2, 1)) / s, 0.25 * s);
+// Convention 4a: w = h atan(x) / (x c), written as h + delta h below the
+// threshold so that each component is rounded about once. 1 - r(i, i) is exact
+// for a rotation (Sterbenz), so d, c and x keep their relative precision.
+Vec3 log_trace_branch(const Mat3& r) {
+  const Vec3 h = vee(r);                                                   // sin(theta) n
+  const double d = (1.0 - r(0, 0)) + (1.0 - r(1, 1)) + (1.0 - r(2, 2));  // 3 - trace
+  const double c = 1.0 - 0.25 * d;                                        // (1 + trace) / 4
+  const double x2 = h.squaredNorm() / (4.0 * c * c);                     // tan^2(theta / 2)
+  const double half_threshold = 0.5 * so3_taylor_threshold();
+  if (x2 < half_threshold * half_threshold) {
+    const double delta = (0.25 * d - x2 / 3.0 + 0.2 * x2 * x2) / c;
+    return h + delta * h;
   }
-  const double norm = std::sqrt(qw * qw + qv.squaredNorm());
-  qw /= norm;
-  qv /= norm;
+  const double x = std::sqrt(x2);
+  return (std::atan(x) / (x * c)) * h;
+}
+
+// Convention 4b: Shepperd's three diagonal branches, the largest diagonal
+// combination under the square root so that nothing divides by a small number.
+// The quaternion is left unnormalised: theta and the axis depend on its direction only.
+Vec3 log_diagonal_branch(const Mat3& r) {
+  int i = 0;
+  if (r(1, 1) > r(i, i)) i = 1;
+  if (r(2, 2) > r(i, i)) i = 2;
+  const int j = (i + 1) % 3;
+  const int k = (i + 2) % 3;
+  const double s = 2.0 * std::sqrt(1.0 + r(i, i) - r(j, j) - r(k, k));  // 4 |q_i| >= 2
+  double qw = (r(k, j) - r(j, k)) / s;
+  Vec3 qv;
+  qv(i) = 0.25 * s;
+  qv(j) = (r(j, i) + r(i, j)) / s;
+  qv(k) = (r(k, i) + r(i, k)) / s;
   if (qw < 0.0) {  // q and -q are the same rotation; qw >= 0 gives theta <= pi
     qw = -qw;
     qv = -qv;
   }
+  const double vn = qv.norm();  // >= 0.5
+  return (2.0 * std::atan2(vn, qw) / vn) * qv;
 }
 
 }  // namespace
 
 Vec3 so3_log(const Mat3& r) {
-  double qw = 1.0;
-  Vec3 qv = Vec3::Zero();
-  quaternion_from_matrix(r, qw, qv);
-  const double vn = qv.norm();  // sin(theta / 2)
-  // theta = 2 atan2(|v|, w); w = theta / |v| * v.
-  if (2.0 * vn < so3_taylor_threshold()) {
-    // 2 atan(x) / x with x = |v| / w, Taylor: 2 (1 - x^2 / 3) / w.
-    const double x2 = (vn * vn) / (qw * qw);
-    return (2.0 / qw) * (1.0 - x2 / 3.0) * qv;
-  }
-  return (2.0 * std::atan2(vn, qw) / vn) * qv;
+  const double t = r.trace();
+  if (t >= r(0, 0) && t >= r(1, 1) && t >= r(2, 2)) return log_trace_branch(r);
+  return log_diagonal_branch(r);
 }
 
 }  // namespace trueaxis::core

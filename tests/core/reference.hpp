@@ -59,6 +59,16 @@ inline Mat3L expm_series(const Mat3L& k) {
   return sum;
 }
 
+// Rodrigues' formula in long double with 1 - cos(theta) = 2 sin^2(theta / 2): the
+// rotation of w to long-double precision (relative, entry by entry) at any angle.
+inline Mat3L rodrigues_l(const Vec3L& w) {
+  const long double theta = w.norm();
+  if (theta == 0.0L) return Mat3L::Identity();
+  const Mat3L k = hat_l(w);
+  const long double s_half = std::sin(theta / 2.0L);
+  return Mat3L::Identity() + (std::sin(theta) / theta) * k + (2.0L * s_half * s_half / (theta * theta)) * (k * k);
+}
+
 inline Mat3L rot_x_l(long double a) {
   Mat3L r;
   r << 1, 0, 0, 0, std::cos(a), -std::sin(a), 0, std::sin(a), std::cos(a);

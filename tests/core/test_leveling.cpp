@@ -136,15 +136,29 @@ TEST_CASE("levels 100000 random faces to +Z within 1e-12 rad, both solutions", "
   CHECK(second_chosen > 1000);  // the choice really goes both ways
 }
 
-TEST_CASE("uses atan2: faces in every quadrant end up right side up", "[level]") {
+TEST_CASE("uses atan2: faces in every quadrant get C = 90 deg - azimuth or its opposite", "[level]") {
   core::LevelConfig cfg;
+  cfg.probe_sigma_mm = 0.0;
   t::Rng rng(7);
-  for (double az_deg : {-179.0, -135.0, -90.0, -45.0, 0.0, 45.0, 90.0, 135.0, 180.0}) {
+  const double tilt_deg = 0.4 * 180.0 / core::kPi;
+  // Away from the ties (azimuth 0, 180) and the wrap of C2 (azimuth -90, 90).
+  for (double az_deg : {-170.0, -135.0, -100.0, -45.0, -10.0, 10.0, 45.0, 80.0, 100.0, 135.0, 170.0}) {
+    INFO("azimuth " << az_deg);
     const Face f = make_face(0.4, az_deg * core::kPi / 180.0, {}, cfg, rng);
     const auto r = core::level_face(input_for(f, {}), cfg);
     REQUIRE(r.ok());
-    const t::Vec3L up = table_rotation_l({r.value().chosen.a_deg, r.value().chosen.c_deg}, cfg) * f.n_table;
-    CHECK(up.z() > 0.999L);
+    const core::LevelResult& out = r.value();
+    // n = (sin t cos az, sin t sin az, cos t): C1 = atan2(nx, ny) = 90 - az, A1 = t;
+    // C2 = C1 + 180, A2 = -t. From C = 0 the cheaper one has |C| <= 90; on a tie, 1.
+    const double c1 = core::wrap_deg_180(90.0 - az_deg);
+    const double c2 = core::wrap_deg_180(270.0 - az_deg);
+    const bool first = std::abs(c1) <= std::abs(c2);
+    CHECK(out.chosen.c_deg == Approx(first ? c1 : c2).margin(1e-10));
+    CHECK(out.chosen.a_deg == Approx(first ? tilt_deg : -tilt_deg).margin(1e-10));
+    CHECK(out.other.c_deg == Approx(first ? c2 : c1).margin(1e-10));
+    CHECK(out.other.a_deg == -out.chosen.a_deg);
+    CHECK(residual_rad(f.n_table, out.chosen.c_deg, out.chosen.a_deg, cfg) < 1e-12L);
+    CHECK(residual_rad(f.n_table, out.other.c_deg, out.other.a_deg, cfg) < 1e-12L);
   }
 }
 
@@ -161,8 +175,27 @@ TEST_CASE("a face already level keeps C and sets A to zero", "[level]") {
   CHECK(r.value().chosen.a_deg == 0.0);
   CHECK(r.value().chosen.c_deg == 37.5);
   CHECK(r.value().tilt_deg == 0.0);
-  CHECK(std::isfinite(r.value().c_sigma_arcsec));
-  CHECK(std::isfinite(r.value().tilt_sigma_arcsec));
+  CHECK(r.value().other.c_deg == 37.5);
+  CHECK(r.value().other.a_deg == 0.0);
+  // At zero tilt the tilt's uncertainty is sigma / s_v and C's is unbounded, capped
+  // at 180 deg (leveling.hpp item 7). s_v: the smaller singular value of the
+  // centred points, in closed form for this triangle (x, y in mm).
+  const long double sxx = 2.0L * (100.0L / 3) * (100.0L / 3) + (200.0L / 3) * (200.0L / 3);
+  const long double syy = 2.0L * (80.0L / 3) * (80.0L / 3) + (160.0L / 3) * (160.0L / 3);
+  const long double sxy = (100.0L / 3) * (80.0L / 3) - (200.0L / 3) * (80.0L / 3) - (100.0L / 3) * (160.0L / 3);
+  const long double s_v = std::sqrt((sxx + syy) / 2 - std::sqrt((sxx - syy) * (sxx - syy) / 4 + sxy * sxy));
+  const double expected_arcsec =
+      static_cast<double>(0.0005L / s_v * 180.0L / t::kPiL * 3600.0L);  // default probe sigma 0.5 um
+  CHECK(r.value().direction_sigma_arcsec == Approx(expected_arcsec).epsilon(1e-12));
+  CHECK(r.value().tilt_sigma_arcsec == r.value().direction_sigma_arcsec);
+  CHECK(r.value().c_sigma_arcsec == Approx(180.0 * 3600.0).epsilon(1e-15));
+  // A perfect probe knows C and the tilt exactly.
+  core::LevelConfig perfect;
+  perfect.probe_sigma_mm = 0.0;
+  const auto p = core::level_face(in, perfect);
+  REQUIRE(p.ok());
+  CHECK(p.value().tilt_sigma_arcsec == 0.0);
+  CHECK(p.value().c_sigma_arcsec == 0.0);
 }
 
 TEST_CASE("a vertical face levels with A at plus or minus 90 degrees", "[level]") {
@@ -206,7 +239,57 @@ TEST_CASE("refuses when neither solution is inside the A travel limits", "[level
   const auto r = core::level_face(input_for(f, {}), cfg);
   REQUIRE(r.ok());
   CHECK_FALSE(r.value().other.reachable);
-  CHECK(r.value().chosen.a_deg <= 20.0);
+  CHECK(r.value().chosen.a_deg == Approx(0.3 * 180.0 / core::kPi).margin(1e-12));
+  CHECK(r.value().other.a_deg == -r.value().chosen.a_deg);
+}
+
+TEST_CASE("an A exactly on a travel limit is reachable, one ulp beyond is not", "[level]") {
+  core::LevelConfig cfg;
+  cfg.probe_sigma_mm = 0.0;
+  t::Rng rng(81);
+  for (double a_sign : {1.0, -1.0}) {
+    cfg.a_sign = a_sign;
+    cfg.a_min_deg = -120.0;
+    cfg.a_max_deg = 120.0;
+    const Face f = make_face(0.3, 1.0, {}, cfg, rng);
+    const auto wide = core::level_face(input_for(f, {}), cfg);
+    REQUIRE(wide.ok());
+    // The two solutions' commanded A: +a and -a exactly (solution 2 negates A1).
+    const double a = std::abs(wide.value().chosen.a_deg);
+    REQUIRE(a > 17.0);
+    REQUIRE(std::abs(wide.value().other.a_deg) == a);
+    INFO("a_sign " << a_sign << ", a " << a);
+
+    // Upper limit exactly on +a, lower limit far from -a: +a is taken.
+    cfg.a_min_deg = -5.0;
+    cfg.a_max_deg = a;
+    auto r = core::level_face(input_for(f, {}), cfg);
+    REQUIRE(r.ok());
+    CHECK(r.value().chosen.a_deg == a);
+    CHECK(r.value().chosen.reachable);
+    CHECK_FALSE(r.value().other.reachable);
+    // One ulp inside +a: neither is reachable.
+    cfg.a_max_deg = std::nextafter(a, 0.0);
+    CHECK(core::level_face(input_for(f, {}), cfg).status() == core::Status::kUnreachable);
+
+    // Lower limit exactly on -a: -a is taken, also when +a is one ulp out.
+    cfg.a_min_deg = -a;
+    r = core::level_face(input_for(f, {}), cfg);
+    REQUIRE(r.ok());
+    CHECK(r.value().chosen.a_deg == -a);
+    CHECK_FALSE(r.value().other.reachable);
+    CHECK(r.value().other.a_deg == a);
+    // One ulp inside -a as well: refused.
+    cfg.a_min_deg = std::nextafter(-a, 0.0);
+    CHECK(core::level_face(input_for(f, {}), cfg).status() == core::Status::kUnreachable);
+    // Both limits exactly on the solutions: both reachable, the cheaper chosen.
+    cfg.a_min_deg = -a;
+    cfg.a_max_deg = a;
+    r = core::level_face(input_for(f, {}), cfg);
+    REQUIRE(r.ok());
+    CHECK(r.value().chosen.reachable);
+    CHECK(r.value().other.reachable);
+  }
 }
 
 TEST_CASE("C limits pick a representative inside them or refuse", "[level]") {
@@ -217,8 +300,14 @@ TEST_CASE("C limits pick a representative inside them or refuse", "[level]") {
   cfg.c_max_deg = 800.0;
   const auto r = core::level_face(input_for(f, {}), cfg);
   REQUIRE(r.ok());
-  CHECK(r.value().chosen.c_deg >= 400.0);
-  CHECK(r.value().chosen.c_deg <= 800.0);
+  // C1 = 90 - 57.2958 = 32.7042 deg, C2 = -147.2958 deg. Inside [400, 800] the
+  // representatives nearest the current C = 0 are 392.70 (out) -> 752.70 for C1 and
+  // 572.70 for C2; both A are reachable, so the cheaper is C2 + 720.
+  const double c1 = 90.0 - 1.0 * 180.0 / core::kPi;
+  CHECK(r.value().chosen.c_deg == Approx(c1 - 180.0 + 720.0).margin(1e-10));
+  CHECK(r.value().chosen.a_deg == Approx(-0.3 * 180.0 / core::kPi).margin(1e-10));
+  CHECK(r.value().other.c_deg == Approx(c1 + 720.0).margin(1e-10));
+  CHECK(r.value().other.reachable);
   cfg.c_min_deg = 1.0;
   cfg.c_max_deg = 2.0;
   CHECK(core::level_face(input_for(f, {}), cfg).status() == core::Status::kUnreachable);
@@ -397,5 +486,69 @@ TEST_CASE("the C uncertainty matches a Monte Carlo of probe noise", "[level][unc
                              });
     INFO("tilt " << tilt << " MC " << sd_arcsec << " model " << nominal.value().c_sigma_arcsec);
     CHECK(nominal.value().c_sigma_arcsec == Approx(sd_arcsec).epsilon(0.06));
+  }
+}
+
+TEST_CASE("level within noise means a tilt up to 1 sigma of the normal's direction, not more", "[level]") {
+  t::Rng rng(20);
+  const core::TablePose pose{0.0, 37.5};
+  for (double az : {0.3, 2.0, -2.5}) {
+    // The direction sigma is sigma / s_v; s_v depends on the points only, so one
+    // run with a known sigma gives it, and sigma is then set for the wanted ratio.
+    core::LevelConfig cfg;
+    const double tilt = 2e-5;
+    const Face f = make_face(tilt, az, pose, cfg, rng);
+    const auto probe = core::level_face(input_for(f, pose), cfg);
+    REQUIRE(probe.ok());
+    const double s_v_mm = cfg.probe_sigma_mm / (probe.value().direction_sigma_arcsec / 3600.0 * core::kPi / 180.0);
+    for (double ratio : {0.9, 1.5, 2.5}) {
+      cfg.probe_sigma_mm = tilt / ratio * s_v_mm;
+      const auto r = core::level_face(input_for(f, pose), cfg);
+      REQUIRE(r.ok());
+      const core::LevelResult& out = r.value();
+      INFO("azimuth " << az << ", tilt / direction sigma " << ratio);
+      REQUIRE(out.tilt_deg * 3600.0 / out.direction_sigma_arcsec == Approx(ratio).epsilon(1e-6));
+      if (ratio < 1.0) {
+        CHECK(out.chosen.a_deg == 0.0);
+        CHECK(out.chosen.c_deg == 37.5);
+      } else {
+        CHECK(std::abs(out.chosen.a_deg) == Approx(tilt * 180.0 / core::kPi).epsilon(1e-9));
+        CHECK(residual_rad(f.n_table, out.chosen.c_deg, out.chosen.a_deg, cfg) < 1e-12L);
+      }
+    }
+  }
+}
+
+TEST_CASE("the outward hint may have any length: 1e-9 to 1e9 times a unit hint give the same result", "[level]") {
+  core::LevelConfig cfg;
+  cfg.probe_sigma_mm = 0.001;
+  cfg.a_min_deg = -180.0;
+  cfg.a_max_deg = 180.0;
+  t::Rng rng(21);
+  for (int i = 0; i < 200; ++i) {
+    const core::TablePose pose{rng.uniform(-90, 90), rng.uniform(-360, 360)};
+    const Face f = make_face(rng.uniform(0.01, 1.5), rng.uniform(-core::kPi, core::kPi), pose, cfg, rng);
+    // A unit hint off the normal by up to 60 deg, outward or (half the time) inward.
+    Vec3 off = f.n_machine.cross(rng.unit_vector());
+    off = off.normalized() * std::tan(rng.uniform(0.0, 1.0));
+    const Vec3 hint = ((i % 2 == 0 ? 1.0 : -1.0) * f.n_machine + off).normalized();
+    core::LevelInput in = input_for(f, pose);
+    in.outward_hint_machine = hint;
+    const auto unit = core::level_face(in, cfg);
+    REQUIRE(unit.ok());
+    for (double scale : {1e-9, 1e-3, 1e3, 1e9}) {
+      INFO("face " << i << ", hint scale " << scale);
+      in.outward_hint_machine = scale * hint;
+      const auto r = core::level_face(in, cfg);
+      REQUIRE(r.ok());
+      CHECK(r.value().chosen.a_deg == unit.value().chosen.a_deg);
+      CHECK(r.value().chosen.c_deg == unit.value().chosen.c_deg);
+      CHECK(r.value().other.a_deg == unit.value().other.a_deg);
+      CHECK(r.value().other.c_deg == unit.value().other.c_deg);
+      CHECK((r.value().normal_table == unit.value().normal_table));
+      CHECK(r.value().tilt_sigma_arcsec == unit.value().tilt_sigma_arcsec);
+    }
+    // The face is turned as the hint says: outward normal on the hint's side.
+    CHECK(unit.value().normal_table.dot(f.n_table.cast<double>()) * (i % 2 == 0 ? 1.0 : -1.0) > 0.99);
   }
 }

@@ -3,6 +3,7 @@
 #include <array>
 #include <cstring>
 #include <limits>
+#include <utility>
 
 #include "trueaxis/macros/register_codec.hpp"
 
@@ -108,5 +109,28 @@ TEST_CASE("each access fault maps to its Modbus exception", "[codec]") {
   CHECK(m::modbus_exception(F::kBusy) == E::kServerDeviceBusy);
   CHECK(m::modbus_exception(F::kStorageFailure) == E::kServerDeviceFailure);
   CHECK(m::modbus_exception(F::kBadFunction) == E::kIllegalFunction);
+  CHECK(m::modbus_exception(F::kNone) == E::kNone);
+}
+
+TEST_CASE("the Modbus exceptions carry the codes of the Modbus specification on the wire", "[codec]") {
+  using F = m::AccessFault;
+  using E = m::ModbusException;
+  // Modbus Application Protocol V1.1b3, section 7: 01 illegal function, 02 illegal
+  // data address, 03 illegal data value, 04 server device failure, 06 busy.
+  CHECK(static_cast<int>(E::kNone) == 0);
+  CHECK(static_cast<int>(E::kIllegalFunction) == 1);
+  CHECK(static_cast<int>(E::kIllegalDataAddress) == 2);
+  CHECK(static_cast<int>(E::kIllegalDataValue) == 3);
+  CHECK(static_cast<int>(E::kServerDeviceFailure) == 4);
   CHECK(static_cast<int>(E::kServerDeviceBusy) == 6);
+  // Every fault, as the byte a client receives (var_info.hpp's table).
+  const std::pair<F, int> wire[] = {{F::kNone, 0},       {F::kUndefined, 2},      {F::kMisaligned, 2},
+                                    {F::kReadOnly, 2},   {F::kLocked, 2},         {F::kNotFinite, 3},
+                                    {F::kOutOfRange, 3}, {F::kBadUnlockCode, 3},  {F::kBusy, 6},
+                                    {F::kStorageFailure, 4}, {F::kBadFunction, 1}};
+  for (const auto& [fault, code] : wire) {
+    INFO("fault " << static_cast<int>(fault));
+    CHECK(static_cast<int>(m::modbus_exception(fault)) == code);
+  }
+  CHECK(sizeof wire / sizeof wire[0] == static_cast<std::size_t>(F::kBadFunction) + 1);  // every fault listed
 }

@@ -79,14 +79,28 @@ TA_TEST("level_face levels random faces with both solutions, the chosen one with
              kLevelTolerance_rad);
     TA_CHECK_NEAR(out.tilt_deg, trueaxis::core::rad_to_deg(f.tilt_rad), 1e-10);
 
-    TA_CHECK(out.chosen.reachable);
-    TA_CHECK(out.chosen.a_deg >= cfg.a_min_deg && out.chosen.a_deg <= cfg.a_max_deg);
+    // The two solutions are A and -A exactly (leveling.hpp item 4), |A| the tilt.
+    TA_CHECK_NEAR(std::fabs(out.chosen.a_deg), trueaxis::core::rad_to_deg(f.tilt_rad), 1e-10);
+    TA_CHECK_EQ(out.other.a_deg, -out.chosen.a_deg);
     TA_CHECK(std::fabs(out.chosen.c_deg - current_c) <= 180.0 + 1e-9);
-    if (out.other.reachable) {
+    TA_CHECK(std::fabs(out.other.c_deg - current_c) <= 180.0 + 1e-9);
+    // With one-sided A travel exactly the solution on the allowed side is
+    // reachable; with +-120 deg both are, and the chosen one is not costlier.
+    if (i % 3 == 1) {
+      TA_CHECK(out.chosen.a_deg > 0.0);
+      TA_CHECK(!out.other.reachable);
+    } else if (i % 3 == 2) {
+      TA_CHECK(out.chosen.a_deg < 0.0);
+      TA_CHECK(!out.other.reachable);
+    } else {
+      TA_CHECK(out.other.reachable);
       TA_CHECK(move_cost_deg(out.chosen, current_a, current_c) <=
                move_cost_deg(out.other, current_a, current_c) + 1e-9);
     }
-    TA_CHECK(std::isfinite(out.tilt_sigma_arcsec) && std::isfinite(out.c_sigma_arcsec));
+    // A perfect probe: every uncertainty is exactly zero.
+    TA_CHECK_EQ(out.tilt_sigma_arcsec, 0.0);
+    TA_CHECK_EQ(out.c_sigma_arcsec, 0.0);
+    TA_CHECK_EQ(out.direction_sigma_arcsec, 0.0);
   }
 }
 

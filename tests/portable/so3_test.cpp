@@ -1,6 +1,8 @@
 // core::so3_exp / so3_log: round trips over the whole range, checked against
 // Eigen::AngleAxisd, at the fixtures where such code breaks: 0, tiny angles, the
-// Taylor threshold +- one ulp, pi - 1e-6 and exactly pi.
+// Taylor threshold +- one ulp, where log leaves its series, twice the threshold,
+// pi - 1e-6, pi - 1e-8 and exactly pi. The long-double bounds of so3.hpp
+// convention 6 are checked in tests/core/test_so3.cpp; here the round trip.
 #include <cmath>
 #include <limits>
 
@@ -22,9 +24,10 @@ Mat3 reference_exp(const Vec3& w) {
   return Eigen::AngleAxisd(theta, w / theta).toRotationMatrix();
 }
 
-// log(exp(w)) keeps the relative precision of tiny angles and loses no more than
-// a few ulps of pi anywhere else (the quaternion route of convention 4).
-double log_tolerance(double theta) { return 8.0 * kEps * std::fmax(theta, theta > 1e-3 ? 1.0 : 0.0); }
+// log(exp(w)) keeps the relative precision of w everywhere (so3.hpp convention 6:
+// exp's error plus log's): 1.5 eps |w| where log uses its series, 4 eps |w| above.
+double log_series_end() { return 2.0 * std::atan(0.5 * trueaxis::core::so3_taylor_threshold()); }
+double log_tolerance(double theta) { return (theta < log_series_end() ? 1.5 : 4.0) * kEps * theta; }
 
 double max_abs(const Mat3& m) { return m.cwiseAbs().maxCoeff(); }
 
@@ -39,6 +42,9 @@ double fixture_angle(int i) {
                            std::nextafter(t, 0.0),
                            t,
                            std::nextafter(t, 1.0),
+                           std::nextafter(log_series_end(), 0.0),
+                           log_series_end(),
+                           2.0 * t,
                            1e-3,
                            0.5,
                            1.0,
@@ -46,11 +52,12 @@ double fixture_angle(int i) {
                            3.0,
                            kPi - 1e-3,
                            kPi - 1e-6,
+                           kPi - 1e-8,
                            std::nextafter(kPi, 0.0),
                            kPi};
   return angles[i];
 }
-constexpr int kFixtureCount = 17;
+constexpr int kFixtureCount = 21;
 
 Vec3 fixture_axis(int j) {
   const Vec3 axes[] = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ(), Vec3(1.0, 2.0, -3.0).normalized(),

@@ -2,6 +2,7 @@
 // register image out, over the real module on RAM storage.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <initializer_list>
 #include <vector>
@@ -158,7 +159,21 @@ TEST_CASE("the simulator's variables are reached through the same decoder") {
   Bench b;
   REQUIRE(b.run(write_pdu(4 * simvar::kAxisA, kTwo)) == ModbusException::kNone);
   CHECK(b.simulator.value(simvar::kAxisA) == 2.0);
-  REQUIRE(b.run(read_pdu(4 * simvar::kTrueNormalZ, 4)) == ModbusException::kNone);
+  // Reads of the simulator's variables land in the image as the module's do.
+  REQUIRE(b.run(read_pdu(4 * simvar::kAxisA, 8)) == ModbusException::kNone);
+  CHECK(std::vector<std::uint16_t>(b.image.begin() + 4 * simvar::kAxisA, b.image.begin() + 4 * simvar::kAxisA + 4) ==
+        kTwo);
+  CHECK(std::vector<std::uint16_t>(b.image.begin() + 4 * simvar::kAxisC, b.image.begin() + 4 * simvar::kAxisC + 4) ==
+        std::vector<std::uint16_t>({0, 0, 0, 0}));
+  // The default face (12.5 deg at azimuth 30 deg): normal z = cos 12.5 deg.
+  REQUIRE(b.run(read_pdu(4 * simvar::kTrueNormalZ, 8)) == ModbusException::kNone);
+  const double nz = trueaxis::macros::decode_double(&b.image[4 * simvar::kTrueNormalZ]);
+  CHECK(nz == b.simulator.value(simvar::kTrueNormalZ));
+  CHECK(nz == Approx(std::cos(12.5 * 3.14159265358979323846 / 180.0)).epsilon(1e-15));
+  // The tilt at the table's present position, A = 2 deg, is no longer 12.5 deg.
+  const double tilt = trueaxis::macros::decode_double(&b.image[4 * simvar::kTrueTilt]);
+  CHECK(tilt == b.simulator.value(simvar::kTrueTilt));
+  CHECK(std::abs(tilt - 12.5) > 0.1);
 }
 
 TEST_CASE("a range spanning the simulator's variables and another number is exception 02") {
