@@ -216,7 +216,8 @@ TEST_CASE("failures return their status and change nothing", "[store]") {
   {
     KeyedStore store = d.store();
     REQUIRE(store.mount() == Status::kOk);
-    save(store, 1, old_payload);
+    save(store, 1, pattern(48, 6));  // slot 0: an older copy, so the next save is one write
+    save(store, 1, old_payload);     // slot 1: the newest
   }
   const auto saved = d.bytes;
   const Bytes next = pattern(20, 8);
@@ -226,6 +227,7 @@ TEST_CASE("failures return their status and change nothing", "[store]") {
     REQUIRE(store.mount() == Status::kOk);
     d.storage.refuse_writes = true;
     CHECK(store.save(1, next.data(), next.size()) == Status::kStorageFailure);
+    CHECK(store.save(2, next.data(), 16) == Status::kStorageFailure);  // refused at its CRC clearing
     CHECK(d.bytes == saved);
     d.storage.refuse_writes = false;
     CHECK(load(store, 1) == old_payload);
@@ -239,11 +241,11 @@ TEST_CASE("failures return their status and change nothing", "[store]") {
     d.storage.land_then_fail = true;
     CHECK(store.save(1, next.data(), next.size()) == Status::kStorageFailure);
     d.storage.land_then_fail = false;
-    CHECK(store.sequence(1) == 1);
+    CHECK(store.sequence(1) == 2);
     CHECK(load_fresh(d, 1) == old_payload);
   }
   SECTION("an unreadable slot at mount blocks that key until a mount succeeds") {
-    d.storage.unreadable_from = d.slot(0, 1);  // the blank slot, which might have held the newest copy
+    d.storage.unreadable_from = d.slot(0, 1);  // the newest copy
     d.storage.unreadable_to = d.slot(0, 1) + 1;
     KeyedStore store = d.store();
     CHECK(store.mount() == Status::kStorageFailure);
