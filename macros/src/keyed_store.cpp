@@ -51,6 +51,8 @@ bool newer(std::uint32_t a, std::uint32_t b) { return a != b && static_cast<std:
 
 }  // namespace
 
+namespace checksum {
+
 std::uint32_t crc32_update(std::uint32_t crc, const std::uint8_t* data, std::size_t length) {
   crc = ~crc;
   for (std::size_t i = 0; i < length; ++i) crc = kCrcTable.entry[(crc ^ data[i]) & 0xFFu] ^ (crc >> 8);
@@ -58,6 +60,8 @@ std::uint32_t crc32_update(std::uint32_t crc, const std::uint8_t* data, std::siz
 }
 
 std::uint32_t crc32(const std::uint8_t* data, std::size_t length) { return crc32_update(0, data, length); }
+
+}  // namespace checksum
 
 std::size_t KeyedStore::index_of(std::uint8_t key) const {
   for (std::size_t i = 0; i < count_; ++i) {
@@ -82,13 +86,45 @@ KeyedStore::SlotState KeyedStore::read_slot(std::size_t index, std::size_t slot,
     return SlotState::kUnreadable;
   }
   const std::uint8_t zero_crc[4] = {};
-  std::uint32_t crc = crc32_update(0, scratch_, kCrcOffset);
-  crc = crc32_update(crc, zero_crc, sizeof zero_crc);
-  crc = crc32_update(crc, scratch_ + kHeaderBytes, n);
+  std::uint32_t crc = checksum::crc32_update(0, scratch_, kCrcOffset);
+  crc = checksum::crc32_update(crc, zero_crc, sizeof zero_crc);
+  crc = checksum::crc32_update(crc, scratch_ + kHeaderBytes, n);
   if (crc != get_u32(scratch_ + kCrcOffset)) return SlotState::kInvalid;
   sequence = get_u32(scratch_ + kSequenceOffset);
   length = n;
   return SlotState::kValid;
+}
+
+core::Status KeyedStore::clear_crc(std::size_t index, std::size_t slot) {
+  const RecordSpec& spec = specs_[index];
+  const std::size_t offset = slot_offset(specs_, index, slot);
+  if (storage_.read(offset, scratch_, kHeaderBytes) != hal::IoStatus::kOk) return core::Status::kStorageFailure;
+  // The CRC a record made of the slot's other bytes would need; as the stored CRC
+  // when the slot's length field is out of range (no such record can be valid).
+  std::uint8_t body_crc[4];
+  std::memcpy(body_crc, scratch_ + kCrcOffset, sizeof body_crc);
+  const std::uint32_t n = get_u32(scratch_ + kLengthOffset);
+  if (n <= spec.capacity_bytes) {
+    if (storage_.read(offset + kHeaderBytes, scratch_ + kHeaderBytes, n) != hal::IoStatus::kOk) {
+      return core::Status::kStorageFailure;
+    }
+    const std::uint8_t zero_crc[4] = {};
+    std::uint32_t crc = checksum::crc32_update(0, scratch_, kCrcOffset);
+    crc = checksum::crc32_update(crc, zero_crc, sizeof zero_crc);
+    put_u32(body_crc, checksum::crc32_update(crc, scratch_ + kHeaderBytes, n));
+  }
+  // Each new byte flips every bit of the old one but one: a bit where the old byte
+  // differs from body_crc, kept, so no mix of old and new bits equals body_crc.
+  std::uint8_t cleared[4];
+  for (std::size_t b = 0; b < 4; ++b) {
+    const std::uint8_t old_byte = scratch_[kCrcOffset + b];
+    const unsigned differ = static_cast<unsigned>(old_byte ^ body_crc[b]);
+    const unsigned keep = differ != 0 ? (differ & (0u - differ)) : 0u;  // lowest differing bit
+    cleared[b] = static_cast<std::uint8_t>(old_byte ^ (0xFFu & ~keep));
+  }
+  return storage_.write(offset + kCrcOffset, cleared, sizeof cleared) == hal::IoStatus::kOk
+             ? core::Status::kOk
+             : core::Status::kStorageFailure;
 }
 
 core::Status KeyedStore::mount() {
@@ -114,6 +150,7 @@ core::Status KeyedStore::mount() {
     }
     const std::uint8_t best = (valid[0] && (!valid[1] || !newer(seq[1], seq[0]))) ? 0 : 1;
     info.state = KeyState::kValid;
+    info.target_clean = valid[0] && valid[1];
     info.newest_slot = best;
     info.sequence = seq[best];
     info.length = len[best];
@@ -145,6 +182,13 @@ core::Status KeyedStore::save(std::uint8_t key, const std::uint8_t* payload, std
   if (i == count_ || length > specs_[i].capacity_bytes) return core::Status::kArgumentOutOfRange;
   KeyInfo& info = keys_[i];
   if (info.state == KeyState::kUnmounted) return core::Status::kStorageFailure;
+  const std::uint8_t target = static_cast<std::uint8_t>(1 - info.newest_slot);
+  const std::size_t offset = slot_offset(specs_, i, target);
+  if (!info.target_clean) {
+    const core::Status cleared = clear_crc(i, target);
+    if (cleared != core::Status::kOk) return cleared;
+    info.target_clean = true;
+  }
   const std::uint32_t sequence = info.sequence + 1;
   const std::uint32_t n = static_cast<std::uint32_t>(length);
   std::memcpy(scratch_, kMagic, sizeof kMagic);
@@ -155,17 +199,17 @@ core::Status KeyedStore::save(std::uint8_t key, const std::uint8_t* payload, std
   put_u32(scratch_ + kSequenceOffset, sequence);
   put_u32(scratch_ + kCrcOffset, 0);
   if (length != 0) std::memcpy(scratch_ + kHeaderBytes, payload, length);
-  put_u32(scratch_ + kCrcOffset, crc32(scratch_, kHeaderBytes + length));
+  put_u32(scratch_ + kCrcOffset, checksum::crc32(scratch_, kHeaderBytes + length));
 
-  const std::uint8_t target = static_cast<std::uint8_t>(1 - info.newest_slot);
-  const std::size_t offset = slot_offset(specs_, i, target);
   if (storage_.write(offset, scratch_, kHeaderBytes + length) != hal::IoStatus::kOk) {
     // The record may have landed whole (written, then the sync failed); the caller
     // keeps the old contents, so make sure a restart does too.
     const std::uint8_t blank[sizeof kMagic] = {};
     static_cast<void>(storage_.write(offset, blank, sizeof blank));
+    info.target_clean = false;
     return core::Status::kStorageFailure;
   }
+  info.target_clean = info.state == KeyState::kValid;  // the old newest copy is the next target
   info.state = KeyState::kValid;
   info.newest_slot = target;
   info.sequence = sequence;

@@ -8,7 +8,7 @@ namespace {
 
 double state_value(MacroState s) { return static_cast<double>(static_cast<int>(s)); }
 
-constexpr std::size_t kEntryBytes = 10;  // u16 number + f64 value
+constexpr std::size_t kEntryBytes = kVariableEntryBytes;
 
 constexpr RecordKey record_of(Access group) {
   return group == Access::kConfig ? RecordKey::kConfig : RecordKey::kWorkOffsets;
@@ -95,7 +95,7 @@ Module::Module(hal::NvStorage& storage, hal::Clock& clock, const MacroInfo* extr
     : clock_(clock),
       extra_macros_(extra_macros),
       extra_count_(extra_count),
-      store_(storage, kRecordSpecs, kRecordSpecCount, store_scratch_, sizeof store_scratch_) {
+      store_(storage, kRecordSpecs, kRecordCount, store_scratch_, sizeof store_scratch_) {
   std::size_t slot = 0;
   for (const VarInfo& v : kRegisterMap) {
     for (std::uint16_t i = 0; i < v.count; ++i) values_[slot++] = v.default_value;

@@ -554,6 +554,10 @@ TEST_CASE("a work-offset write rewrites only the work-offset record, a config wr
   REQUIRE(offsets.second > offsets.first);
   REQUIRE(config.second > config.first);
 
+  // Once a record has two valid copies a save is one write of header + payload
+  // (its first two saves also clear the target slot's CRC, 4 bytes: keyed_store.hpp).
+  REQUIRE(rig.put(v::kG57, 10.0) == F::kNone);
+  REQUIRE(rig.put(v::kG57, 11.0) == F::kNone);
   rig.storage.forget_writes();
   REQUIRE(rig.put(v::kG57, 12.0) == F::kNone);
   CHECK(rig.storage.written_first >= offsets.first);
@@ -562,6 +566,8 @@ TEST_CASE("a work-offset write rewrites only the work-offset record, a config wr
   CAPTURE(rig.storage.written_bytes);
 
   REQUIRE(rig.put(v::kUnlock, m::kUnlockCode) == F::kNone);
+  REQUIRE(rig.put(v::kAMin, -110.0) == F::kNone);
+  REQUIRE(rig.put(v::kAMin, -105.0) == F::kNone);
   rig.storage.forget_writes();
   REQUIRE(rig.put(v::kAMin, -100.0) == F::kNone);
   CHECK(rig.storage.written_first >= config.first);

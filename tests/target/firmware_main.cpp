@@ -9,6 +9,10 @@
 #include "trueaxis/hal/mps2/semihosting.hpp"
 #include "trueaxis/hal/mps2/systick_clock.hpp"
 #include "trueaxis/macros/module.hpp"
+#include "trueaxis/macros/records.hpp"
+
+static_assert(trueaxis::hal::mps2::kBoardNvBytes >= trueaxis::macros::kRequiredStorageBytes,
+              "the board's storage must hold every persistent record (macros/records.hpp)");
 
 extern "C" std::uint32_t __stack_bottom__[];  // toolchain/mps2-an500.ld
 extern "C" std::uint32_t __stack_top__[];

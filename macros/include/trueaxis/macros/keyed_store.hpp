@@ -31,6 +31,14 @@
 //     the header too, so a new sequence over an old payload fails), or, when every
 //     byte landed, valid and newest: after a restart the key holds exactly its old
 //     or its new contents. Other keys' slots are never written.
+//     Exception, one extra 4-byte write: when that slot does not hold a valid older
+//     record (a key's first two saves, and the first save after a cut or a refused
+//     write), it may hold most of an earlier failed save with the same sequence,
+//     which a later cut save could complete byte by byte (bytes land in any order)
+//     and bring back. So its CRC field is first overwritten, durably, with bytes
+//     that differ from the CRC bytes it held, in a bit that also keeps them (and
+//     any half-programmed mix) from the CRC of the bytes around them: that old
+//     record can then come back only by a CRC-32 coincidence.
 //  6. CRC-32 is IEEE 802.3, reflected, polynomial 0xEDB88320, initial value and
 //     final XOR 0xFFFFFFFF (check value of "123456789": 0xCBF43926), driven by a
 //     256-entry table built at compile time.
@@ -138,12 +146,14 @@ class KeyedStore {
   struct KeyInfo {
     KeyState state = KeyState::kUnmounted;
     std::uint8_t newest_slot = 1;  // so the first save of a key goes to slot 0
+    bool target_clean = false;     // the slot a save writes holds a valid older record
     std::uint32_t sequence = 0;
     std::uint32_t length = 0;
   };
 
   std::size_t index_of(std::uint8_t key) const;  // count_ when unknown
   SlotState read_slot(std::size_t index, std::size_t slot, std::uint32_t& sequence, std::uint32_t& length);
+  core::Status clear_crc(std::size_t index, std::size_t slot);
 
   hal::NvStorage& storage_;
   const RecordSpec* specs_;
@@ -153,11 +163,17 @@ class KeyedStore {
   KeyInfo keys_[kMaxRecords] = {};
 };
 
-// CRC-32 of data[0, length) (layout note 6).
+// The store's CRC-32 (layout note 6). A namespace of its own while the old
+// persistent_store.cpp still defines macros::crc32 (the same function, bitwise).
+namespace checksum {
+
+// CRC-32 of data[0, length).
 std::uint32_t crc32(const std::uint8_t* data, std::size_t length);
 
 // The CRC-32 of a message extended by data[0, length), given the CRC-32 of the
 // message so far (0 for the empty message): crc32_update(crc32(a), b) == crc32(a b).
 std::uint32_t crc32_update(std::uint32_t crc, const std::uint8_t* data, std::size_t length);
+
+}  // namespace checksum
 
 }  // namespace trueaxis::macros

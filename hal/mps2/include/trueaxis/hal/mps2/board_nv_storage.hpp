@@ -8,7 +8,10 @@
 //  2. Every object it returns views the same bytes (there is one device): main
 //     makes one and passes it by reference.
 //  3. Its content after power-up is arbitrary: the user validates it
-//     (macros/keyed_store.hpp keeps two copies of each record with a version and a CRC).
+//     (macros/keyed_store.hpp keeps two copies with a version and a CRC).
+//  4. 32 KiB: the product's records need macros::kRequiredStorageBytes (21952 B,
+//     macros/records.hpp); tests/target/firmware_main.cpp checks that they fit
+//     (hal does not see the macros headers).
 #pragma once
 
 #include <cstddef>
@@ -17,7 +20,7 @@
 
 namespace trueaxis::hal::mps2 {
 
-inline constexpr std::size_t kBoardNvBytes = 32768;
+inline constexpr std::size_t kBoardNvBytes = 32 * 1024;
 
 // The board's storage; C++17 returns it in place (NvStorage cannot be copied).
 RamNvStorage board_nv_storage();
