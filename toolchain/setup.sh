@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev catch2 libmodbus-dev
   gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   qemu-system-arm
-  mbpoll python3
+  mbpoll python3 python3-matplotlib
 )
 
 missing=()

@@ -1,0 +1,54 @@
+// trueaxis-calibrate: the integrator's command (INTERFACE.md, "The integrator's
+// command"). The shared pieces of its methods' flows: options, the connection to
+// the module, failures as one line, and the JSON writer. Host only.
+//
+// Contract
+//  1. Every flow reads its CSV files, streams the samples to the module over
+//     Modbus, runs the method's macros there, and returns the JSON text of what
+//     the module computed; it computes nothing of the method itself.
+//  2. A failure is one line for stderr: "FILE:LINE: what" for a bad sample,
+//     "module error CODE NAME: MESSAGE" for a macro the module refused (with the
+//     sample's file and line when a sample caused it), or a transport problem.
+//     The caller then writes no JSON, makes no report and exits 1; with --store
+//     the module has stored nothing (a refused macro changes no table) and is
+//     locked again.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "trueaxis/sim/client.hpp"
+
+namespace trueaxis::sim {
+
+struct CalibrateOptions {
+  std::string method;
+  std::string in_path;
+  std::string json_path;
+  std::string machine_path;  // "" when absent
+  std::string report_dir;    // "" when absent
+  bool store = false;
+  std::string host = "127.0.0.1";
+  int port = 502;
+};
+
+struct FlowResult {
+  bool ok = false;
+  std::string error;  // one line, when !ok
+  std::string json;   // the OUT.json text, when ok
+};
+
+// The text of a module error code, "module error 402 session_full: The session is full ...".
+std::string module_error_text(int code);
+
+// Runs `macro` and turns anything but done into a FlowResult error; `context`
+// (e.g. "samples.csv:12") is prefixed when not empty.
+bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail);
+
+// JSON pieces, numbers with 17 significant digits.
+std::string json_number(double v);
+std::string json_vec3(const double* v);
+
+FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& options);
+
+}  // namespace trueaxis::sim

@@ -1,0 +1,148 @@
+#!/usr/bin/env python3
+"""Reports of trueaxis-calibrate: one page (index.html) with plots, from the
+JSON the module's results were written to. Plots are drawn by matplotlib
+(Debian's python3-matplotlib), never by hand.
+
+usage: trueaxis_report.py METHOD OUT.json DIR
+
+The shape every method's report shares: a title, a summary table (what an
+integrator files), figures with a caption each (what a metrology engineer
+reads), and the per-sample table. A method adds one function below.
+"""
+import html
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+class Report:
+    def __init__(self, directory, title):
+        self.directory = directory
+        self.title = title
+        self.parts = []
+        self.figures = 0
+
+    def summary(self, rows):
+        body = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in rows)
+        self.parts.append(f"<h2>Summary</h2><table class='summary'>{body}</table>")
+
+    def figure(self, fig, caption):
+        self.figures += 1
+        name = f"figure_{self.figures}.png"
+        fig.tight_layout()
+        fig.savefig(os.path.join(self.directory, name), dpi=110)
+        plt.close(fig)
+        self.parts.append(f"<figure><img src='{name}' alt='{html.escape(caption)}'>"
+                          f"<figcaption>Figure {self.figures}. {html.escape(caption)}</figcaption></figure>")
+
+    def table(self, title, headers, rows):
+        head = "".join(f"<th>{html.escape(h)}</th>" for h in headers)
+        body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in r) + "</tr>" for r in rows)
+        self.parts.append(f"<h2>{html.escape(title)}</h2><table><tr>{head}</tr>{body}</table>")
+
+    def write(self):
+        style = ("body{font-family:sans-serif;max-width:60em;margin:2em auto}"
+                 "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:2px 8px;"
+                 "text-align:right}table.summary th{text-align:left}figure{margin:1.5em 0}"
+                 "img{max-width:100%}figcaption{font-size:90%;color:#333}")
+        page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(self.title)}</title>"
+                f"<style>{style}</style></head><body><h1>{html.escape(self.title)}</h1>"
+                + "".join(self.parts) + "</body></html>\n")
+        with open(os.path.join(self.directory, "index.html"), "w", encoding="utf-8") as f:
+            f.write(page)
+
+
+def fmt(v, digits=3):
+    return f"{v:.{digits}f}"
+
+
+def rigidity(data, report):
+    poses = data["poses"]
+    a = [p["a_deg"] for p in poses]
+    r = [p["rigidity_arcsec"] for p in poses]
+    rs = [p["rigidity_sigma_arcsec"] for p in poses]
+    worst = max(range(len(poses)), key=lambda i: r[i])
+    axis = data["a_axis"]
+    report.summary([
+        ("A poses", str(len(poses))),
+        ("largest rigidity figure", f"{fmt(r[worst], 2)} +- {fmt(rs[worst], 2)} arcsec (1 sigma) at A = {fmt(a[worst], 3)} deg"),
+        ("A axis point (mm)", ", ".join(fmt(v, 4) for v in axis["point_mm"])),
+        ("A axis direction", ", ".join(fmt(v, 8) for v in axis["direction"])),
+        ("C-to-A offset", f"{fmt(data.get('c_to_a_offset_mm', float('nan')), 4)} mm"),
+        ("C-to-A squareness", f"{fmt(data.get('c_to_a_squareness_arcsec', float('nan')), 2)} arcsec"),
+        ("largest C-circle RMS", f"{fmt(max(p['c_circle_rms_mm'] for p in poses) * 1000, 3)} um"),
+    ])
+
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    lo = [x - s for x, s in zip(r, rs)]
+    hi = [x + s for x, s in zip(r, rs)]
+    ax.fill_between(a, lo, hi, alpha=0.3, label="1-sigma band")
+    ax.plot(a, r, "o-", label="rigidity |rotation vector|")
+    ax.set_xlabel("commanded A (deg)")
+    ax.set_ylabel("arcsec")
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    report.figure(fig, "Rigidity figure (norm of the rotation vector between the actual and the theoretical "
+                       "table frame) against A, with its 1-sigma band from the data's own scatter.")
+
+    fig, ax = plt.subplots(figsize=(7, 3.6))
+    for k, name in enumerate("xyz"):
+        ax.errorbar(a, [p["rotation_vector_arcsec"][k] for p in poses],
+                    yerr=[p["rotation_vector_sigma_arcsec"][k] for p in poses], marker="o", capsize=3,
+                    label=f"{name} component")
+    ax.set_xlabel("commanded A (deg)")
+    ax.set_ylabel("arcsec")
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    report.figure(fig, "The three components of the rotation vector log(R_actual R_theory^T), machine "
+                       "coordinates, with 1-sigma error bars.")
+
+    fig, ax = plt.subplots(figsize=(7, 3.2))
+    ax.plot(a, [p["a_positioning_error_arcsec"] for p in poses], "o-")
+    ax.set_xlabel("commanded A (deg)")
+    ax.set_ylabel("arcsec")
+    ax.grid(True, alpha=0.3)
+    report.figure(fig, "A-axis positioning error: the actual turn from the reference pose minus the commanded "
+                       "difference in A (positive in the direction of increasing A).")
+
+    fig, ax = plt.subplots(figsize=(7, 3.2))
+    ax.bar([str(round(x, 3)) for x in a], [p["c_circle_rms_mm"] * 1000 for p in poses])
+    ax.set_xlabel("commanded A (deg)")
+    ax.set_ylabel("um")
+    ax.grid(True, axis="y", alpha=0.3)
+    report.figure(fig, "C-circle residuals: RMS 3-D distance of each pose's ball positions from its fitted circle.")
+
+    rows = []
+    for p in poses:
+        rows.append([fmt(p["a_deg"], 3)] + [fmt(v, 2) for v in p["rotation_vector_arcsec"]]
+                    + [fmt(v, 2) for v in p["rotation_vector_sigma_arcsec"]]
+                    + [fmt(p["rigidity_arcsec"], 2), fmt(p["rigidity_sigma_arcsec"], 2),
+                       fmt(p["a_positioning_error_arcsec"], 2), fmt(p["c_circle_rms_mm"] * 1000, 3)])
+    report.table("Per pose", ["A (deg)", "rx", "ry", "rz", "sx", "sy", "sz", "rigidity", "sigma",
+                              "A error", "C rms (um)"], rows)
+
+
+METHODS = {"rigidity": ("AC-axis rigidity (M3)", rigidity)}
+
+
+def main(argv):
+    if len(argv) != 4 or argv[1] not in METHODS:
+        print("usage: trueaxis_report.py rigidity OUT.json DIR", file=sys.stderr)
+        return 2
+    title, draw = METHODS[argv[1]]
+    with open(argv[2], encoding="utf-8") as f:
+        data = json.load(f)
+    os.makedirs(argv[3], exist_ok=True)
+    report = Report(argv[3], f"trueaxis report: {title}")
+    draw(data, report)
+    report.write()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

@@ -1,0 +1,36 @@
+#include <cstdio>
+
+#include "trueaxis/core/status.hpp"
+#include "trueaxis/sim/calibrate.hpp"
+
+namespace trueaxis::sim {
+
+std::string module_error_text(int code) {
+  const auto status = static_cast<core::Status>(code);
+  return "module error " + std::to_string(code) + " " + core::status_name(status) + ": " +
+         core::status_message(status);
+}
+
+bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail) {
+  const MacroOutcome outcome = client.run_macro(macro, 20000);
+  if (outcome.status == 2) return true;
+  const std::string where = context.empty() ? "" : context + ": ";
+  if (outcome.status == 3) {
+    fail.error = where + module_error_text(outcome.error) + " (macro " + std::to_string(macro) + ")";
+  } else {
+    fail.error = where + "macro " + std::to_string(macro) + " did not finish: " + client.error_text();
+  }
+  return false;
+}
+
+std::string json_number(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::string json_vec3(const double* v) {
+  return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
+}
+
+}  // namespace trueaxis::sim

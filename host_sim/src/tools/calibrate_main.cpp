@@ -1,0 +1,116 @@
+// trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
+//                   [--report DIR] [--store] [--port PORT] [--host ADDR]
+// The integrator's command (INTERFACE.md, "The integrator's command"): reads the
+// samples, streams them to the module over Modbus (default 127.0.0.1:502), runs
+// the method's macros there and writes what the module computed into OUT.json;
+// --report DIR also writes DIR/index.html with plots; --store stores the result
+// as the controller's calibration table (unlocking and locking again).
+// Exit 0 on success; 1 with one line on stderr on any failure, and then no
+// OUT.json, no report and nothing stored.
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+
+#include "trueaxis/sim/calibrate.hpp"
+
+namespace {
+
+using trueaxis::sim::CalibrateOptions;
+using trueaxis::sim::FlowResult;
+
+int usage(const char* why) {
+  std::fprintf(stderr,
+               "trueaxis-calibrate: %s\n"
+               "usage: trueaxis-calibrate rigidity|gantry|spindle --in SAMPLES.csv --json OUT.json\n"
+               "       [--machine MACHINE.csv] [--report DIR] [--store] [--port PORT] [--host ADDR]\n",
+               why);
+  return 1;
+}
+
+int fail(const std::string& line) {
+  std::fprintf(stderr, "trueaxis-calibrate: %s\n", line.c_str());
+  return 1;
+}
+
+// Writes through a temporary file and a rename, so OUT.json is whole or absent.
+bool write_whole(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!(out << text) || !out.flush()) return false;
+  }
+  return std::rename(tmp.c_str(), path.c_str()) == 0;
+}
+
+// Runs Debian's python3 (where python3-matplotlib installs, whatever else is
+// first on PATH) on the report script with argv, no shell; true on exit 0.
+bool make_report(const CalibrateOptions& o) {
+  const std::string script = TRUEAXIS_REPORT_SCRIPT;
+  const char* args[] = {TRUEAXIS_PYTHON, script.c_str(), o.method.c_str(), o.json_path.c_str(),
+                        o.report_dir.c_str(), nullptr};
+  pid_t pid = 0;
+  if (posix_spawn(&pid, TRUEAXIS_PYTHON, nullptr, nullptr, const_cast<char* const*>(args), environ) != 0) {
+    return false;
+  }
+  int status = 0;
+  return waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CalibrateOptions o;
+  if (argc < 2) return usage("no METHOD");
+  o.method = argv[1];
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--store") {
+      o.store = true;
+    } else if (arg == "--in" && has_value) {
+      o.in_path = argv[++i];
+    } else if (arg == "--json" && has_value) {
+      o.json_path = argv[++i];
+    } else if (arg == "--machine" && has_value) {
+      o.machine_path = argv[++i];
+    } else if (arg == "--report" && has_value) {
+      o.report_dir = argv[++i];
+    } else if (arg == "--host" && has_value) {
+      o.host = argv[++i];
+    } else if (arg == "--port" && has_value) {
+      char* end = nullptr;
+      const long port = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || port < 1 || port > 65535) return usage("--port takes 1..65535");
+      o.port = static_cast<int>(port);
+    } else {
+      return usage(("unknown or incomplete option '" + arg + "'").c_str());
+    }
+  }
+  if (o.in_path.empty() || o.json_path.empty()) return usage("--in and --json are required");
+  if (o.method != "rigidity" && o.method != "gantry" && o.method != "spindle") {
+    return usage(("unknown METHOD '" + o.method + "'").c_str());
+  }
+  if (o.method != "rigidity") return fail("method '" + o.method + "' is not built yet (M2 and M4 come next)");
+
+  trueaxis::sim::VariableClient client;
+  if (!client.connect(o.host, o.port)) {
+    return fail("cannot connect to " + o.host + ":" + std::to_string(o.port) + ": " + client.error_text());
+  }
+  const FlowResult r = trueaxis::sim::calibrate_rigidity(client, o);
+  client.close();
+  if (!r.ok) return fail(r.error);
+  if (!write_whole(o.json_path, r.json)) return fail(o.json_path + ": cannot be written");
+
+  if (!o.report_dir.empty()) {
+    ::mkdir(o.report_dir.c_str(), 0755);
+    if (!make_report(o)) return fail(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
+  }
+  return 0;
+}
