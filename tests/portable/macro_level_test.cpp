@@ -5,6 +5,7 @@
 
 #include "fixtures.hpp"
 #include "portable_test.hpp"
+#include "static_slot.hpp"
 #include "fakes.hpp"
 #include "trueaxis/hal/clock.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
@@ -23,11 +24,14 @@ constexpr std::size_t kStorageBytes = trueaxis::macros::kRequiredStorageBytes;
 // One device's bytes: static, so a Bench fits the target's stack.
 std::uint8_t g_storage_bytes[kStorageBytes];
 
-// A fresh device: storage, clock and a started module, as main would own them.
+trueaxis::test::StaticSlot<Module> g_module_slots[2];
+
+// A fresh device: storage, clock and a started module, as main would own them
+// (the module in static storage: see static_slot.hpp).
 struct Bench {
   trueaxis::hal::RamNvStorage storage{g_storage_bytes, kStorageBytes};
   trueaxis::test::FakeClock clock;
-  Module module{storage, clock};
+  Module& module = g_module_slots[0].emplace(storage, clock);
 
   Bench() {
     for (std::uint8_t& b : g_storage_bytes) b = 0;
@@ -178,14 +182,14 @@ TA_TEST("a second module over the same storage sees the configuration after star
   trueaxis::hal::RamNvStorage storage(g_storage_bytes, kStorageBytes);
   trueaxis::test::FakeClock clock;
   {
-    Module first(storage, clock);
+    Module& first = g_module_slots[0].emplace(storage, clock);
     TA_REQUIRE(first.start() == Status::kOk);
     TA_REQUIRE(write1(first, var::kUnlock, trueaxis::macros::kUnlockCode) == AccessFault::kNone);
     TA_REQUIRE(write1(first, var::kAMin, -95.5) == AccessFault::kNone);
     TA_REQUIRE(write1(first, var::kProbeSigma, 0.002) == AccessFault::kNone);
     TA_REQUIRE(write1(first, var::kG57 + 1, 42.25) == AccessFault::kNone);
   }
-  Module second(storage, clock);
+  Module& second = g_module_slots[1].emplace(storage, clock);
   TA_REQUIRE(second.start() == Status::kOk);
   TA_CHECK_EQ(read1(second, var::kAMin), -95.5);
   TA_CHECK_EQ(read1(second, var::kProbeSigma), 0.002);

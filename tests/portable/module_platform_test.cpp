@@ -7,6 +7,7 @@
 
 #include "fakes.hpp"
 #include "portable_test.hpp"
+#include "static_slot.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/record_codec.hpp"
@@ -20,6 +21,7 @@ using trueaxis::macros::AccessFault;
 using trueaxis::macros::Module;
 
 std::uint8_t g_bytes[m::kRequiredStorageBytes];
+trueaxis::test::StaticSlot<Module> g_slots[2];  // modules live in static storage (static_slot.hpp)
 
 void blank_storage() {
   for (std::uint8_t& b : g_bytes) b = 0;
@@ -79,7 +81,7 @@ TA_TEST("the leveling session refuses a point at its capacity and keeps the othe
   blank_storage();
   trueaxis::hal::RamNvStorage storage(g_bytes, sizeof g_bytes);
   trueaxis::test::FakeClock clock;
-  Module mod(storage, clock);
+  Module& mod = g_slots[0].emplace(storage, clock);
   TA_REQUIRE(mod.start() == Status::kOk);
   TA_REQUIRE(run(mod, 9812) == kDone);
   for (std::size_t k = 0; k < m::level::kSessionCapacity; ++k) {
@@ -102,7 +104,7 @@ TA_TEST("9811 levels through Q = 32 points and clears the whole point list after
   blank_storage();
   trueaxis::hal::RamNvStorage storage(g_bytes, sizeof g_bytes);
   trueaxis::test::FakeClock clock;
-  Module mod(storage, clock);
+  Module& mod = g_slots[0].emplace(storage, clock);
   TA_REQUIRE(mod.start() == Status::kOk);
   for (std::uint16_t k = 0; k < 32; ++k) {
     const double y = 10.0 * static_cast<double>(k / 8) + static_cast<double>(k % 3);
@@ -124,7 +126,7 @@ TA_TEST("a macro of four steps stays busy for three and refuses a command meanwh
   blank_storage();
   trueaxis::hal::RamNvStorage storage(g_bytes, sizeof g_bytes);
   trueaxis::test::FakeClock clock;
-  Module mod(storage, clock, kExtra, 3);
+  Module& mod = g_slots[0].emplace(storage, clock, kExtra, std::size_t{3});
   TA_REQUIRE(mod.start() == Status::kOk);
   TA_REQUIRE(write1(mod, var::kCmd, 9901.0) == AccessFault::kNone);
   for (int i = 0; i < 3; ++i) {
@@ -143,7 +145,7 @@ TA_TEST("a 300-value table staged by a macro survives a restart; locked, it is r
   trueaxis::hal::RamNvStorage storage(g_bytes, sizeof g_bytes);
   trueaxis::test::FakeClock clock;
   {
-    Module first(storage, clock, kExtra, 3);
+    Module& first = g_slots[0].emplace(storage, clock, kExtra, std::size_t{3});
     TA_REQUIRE(first.start() == Status::kOk);
     TA_REQUIRE(write1(first, var::kArgA, 2.0) == AccessFault::kNone);
     TA_CHECK_EQ(run(first, 9902), kError);  // locked
@@ -153,7 +155,7 @@ TA_TEST("a 300-value table staged by a macro survives a restart; locked, it is r
     TA_CHECK_EQ(run(first, 9902), kDone);
     TA_CHECK_EQ(read1(first, var::kStepCount), 2.0);  // the macro, then the commit
   }
-  Module second(storage, clock, kExtra, 3);
+  Module& second = g_slots[1].emplace(storage, clock, kExtra, std::size_t{3});
   TA_REQUIRE(second.start() == Status::kOk);
   TA_CHECK_EQ(run(second, 9903), kDone);
   TA_CHECK_EQ(read1(second, 100), 300.0);
