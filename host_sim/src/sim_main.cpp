@@ -26,13 +26,16 @@ void usage() {
   std::fprintf(stderr,
                "usage: trueaxis-sim --port PORT [--host ADDR] [--nv PATH] [--seed N]\n"
                "                    [--face-tilt DEG] [--face-azimuth DEG] [--face-height MM]\n"
+               "                    [--errors ideal|realistic]\n"
                "  --port PORT        TCP port; 0 picks a free one (printed)\n"
                "  --host ADDR        IPv4 address to listen on (default 127.0.0.1)\n"
                "  --nv PATH          non-volatile storage file (default ./trueaxis-sim.nv)\n"
-               "  --seed N           probe noise seed (default 1)\n"
+               "  --seed N           probe and ball noise seed (default 1)\n"
                "  --face-tilt DEG    workpiece face tilt from horizontal, table at zero (default 12.5)\n"
                "  --face-azimuth DEG direction the face falls towards, from +X to +Y (default 30)\n"
                "  --face-height MM   Z of the face above the table centre (default 40)\n"
+               "  --errors KIND      the machine's geometric errors at start (sim_errors #12020):\n"
+               "                     ideal (none, the default) or realistic (cradle_errors.hpp)\n"
                "Serves until SIGINT or SIGTERM; exit 0 then, 1 on a start-up failure, 2 on bad usage.\n");
 }
 
@@ -59,6 +62,7 @@ int main(int argc, char** argv) {
   unsigned long long port = 65536;
   unsigned long long seed = 1;
   sim::FaceConfig face;
+  bool errors_on = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (i + 1 >= argc) {
@@ -81,6 +85,10 @@ int main(int argc, char** argv) {
       ok = parse_double(value, face.azimuth_deg);
     } else if (arg == "--face-height") {
       ok = parse_double(value, face.height_mm);
+    } else if (arg == "--errors") {
+      const std::string kind = value;
+      ok = kind == "ideal" || kind == "realistic";
+      errors_on = kind == "realistic";
     } else {
       ok = false;
     }
@@ -105,7 +113,7 @@ int main(int argc, char** argv) {
   if (module.start() != core::Status::kOk) {
     std::fprintf(stderr, "trueaxis-sim: %s unreadable; using the map's defaults\n", nv_path.c_str());
   }
-  sim::Simulator simulator(module, face, seed);
+  sim::Simulator simulator(module, face, seed, errors_on);
   sim::VariableRouter router(module, simulator);
   sim::RequestHandler handler(router);
   sim::ModbusTcpServer server(handler, simulator);

@@ -16,10 +16,16 @@ bool is_probe_target(double target) {
   return false;
 }
 
-Simulator::Simulator(macros::Module& module, const FaceConfig& face, std::uint64_t seed)
-    : module_(module), machine_(face) {
+Simulator::Simulator(macros::Module& module, const FaceConfig& face, std::uint64_t seed, bool errors_on,
+                     const CradleErrors& errors)
+    : module_(module), ideal_(face), with_errors_(face, errors) {
   for (const macros::VarInfo& v : kSimMap) state_.values[v.number - simvar::kFirst] = v.default_value;
+  state_.values[simvar::kErrors - simvar::kFirst] = errors_on ? 1.0 : 0.0;
   state_.rng = SimRng(seed);
+}
+
+const CradleMachine& Simulator::machine_for(const double* values) const {
+  return values[simvar::kErrors - simvar::kFirst] == 1.0 ? with_errors_ : ideal_;
 }
 
 void Simulator::after_request() {
@@ -31,14 +37,37 @@ double Simulator::value(std::uint16_t number) const {
 }
 
 double Simulator::read_one(std::uint16_t number) const {
-  const double a = state_.values[simvar::kAxisA - simvar::kFirst];
-  const double c = state_.values[simvar::kAxisC - simvar::kFirst];
+  const double* v = state_.values;
+  const double a = v[simvar::kAxisA - simvar::kFirst];
+  const double c = v[simvar::kAxisC - simvar::kFirst];
+  const double ball_z = v[simvar::kBallZ - simvar::kFirst];
+  const CradleMachine& m = machine_for(v);
   switch (number) {
-    case simvar::kTrueNormalX: return machine_.normal_table().x();
-    case simvar::kTrueNormalY: return machine_.normal_table().y();
-    case simvar::kTrueNormalZ: return machine_.normal_table().z();
-    case simvar::kTrueTilt: return machine_.tilt_deg_at(a, c);
-    default: return state_.values[number - simvar::kFirst];
+    case simvar::kTrueNormalX: return m.normal_table().x();
+    case simvar::kTrueNormalY: return m.normal_table().y();
+    case simvar::kTrueNormalZ: return m.normal_table().z();
+    case simvar::kTrueTilt: return m.tilt_deg_at(a, c);
+    case simvar::kTrueRotvecX:
+    case simvar::kTrueRotvecY:
+    case simvar::kTrueRotvecZ:
+      return m.rotation_vector_rad(a, ball_z)[number - simvar::kTrueRotvecX] * kArcsecPerRad;
+    case simvar::kTrueAPositioningError: return m.a_positioning_error_arcsec(a, ball_z);
+    case simvar::kTrueADriveError: return m.a_drive_error_arcsec(a);
+    case simvar::kTrueCToAOffset: return m.c_to_a_offset_mm();
+    case simvar::kTrueCToASquareness: return m.c_to_a_squareness_arcsec();
+    case simvar::kTrueAPointX:
+    case simvar::kTrueAPointY:
+    case simvar::kTrueAPointZ: return m.a_axis().point_mm[number - simvar::kTrueAPointX];
+    case simvar::kTrueADirX:
+    case simvar::kTrueADirY:
+    case simvar::kTrueADirZ: return m.a_axis().direction[number - simvar::kTrueADirX];
+    case simvar::kTrueCCentreX:
+    case simvar::kTrueCCentreY:
+    case simvar::kTrueCCentreZ: return m.c_centre_at(a, ball_z)[number - simvar::kTrueCCentreX];
+    case simvar::kTrueCDirX:
+    case simvar::kTrueCDirY:
+    case simvar::kTrueCDirZ: return m.c_axis_at(a).direction[number - simvar::kTrueCDirX];
+    default: return v[number - simvar::kFirst];
   }
 }
 
@@ -66,10 +95,12 @@ AccessFault Simulator::do_write(std::uint16_t first, std::uint16_t count, const 
   }
   State next = state_;
   bool probe_requested = false;
+  bool measure_requested = false;
   for (std::uint16_t i = 0; i < count; ++i) {
     const auto number = static_cast<std::uint16_t>(first + i);
     next.values[number - simvar::kFirst] = values[i];
     if (number == simvar::kProbeInto) probe_requested = true;
+    if (number == simvar::kBallMeasure && values[i] == 1.0) measure_requested = true;
   }
   if (probe_requested) {
     const double target = next.values[simvar::kProbeInto - simvar::kFirst];
@@ -77,14 +108,28 @@ AccessFault Simulator::do_write(std::uint16_t first, std::uint16_t count, const 
     const AccessFault f = probe(next, static_cast<std::uint16_t>(target));
     if (f != AccessFault::kNone) return f;
   }
+  if (measure_requested) measure_ball(next);
   state_ = next;
   return AccessFault::kNone;
+}
+
+void Simulator::measure_ball(State& next) const {
+  double* v = next.values;
+  CalibrationBall ball;
+  ball.centre_table_mm = core::Vec3(v[simvar::kBallX - simvar::kFirst], v[simvar::kBallY - simvar::kFirst],
+                                    v[simvar::kBallZ - simvar::kFirst]);
+  ball.sigma_mm = v[simvar::kBallSigma - simvar::kFirst];
+  const core::Vec3 p = machine_for(v).measure_ball(v[simvar::kAxisA - simvar::kFirst],
+                                                   v[simvar::kAxisC - simvar::kFirst], ball, next.rng);
+  v[simvar::kLastBallX - simvar::kFirst] = p.x();
+  v[simvar::kLastBallY - simvar::kFirst] = p.y();
+  v[simvar::kLastBallZ - simvar::kFirst] = p.z();
 }
 
 AccessFault Simulator::probe(State& next, std::uint16_t target) {
   const double* v = next.values;
   core::Vec3 touch_machine;
-  if (!machine_.touch(v[simvar::kAxisA - simvar::kFirst], v[simvar::kAxisC - simvar::kFirst],
+  if (!machine_for(v).touch(v[simvar::kAxisA - simvar::kFirst], v[simvar::kAxisC - simvar::kFirst],
                       v[simvar::kProbeX - simvar::kFirst], v[simvar::kProbeY - simvar::kFirst], touch_machine)) {
     return AccessFault::kOutOfRange;
   }

@@ -80,3 +80,36 @@ TEST_CASE("the noise generator is deterministic and has unit variance") {
   CHECK(std::abs(sum / kN) < 0.01);
   CHECK(sum_sq / kN == Approx(1.0).epsilon(0.02));
 }
+
+TEST_CASE("with no errors the true machine is Rx(A) Rz(C) about the origin, bit for bit") {
+  const CradleMachine m(FaceConfig{12.5, 30.0, 40.0});
+  SimRng rng(11);
+  for (int i = 0; i < 200; ++i) {
+    const double a = i < 4 ? 90.0 * i - 120.0 : 240.0 * rng.uniform01() - 120.0;
+    const double c = 720.0 * rng.uniform01() - 360.0;
+    const auto machine_T = m.machine_T_table(a, c);
+    INFO("A " << a << " C " << c);
+    REQUIRE((machine_T.rotation == CradleMachine::table_rotation(a, c)));
+    REQUIRE(machine_T.translation_mm == Vec3::Zero());
+    // Against an independent closed form in long double: Rx(A) Rz(C) p expanded.
+    const long double ar = static_cast<long double>(a) * 3.14159265358979323846264338327950288L / 180.0L;
+    const long double cr = static_cast<long double>(c) * 3.14159265358979323846264338327950288L / 180.0L;
+    const long double px = 200.0L, py = -30.0L, pz = 50.0L;
+    const long double x = std::cos(cr) * px - std::sin(cr) * py;
+    const long double y = std::sin(cr) * px + std::cos(cr) * py;
+    const Vec3 expected(static_cast<double>(x), static_cast<double>(std::cos(ar) * y - std::sin(ar) * pz),
+                        static_cast<double>(std::sin(ar) * y + std::cos(ar) * pz));
+    trueaxis::sim::CalibrationBall ball;
+    ball.centre_table_mm = Vec3(200.0, -30.0, 50.0);
+    CHECK((m.ball_centre(a, c, ball) - expected).norm() < 1e-12);
+    CHECK(m.actual_a_deg(a) == a);
+  }
+  CHECK(m.a_axis().point_mm == Vec3::Zero());
+  CHECK(m.a_axis().direction == Vec3::UnitX());
+  CHECK(m.c_to_a_offset_mm() == 0.0);
+  CHECK(m.c_to_a_squareness_arcsec() == Approx(0.0).margin(1e-9));
+  for (double a : {-90.0, -30.0, 45.0, 120.0}) {
+    CHECK(m.rotation_vector_rad(a, 50.0).norm() < 1e-15);
+    CHECK(m.a_positioning_error_arcsec(a, 50.0) == Approx(0.0).margin(1e-9));
+  }
+}

@@ -168,6 +168,29 @@ TEST_CASE("9810 finds the virtual face's normal, tilt and leveling angles within
   }
 }
 
+TEST_CASE("with --errors realistic the ball shows the errors and leveling on the ideal axes misses") {
+  SimFixture f({"--errors", "realistic", "--face-tilt", "40"});
+  CHECK(f.get(simvar::kErrors) == 1.0);
+  f.set(simvar::kAxisA, {90.0, 0.0});
+  f.set(simvar::kBallMeasure, 1.0);
+  double ball[3];
+  REQUIRE(f.client().read(simvar::kLastBallX, 3, ball));
+  // The ideal machine would put the default ball (200, 0, 50) at (200, -50, 0).
+  CHECK(std::hypot(ball[0] - 200.0, ball[1] + 50.0, ball[2]) > 0.015);
+  CHECK(std::abs(f.get(simvar::kTrueRotvecX)) > 10.0);
+
+  f.set(simvar::kAxisA, {0.0, 0.0});
+  f.probe_triangle();
+  REQUIRE(f.run().status == 2);
+  double r[11];
+  REQUIRE(f.client().read(100, 11, r));
+  f.set(simvar::kAxisA, {r[1], r[0]});
+  const double miss_arcsec = f.get(simvar::kTrueTilt) * 3600.0;
+  INFO("true tilt after leveling " << miss_arcsec << "\", direction sigma " << r[10] << "\"");
+  CHECK(miss_arcsec > 5.0 * r[10]);
+  CHECK(miss_arcsec < 120.0);
+}
+
 TEST_CASE("configuration and work offsets persist over a restart with the same NV file") {
   SimFixture f;
   f.set(9004, kUnlockCode);

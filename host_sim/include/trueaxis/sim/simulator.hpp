@@ -1,5 +1,6 @@
-// The simulator's own variables #12000..#12013 (sim_map.hpp) over a virtual
-// cradle machine: moving the table, probing the face, and the ground truth.
+// The simulator's own variables #12000..#12047 (sim_map.hpp) over a virtual
+// cradle machine: moving the table, probing the face, measuring the calibration
+// ball, switching the machine's geometric errors, and the ground truth.
 //
 // Contract
 //  1. A VariableAccess for exactly the numbers of kSimMap; any other number is
@@ -17,7 +18,18 @@
 //     The face too steep to touch (cradle_machine.hpp convention 3) is
 //     kOutOfRange. A fault from `target` is returned as is. On any fault nothing
 //     changes: no variable here, nothing in the module, and no noise is drawn.
-//  4. after_request() is what the server calls after every request: it runs the
+//  4. Writing sim_ball_measure (#12025) = 1 measures the ball (centre
+//     sim_ball_x, _y, _z in table coordinates) with the table at (sim_axis_a,
+//     sim_axis_c), adding noise of sim_ball_sigma per coordinate, into
+//     sim_last_ball_x, _y, _z; 0 measures nothing. Every variable of the same write
+//     (the table, the ball, sim_errors) applies before it measures. It always
+//     succeeds and always draws three deviates.
+//  5. sim_errors (#12020): 0 the ideal machine (CradleErrors{}), 1 the machine with
+//     the errors given to the constructor (realistic_errors() by default). The
+//     probe, the ball and every ground-truth read-back follow the present value;
+//     the truth that depends on a ball height (rotation vector, A positioning
+//     error, C centre) is for a ball at sim_ball_z.
+//  6. after_request() is what the server calls after every request: it runs the
 //     module's pending macro (Module::step) unless sim_hold (#12009) is 1.
 #pragma once
 
@@ -36,12 +48,15 @@ bool is_probe_target(double target);
 
 class Simulator final : public macros::VariableAccess {
  public:
-  Simulator(macros::Module& module, const FaceConfig& face, std::uint64_t seed);
+  // errors_on: the initial sim_errors (contract 5); errors: the set it turns on.
+  Simulator(macros::Module& module, const FaceConfig& face, std::uint64_t seed, bool errors_on = false,
+            const CradleErrors& errors = realistic_errors());
 
-  // Contract 4.
+  // Contract 6.
   void after_request();
 
-  const CradleMachine& machine() const { return machine_; }
+  // The machine sim_errors selects now.
+  const CradleMachine& machine() const { return machine_for(state_.values); }
 
   // The present value of #number, for number in kSimMap; 0 otherwise.
   double value(std::uint16_t number) const;
@@ -59,10 +74,13 @@ class Simulator final : public macros::VariableAccess {
   void do_note_fault(macros::AccessFault) override {}
 
   macros::AccessFault probe(State& next, std::uint16_t target);
+  void measure_ball(State& next) const;
   double read_one(std::uint16_t number) const;
+  const CradleMachine& machine_for(const double* values) const;
 
   macros::Module& module_;
-  CradleMachine machine_;
+  CradleMachine ideal_;
+  CradleMachine with_errors_;
   State state_;
 };
 

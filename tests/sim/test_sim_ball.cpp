@@ -1,0 +1,190 @@
+// The calibration ball and the machine's errors over the simulator's variables
+// (#12020..#12047, simulator.hpp contracts 4-5), without a socket.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <initializer_list>
+#include <limits>
+#include <vector>
+
+#include "fakes.hpp"
+#include "trueaxis/hal/ram_nv_storage.hpp"
+#include "trueaxis/macros/module.hpp"
+#include "trueaxis/sim/simulator.hpp"
+
+namespace {
+
+using trueaxis::core::Vec3;
+using trueaxis::macros::AccessFault;
+using trueaxis::sim::CradleMachine;
+using trueaxis::sim::FaceConfig;
+namespace simvar = trueaxis::sim::simvar;
+
+constexpr double kArcsecPerRad = trueaxis::sim::kArcsecPerRad;
+
+struct Bench {
+  explicit Bench(std::uint64_t seed = 1, bool errors_on = false) : simulator{module, FaceConfig{}, seed, errors_on} {
+    (void)module.start();
+  }
+
+  std::vector<std::uint8_t> nv_bytes = std::vector<std::uint8_t>(trueaxis::macros::kRequiredStorageBytes);
+  trueaxis::hal::RamNvStorage nv{nv_bytes.data(), nv_bytes.size()};
+  trueaxis::test::FakeClock clock;
+  trueaxis::macros::Module module{nv, clock};
+  trueaxis::sim::Simulator simulator;
+
+  AccessFault write(std::uint16_t first, std::initializer_list<double> values) {
+    const std::vector<double> v(values);
+    return simulator.write(first, static_cast<std::uint16_t>(v.size()), v.data());
+  }
+
+  Vec3 last_ball() const {
+    return Vec3(simulator.value(simvar::kLastBallX), simulator.value(simvar::kLastBallY),
+                simulator.value(simvar::kLastBallZ));
+  }
+
+  Vec3 measure_at(double a_deg, double c_deg) {
+    REQUIRE(write(simvar::kAxisA, {a_deg, c_deg}) == AccessFault::kNone);
+    REQUIRE(write(simvar::kBallMeasure, {1.0}) == AccessFault::kNone);
+    return last_ball();
+  }
+
+  std::vector<double> all_values() const {
+    std::vector<double> v;
+    for (std::uint16_t n = simvar::kFirst; n <= simvar::kLast; ++n) v.push_back(simulator.value(n));
+    return v;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("the map's ball defaults are CalibrationBall's") {
+  Bench b;
+  CHECK(b.simulator.value(simvar::kBallX) == trueaxis::sim::kDefaultBallXMm);
+  CHECK(b.simulator.value(simvar::kBallY) == trueaxis::sim::kDefaultBallYMm);
+  CHECK(b.simulator.value(simvar::kBallZ) == trueaxis::sim::kDefaultBallZMm);
+  CHECK(b.simulator.value(simvar::kBallSigma) == trueaxis::sim::kDefaultBallSigmaMm);
+  CHECK(b.simulator.value(simvar::kErrors) == 0.0);
+}
+
+TEST_CASE("sim_ball_measure measures the ball at the commanded axes") {
+  Bench b;
+  REQUIRE(b.write(simvar::kBallX, {150.0, 20.0, 60.0, 0.0}) == AccessFault::kNone);  // sigma 0
+  const Vec3 p = b.measure_at(30.0, 45.0);
+  CHECK(p == CradleMachine::table_rotation(30.0, 45.0) * Vec3(150.0, 20.0, 60.0));
+  SECTION("with noise, within a few sigma of the truth") {
+    REQUIRE(b.write(simvar::kBallSigma, {0.001}) == AccessFault::kNone);
+    CHECK((b.measure_at(30.0, 45.0) - p).cwiseAbs().maxCoeff() < 0.006);
+  }
+  SECTION("writing 0 measures nothing") {
+    REQUIRE(b.write(simvar::kAxisA, {-60.0}) == AccessFault::kNone);
+    REQUIRE(b.write(simvar::kBallMeasure, {0.0}) == AccessFault::kNone);
+    CHECK(b.last_ball() == p);
+  }
+  SECTION("one write switching the errors and moving the ball measures after both") {
+    REQUIRE(b.write(simvar::kAxisA, {90.0, 0.0}) == AccessFault::kNone);
+    REQUIRE(b.write(simvar::kErrors, {1.0, 100.0, 0.0, 10.0, 0.0, 1.0}) == AccessFault::kNone);
+    trueaxis::sim::CalibrationBall ball;
+    ball.centre_table_mm = Vec3(100.0, 0.0, 10.0);
+    const CradleMachine real(FaceConfig{}, trueaxis::sim::realistic_errors());
+    CHECK(b.last_ball() == real.ball_centre(90.0, 0.0, ball));
+  }
+}
+
+TEST_CASE("the same seed gives the same measurements, another seed others") {
+  Bench one(7);
+  Bench two(7);
+  Bench other(8);
+  for (double c : {0.0, 90.0, 180.0}) {
+    const Vec3 p = one.measure_at(20.0, c);
+    CHECK(two.measure_at(20.0, c) == p);
+    CHECK(other.measure_at(20.0, c) != p);
+  }
+}
+
+TEST_CASE("sim_errors switches the machine and the ground truth follows it") {
+  Bench b;
+  const Vec3 ideal = b.measure_at(90.0, 0.0);
+  REQUIRE(b.write(simvar::kErrors, {1.0}) == AccessFault::kNone);
+  const Vec3 real = b.measure_at(90.0, 0.0);
+  // Tens of micrometres apart at 200 mm (beyond the instrument's 1 um noise).
+  CHECK((real - ideal).norm() > 0.02);
+  CHECK((real - ideal).norm() < 0.2);
+
+  const CradleMachine m(FaceConfig{}, trueaxis::sim::realistic_errors());
+  const Vec3 rv = m.rotation_vector_rad(90.0, 50.0) * kArcsecPerRad;
+  CHECK(b.simulator.value(simvar::kTrueRotvecX) == rv.x());
+  CHECK(b.simulator.value(simvar::kTrueRotvecY) == rv.y());
+  CHECK(b.simulator.value(simvar::kTrueRotvecZ) == rv.z());
+  CHECK(b.simulator.value(simvar::kTrueAPositioningError) == m.a_positioning_error_arcsec(90.0, 50.0));
+  CHECK(b.simulator.value(simvar::kTrueADriveError) == Approx(7.0));
+  CHECK(b.simulator.value(simvar::kTrueCToAOffset) == Approx(0.025).margin(1e-6));
+  CHECK(b.simulator.value(simvar::kTrueCToASquareness) == Approx(15.0).margin(1e-3));
+  CHECK(b.simulator.value(simvar::kTrueAPointY) == 0.010);
+  CHECK(b.simulator.value(simvar::kTrueADirY) == m.a_axis().direction.y());
+  CHECK(b.simulator.value(simvar::kTrueCCentreY) == m.c_centre_at(90.0, 50.0).y());
+  CHECK(b.simulator.value(simvar::kTrueCDirZ) == m.c_axis_at(90.0).direction.z());
+  SECTION("the truth is for a ball at sim_ball_z") {
+    REQUIRE(b.write(simvar::kBallZ, {120.0}) == AccessFault::kNone);
+    CHECK(b.simulator.value(simvar::kTrueRotvecX) == m.rotation_vector_rad(90.0, 120.0).x() * kArcsecPerRad);
+  }
+  SECTION("at the reference pose the rotation vector reads exactly zero") {
+    REQUIRE(b.write(simvar::kAxisA, {0.0, 123.0}) == AccessFault::kNone);
+    for (std::uint16_t n = simvar::kTrueRotvecX; n <= simvar::kTrueAPositioningError; ++n) {
+      CHECK(b.simulator.value(n) == 0.0);
+    }
+  }
+  SECTION("back to 0, the ideal machine and its truth") {
+    REQUIRE(b.write(simvar::kErrors, {0.0}) == AccessFault::kNone);
+    CHECK(b.simulator.value(simvar::kTrueADirX) == 1.0);
+    CHECK(b.simulator.value(simvar::kTrueCToAOffset) == 0.0);
+    CHECK(std::abs(b.simulator.value(simvar::kTrueRotvecX)) < 1e-9);
+  }
+}
+
+TEST_CASE("a simulator started with errors on has them from the start") {
+  Bench b(1, true);
+  CHECK(b.simulator.value(simvar::kErrors) == 1.0);
+  CHECK(b.simulator.value(simvar::kTrueADriveError) == Approx(2.0));
+  CHECK(b.simulator.machine().errors().c_offset_mm == 0.025);
+}
+
+TEST_CASE("bad ball, sigma, measure and error values are refused and change nothing") {
+  Bench b;
+  const Vec3 first = b.measure_at(10.0, 20.0);
+  const std::vector<double> before = b.all_values();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  CHECK(b.write(simvar::kBallX, {nan}) == AccessFault::kNotFinite);
+  CHECK(b.write(simvar::kBallZ, {-inf}) == AccessFault::kNotFinite);
+  CHECK(b.write(simvar::kBallY, {1000.5}) == AccessFault::kOutOfRange);
+  CHECK(b.write(simvar::kBallSigma, {-0.001}) == AccessFault::kOutOfRange);
+  CHECK(b.write(simvar::kBallSigma, {1.5}) == AccessFault::kOutOfRange);
+  CHECK(b.write(simvar::kBallMeasure, {2.0}) == AccessFault::kOutOfRange);
+  CHECK(b.write(simvar::kBallMeasure, {0.5}) == AccessFault::kOutOfRange);
+  CHECK(b.write(simvar::kErrors, {2.0}) == AccessFault::kOutOfRange);
+  CHECK(b.write(simvar::kErrors, {-1.0}) == AccessFault::kOutOfRange);
+  // A measure request beside a bad value is refused whole: nothing measured.
+  CHECK(b.write(simvar::kBallSigma, {0.01, 1.0, 0.0}) == AccessFault::kReadOnly);
+  CHECK(b.write(simvar::kErrors, {1.0, 5.0, 5.0, 5.0, 0.001, 1.0, 0.0}) == AccessFault::kReadOnly);
+  CHECK(b.write(simvar::kBallZ, {5.0, nan, 1.0}) == AccessFault::kNotFinite);
+  CHECK(b.write(simvar::kErrors, {1.0, 5.0, 5.0, 5.0, 0.001, 3.0}) == AccessFault::kOutOfRange);
+  for (std::uint16_t n = simvar::kLastBallX; n <= simvar::kLastBallZ; ++n) {
+    CHECK(b.write(n, {0.0}) == AccessFault::kReadOnly);
+  }
+  for (std::uint16_t n = simvar::kTrueRotvecX; n <= simvar::kLast; ++n) {
+    CHECK(b.write(n, {0.0}) == AccessFault::kReadOnly);
+  }
+  for (std::uint16_t n = simvar::kTrueTilt + 1; n < simvar::kErrors; ++n) {
+    double out = 0.0;
+    CHECK(b.simulator.read(n, 1, &out) == AccessFault::kUndefined);
+    CHECK(b.write(n, {0.0}) == AccessFault::kUndefined);
+  }
+  CHECK(b.all_values() == before);
+  // And no deviate was drawn: the next measurement is a fresh simulator's second.
+  Bench fresh;
+  (void)fresh.measure_at(10.0, 20.0);
+  CHECK(b.measure_at(10.0, 20.0) == fresh.measure_at(10.0, 20.0));
+  CHECK(first != b.last_ball());
+}
