@@ -189,7 +189,11 @@ TEST_CASE("errors reach the Cramer-Rao bound and the reported sigmas match the s
       const double measured = static_cast<double>(dirs[j].dot(mse * dirs[j]));
       const double spread = std::sqrt(measured);
       int within = 0;
-      for (const auto& r : reported) within += (r[j] < 1.5 * spread && r[j] > spread / 1.5) ? 1 : 0;
+      double mean_reported_variance = 0.0;
+      for (const auto& r : reported) {
+        within += (r[j] < 1.5 * spread && r[j] > spread / 1.5) ? 1 : 0;
+        mean_reported_variance += r[j] * r[j] / runs;
+      }
       INFO(cfg.name << ", " << names[j] << ": CRB sigma " << std::sqrt(bound) << ", Monte Carlo "
                     << spread << ", bias " << static_cast<double>(dirs[j].dot(bias)) << ", reported within 1.5x: "
                     << within << " of " << runs);
@@ -197,6 +201,9 @@ TEST_CASE("errors reach the Cramer-Rao bound and the reported sigmas match the s
       CHECK(measured / bound < 1.1);
       CHECK(std::abs(static_cast<double>(dirs[j].dot(bias))) < 0.1 * std::sqrt(bound));
       CHECK(within >= runs * 995 / 1000);
+      // sigma^2 = SSR / (2n - 6) is unbiased: the reported variance is right on average.
+      CHECK(mean_reported_variance / measured > 0.9);
+      CHECK(mean_reported_variance / measured < 1.1);
     }
 
     {  // With a known sigma the reported covariance is the bound itself.
@@ -211,6 +218,59 @@ TEST_CASE("errors reach the Cramer-Rao bound and the reported sigmas match the s
         CHECK(e.dot(cc * e) / static_cast<double>(dirs[j].dot(crb * dirs[j])) == Approx(1.0).epsilon(0.05));
       }
       CHECK(fit.value().radius_variance_mm2() / static_cast<double>(crb(5, 5)) == Approx(1.0).epsilon(0.05));
+    }
+  }
+}
+
+// Convention 5 of the header, computed independently: sigma^2 (J^T J)^-1 with J
+// the long-double central-difference Jacobian of the residuals (h_i, rho_i - r)
+// over (c, a, b, r), the normal n(a, b) = (n + a u + b v) / |.| about the fitted
+// normal along the fit's (axis_u, axis_v). Noisy points (5% of the radius) so
+// that the terms of J proportional to the residuals matter.
+TEST_CASE("the reported covariance is sigma^2 (J^T J)^-1 of a long-double numeric Jacobian", "[circle]") {
+  t::Rng rng(34);
+  for (int trial = 0; trial < 50; ++trial) {
+    const std::size_t n = 4 + rng.next() % (kSmall - 3);
+    const long double radius = rng.uniform(10.0, 500.0);
+    const Case k = make_case(rng, radius, 1000.0, n, rng.uniform(60.0, 360.0));
+    std::array<Vec3, kSmall> p;
+    noisy_points(k, rng, 0.05 * static_cast<double>(radius), p);
+    core::CircleFitOptions o;
+    o.point_sigma_mm = 0.1;
+    const auto fit = core::fit_circle(p.data(), n, o);
+    REQUIRE(fit.ok());
+    const core::CircleFit& f = fit.value();
+    t::CircleModel m(f.normal.cast<long double>());
+    m.e1 = f.axis_u.cast<long double>();
+    m.e2 = f.axis_v.cast<long double>();
+    t::Vec6L th;
+    th << f.centre_mm.cast<long double>(), 0.0L, 0.0L, static_cast<long double>(f.radius_mm);
+    auto residuals = [&](const t::Vec6L& x, std::size_t i) {
+      const t::Vec3L nn = m.normal(x);
+      const t::Vec3L d = p[i].cast<long double>() - x.head<3>();
+      const long double h = nn.dot(d);
+      return Eigen::Matrix<long double, 2, 1>(h, (d - h * nn).norm() - x(5));
+    };
+    t::Mat6L jtj = t::Mat6L::Zero();
+    for (std::size_t i = 0; i < n; ++i) {
+      Eigen::Matrix<long double, 2, 6> j;
+      for (int q = 0; q < 6; ++q) {
+        const long double h = (q == 3 || q == 4) ? 1e-7L : 1e-7L * radius;
+        t::Vec6L hi = th;
+        t::Vec6L lo = th;
+        hi(q) += h;
+        lo(q) -= h;
+        j.col(q) = (residuals(hi, i) - residuals(lo, i)) / (2.0L * h);
+      }
+      jtj += j.transpose() * j;
+    }
+    const t::Mat6L expected = 0.01L * jtj.inverse();
+    for (int r = 0; r < 6; ++r) {
+      for (int c = 0; c < 6; ++c) {
+        const long double scale = std::sqrt(expected(r, r) * expected(c, c));
+        CHECK(static_cast<double>(std::abs(static_cast<long double>(f.covariance(r, c)) - expected(r, c)) / scale) <
+              1e-6);
+      }
     }
   }
 }
