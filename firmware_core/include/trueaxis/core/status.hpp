@@ -33,6 +33,8 @@ enum class Status : std::uint16_t {
   kPointsTooClose = 202,    // probe repeatability swamps the face's direction
   kOrientationAmbiguous = 203,  // the face is perpendicular to the orientation hint
   kUnreachable = 204,       // neither leveling solution lies inside the travel limits
+  kArcTooShort = 205,       // the points span too short an arc for the required accuracy
+  kNoConvergence = 206,     // an iterative fit did not converge
   kPointsNotOnLine = 207,   // the points are too wide across to define a line's direction
 
   kConfigInvalid = 300,     // the stored configuration is inconsistent
@@ -73,6 +75,11 @@ inline constexpr StatusInfo kStatusTable[] = {
      "in I, J, K."},
     {Status::kUnreachable, "unreachable",
      "Neither leveling solution lies inside the rotary axes' travel limits."},
+    {Status::kArcTooShort, "arc_too_short",
+     "The measured points span too short an arc: the circle's centre would be too "
+     "uncertain. Turn the axis through a larger angle."},
+    {Status::kNoConvergence, "no_convergence",
+     "An iterative fit did not converge: the points do not describe the expected shape."},
     {Status::kPointsNotOnLine, "points_not_on_line",
      "The measured points do not run along one line: they spread too widely across it "
      "for its direction to be defined."},
