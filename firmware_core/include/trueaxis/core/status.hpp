@@ -33,6 +33,8 @@ enum class Status : std::uint16_t {
   kPointsTooClose = 202,    // probe repeatability swamps the face's direction
   kOrientationAmbiguous = 203,  // the face is perpendicular to the orientation hint
   kUnreachable = 204,       // neither leveling solution lies inside the travel limits
+  kArcTooShort = 205,       // the points span too short an arc for the required accuracy
+  kNoConvergence = 206,     // an iterative fit did not converge
 
   kConfigInvalid = 300,     // the stored configuration is inconsistent
 
@@ -72,6 +74,11 @@ inline constexpr StatusInfo kStatusTable[] = {
      "in I, J, K."},
     {Status::kUnreachable, "unreachable",
      "Neither leveling solution lies inside the rotary axes' travel limits."},
+    {Status::kArcTooShort, "arc_too_short",
+     "The measured points span too short an arc: the circle's centre would be too "
+     "uncertain. Turn the axis through a larger angle."},
+    {Status::kNoConvergence, "no_convergence",
+     "An iterative fit did not converge: the points do not describe the expected shape."},
     {Status::kConfigInvalid, "config_invalid",
      "The stored configuration is inconsistent (for example a lower limit above the "
      "upper one)."},
