@@ -35,6 +35,14 @@ enum class Status : std::uint16_t {
   kUnreachable = 204,       // neither leveling solution lies inside the travel limits
   kArcTooShort = 205,       // the points span too short an arc for the required accuracy
   kNoConvergence = 206,     // an iterative fit did not converge
+  // 207 is points_not_on_line (main).
+  kTooFewPoses = 208,       // fewer than 3 A poses
+  kNoReferencePose = 209,   // no A pose at A = 0
+  kTooFewCPositions = 210,  // an A pose has fewer than 4 distinct C positions
+  kTooManyPoses = 211,      // more A poses than the table holds
+  kAAxisUndetermined = 212, // the poses' C centres do not determine the A axis
+  kCPhaseInconsistent = 213,  // a pose's measured phases disagree with its commanded C
+  kTableInvalid = 214,      // a serialized table is malformed
 
   kConfigInvalid = 300,     // the stored configuration is inconsistent
 
@@ -79,6 +87,21 @@ inline constexpr StatusInfo kStatusTable[] = {
      "uncertain. Turn the axis through a larger angle."},
     {Status::kNoConvergence, "no_convergence",
      "An iterative fit did not converge: the points do not describe the expected shape."},
+    {Status::kTooFewPoses, "too_few_poses",
+     "The rigidity samples hold fewer than 3 A poses: measure at more A angles."},
+    {Status::kNoReferencePose, "no_reference_pose",
+     "No A pose is at A = 0: the reference pose is missing."},
+    {Status::kTooFewCPositions, "too_few_c_positions",
+     "An A pose has fewer than 4 distinct C positions: measure that pose at more C angles."},
+    {Status::kTooManyPoses, "too_many_poses",
+     "The rigidity samples hold more A poses than the table can hold (16)."},
+    {Status::kAAxisUndetermined, "a_axis_undetermined",
+     "The C centres of the A poses do not determine the A axis: place the ball away from the "
+     "A axis or spread the A angles wider."},
+    {Status::kCPhaseInconsistent, "c_phase_inconsistent",
+     "The ball's measured positions around a C circle disagree with the commanded C angles."},
+    {Status::kTableInvalid, "table_invalid",
+     "The stored rigidity table is malformed (layout version, counts, values or A order)."},
     {Status::kConfigInvalid, "config_invalid",
      "The stored configuration is inconsistent (for example a lower limit above the "
      "upper one)."},
