@@ -26,21 +26,10 @@ bool nearest_representative(double c_deg, double current_deg, double lo, double 
   return out >= lo && out <= hi;
 }
 
-// A solution from commanded angles (deg): C moved to its representative nearest
-// the current C inside the C limits, reachability judged against both limits.
-LevelSolution make_solution(double c_cmd_deg, double a_cmd_deg, const TablePose& current, const LevelConfig& cfg) {
-  LevelSolution s;
-  s.a_deg = a_cmd_deg + 0.0;  // + 0.0 turns -0 into 0
-  s.c_deg = c_cmd_deg;
-  const bool c_ok = nearest_representative(c_cmd_deg, current.c_deg, cfg.c_min_deg, cfg.c_max_deg, s.c_deg);
-  s.reachable = c_ok && s.a_deg >= cfg.a_min_deg && s.a_deg <= cfg.a_max_deg;
-  return s;
-}
-
 // The commanded solution for physical angles (rad), convention 2 of the header.
 LevelSolution make_physical_solution(double c_phys_rad, double a_phys_rad, const TablePose& current,
                                      const LevelConfig& cfg) {
-  return make_solution(wrap_deg_180(cfg.c_sign * rad_to_deg(c_phys_rad)), cfg.a_sign * rad_to_deg(a_phys_rad),
+  return level_solution(wrap_deg_180(cfg.c_sign * rad_to_deg(c_phys_rad)), cfg.a_sign * rad_to_deg(a_phys_rad),
                        current, cfg);
 }
 
@@ -49,6 +38,23 @@ double move_cost_deg(const LevelSolution& s, const TablePose& current) {
 }
 
 }  // namespace
+
+LevelSolution level_solution(double c_cmd_deg, double a_cmd_deg, const TablePose& current, const LevelConfig& cfg) {
+  LevelSolution s;
+  s.a_deg = a_cmd_deg + 0.0;  // + 0.0 turns -0 into 0
+  s.c_deg = c_cmd_deg;
+  const bool c_ok = nearest_representative(c_cmd_deg, current.c_deg, cfg.c_min_deg, cfg.c_max_deg, s.c_deg);
+  s.reachable = c_ok && s.a_deg >= cfg.a_min_deg && s.a_deg <= cfg.a_max_deg;
+  return s;
+}
+
+void order_level_solutions(const LevelSolution& s1, const LevelSolution& s2, const TablePose& current,
+                           LevelSolution& chosen, LevelSolution& other) {
+  const bool take_second =
+      s2.reachable && (!s1.reachable || move_cost_deg(s2, current) < move_cost_deg(s1, current));
+  chosen = take_second ? s2 : s1;
+  other = take_second ? s1 : s2;
+}
 
 Status validate(const LevelConfig& c) {
   const double values[] = {c.a_min_deg, c.a_max_deg, c.c_min_deg, c.c_max_deg,
@@ -116,16 +122,13 @@ Result<LevelResult> level_face(const LevelInput& in, const LevelConfig& cfg) {
   // A face facing down (n.z < 0) is never level: it needs A near 180 deg.
   const bool level = n.z() > 0.0 && (rho == 0.0 || tilt_rad <= direction_sigma_rad);
   if (level) {
-    out.chosen = make_solution(in.current_pose.c_deg, 0.0, in.current_pose, cfg);
+    out.chosen = level_solution(in.current_pose.c_deg, 0.0, in.current_pose, cfg);
     out.other = out.chosen;
   } else {
     const double c1 = std::atan2(n.x(), n.y());
     const LevelSolution s1 = make_physical_solution(c1, tilt_rad, in.current_pose, cfg);
     const LevelSolution s2 = make_physical_solution(c1 + kPi, -tilt_rad, in.current_pose, cfg);
-    const bool take_second =
-        s2.reachable && (!s1.reachable || move_cost_deg(s2, in.current_pose) < move_cost_deg(s1, in.current_pose));
-    out.chosen = take_second ? s2 : s1;
-    out.other = take_second ? s1 : s2;
+    order_level_solutions(s1, s2, in.current_pose, out.chosen, out.other);
   }
   if (!out.chosen.reachable) return Status::kUnreachable;
 

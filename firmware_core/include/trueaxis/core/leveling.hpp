@@ -109,6 +109,16 @@ struct LevelResult {
 
 [[nodiscard]] Result<LevelResult> level_face(const LevelInput& input, const LevelConfig& config);
 
+// A solution at commanded angles (deg): C moved to its representative nearest the
+// current C inside the C limits, reachable when A and that C are inside the
+// limits (convention 6). Shared with the calibrated leveling (rigidity_leveling.hpp).
+LevelSolution level_solution(double c_deg, double a_deg, const TablePose& current, const LevelConfig& config);
+
+// Convention 6's choice: the reachable one of s1, s2 with the smaller |dA| + |dC|
+// (s1 on a tie, s1 when neither is reachable) becomes `chosen`.
+void order_level_solutions(const LevelSolution& s1, const LevelSolution& s2, const TablePose& current,
+                           LevelSolution& chosen, LevelSolution& other);
+
 // R_machine_table for commanded angles: p_machine = R * p_table (convention 1, 2).
 Mat3 table_rotation(const TablePose& pose, const LevelConfig& config);
 

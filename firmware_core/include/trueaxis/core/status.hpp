@@ -36,6 +36,13 @@ enum class Status : std::uint16_t {
   kArcTooShort = 205,       // the points span too short an arc for the required accuracy
   kNoConvergence = 206,     // an iterative fit did not converge
   kPointsNotOnLine = 207,   // the points are too wide across to define a line's direction
+  kTooFewPoses = 208,       // fewer than 3 A poses
+  kNoReferencePose = 209,   // no A pose at A = 0
+  kTooFewCPositions = 210,  // an A pose has fewer than 4 distinct C positions
+  kTooManyPoses = 211,      // more A poses than the table holds
+  kAAxisUndetermined = 212, // the poses' C centres do not determine the A axis
+  kCPhaseInconsistent = 213,  // a pose's measured phases disagree with its commanded C
+  kTableInvalid = 214,      // a serialized table is malformed
 
   kConfigInvalid = 300,     // the stored configuration is inconsistent
 
@@ -83,6 +90,21 @@ inline constexpr StatusInfo kStatusTable[] = {
     {Status::kPointsNotOnLine, "points_not_on_line",
      "The measured points do not run along one line: they spread too widely across it "
      "for its direction to be defined."},
+    {Status::kTooFewPoses, "too_few_poses",
+     "The rigidity samples hold fewer than 3 A poses: measure at more A angles."},
+    {Status::kNoReferencePose, "no_reference_pose",
+     "No A pose is at A = 0: the reference pose is missing."},
+    {Status::kTooFewCPositions, "too_few_c_positions",
+     "An A pose has fewer than 4 distinct C positions: measure that pose at more C angles."},
+    {Status::kTooManyPoses, "too_many_poses",
+     "The rigidity samples hold more A poses than the table can hold (16)."},
+    {Status::kAAxisUndetermined, "a_axis_undetermined",
+     "The C centres of the A poses do not determine the A axis: place the ball away from the "
+     "A axis or spread the A angles wider."},
+    {Status::kCPhaseInconsistent, "c_phase_inconsistent",
+     "The ball's measured positions around a C circle disagree with the commanded C angles."},
+    {Status::kTableInvalid, "table_invalid",
+     "The stored rigidity table is malformed (layout version, counts, values or A order)."},
     {Status::kConfigInvalid, "config_invalid",
      "The stored configuration is inconsistent (for example a lower limit above the "
      "upper one)."},

@@ -1,0 +1,116 @@
+#include "trueaxis/core/rigidity_compensation.hpp"
+
+#include "trueaxis/core/so3.hpp"
+
+namespace trueaxis::core {
+
+namespace {
+
+// Where a commanded A falls: the pose k with A_k <= A (and w in [0, 1) of the
+// way to k + 1), or exactly on pose k (w = 0, `on_pose`).
+struct Bracket {
+  std::size_t k = 0;
+  double w = 0.0;
+  double a_deg = 0.0;  // A after clamping
+  bool on_pose = false;
+};
+
+Status find_bracket(const RigidityTable& t, double a_deg, bool clamp, Bracket& b) {
+  const std::size_t m = t.pose_count;
+  if (m < 2 || m > kMaxAPoses) return Status::kNoTable;
+  if (!std::isfinite(a_deg)) return Status::kNotFinite;
+  const double first = t.poses[0].a_deg;
+  const double last = t.poses[m - 1].a_deg;
+  if (!(a_deg >= first && a_deg <= last)) {
+    if (!clamp) return Status::kArgumentOutOfRange;
+    a_deg = a_deg < first ? first : last;
+  }
+  std::size_t k = 0;
+  while (k + 1 < m && t.poses[k + 1].a_deg <= a_deg) ++k;
+  b.k = k;
+  b.a_deg = a_deg;
+  b.on_pose = a_deg == t.poses[k].a_deg;
+  b.w = b.on_pose ? 0.0 : (a_deg - t.poses[k].a_deg) / (t.poses[k + 1].a_deg - t.poses[k].a_deg);
+  return Status::kOk;
+}
+
+Vec3 blend_rotvec(const RigidityTable& t, const Bracket& b, Blend blend) {
+  const RigidityPose& p0 = t.poses[b.k];
+  if (b.on_pose) return p0.rotvec_rad;
+  const RigidityPose& p1 = t.poses[b.k + 1];
+  switch (blend) {
+    case Blend::kLinear:
+      return (1.0 - b.w) * p0.rotvec_rad + b.w * p1.rotvec_rad;
+    case Blend::kGeodesic:
+      return so3_log(t.rotation[b.k] * so3_exp(b.w * t.geodesic_step_rad[b.k]));
+    default: {
+      const double h = p1.a_deg - p0.a_deg;
+      const double x = b.a_deg - p0.a_deg;
+      const Vec3& m0 = t.spline_m[b.k];
+      const Vec3& m1 = t.spline_m[b.k + 1];
+      const Vec3 slope = (p1.rotvec_rad - p0.rotvec_rad) / h - (h / 6.0) * (2.0 * m0 + m1);
+      return p0.rotvec_rad + x * (slope + x * (0.5 * m0 + x * ((m1 - m0) / (6.0 * h))));
+    }
+  }
+}
+
+bool valid_blend(Blend blend) {
+  return blend == Blend::kLinear || blend == Blend::kGeodesic || blend == Blend::kCubic;
+}
+
+}  // namespace
+
+Result<Vec3> rigidity_rotvec_rad(const RigidityTable& table, double a_deg, Blend blend, bool clamp) {
+  if (!valid_blend(blend)) return Status::kArgumentOutOfRange;
+  Bracket b;
+  const Status s = find_bracket(table, a_deg, clamp, b);
+  if (s != Status::kOk) return s;
+  return blend_rotvec(table, b, blend);
+}
+
+Result<RigidityState> rigidity_state(const RigidityTable& table, double a_deg, Blend blend, bool clamp) {
+  if (!valid_blend(blend)) return Status::kArgumentOutOfRange;
+  Bracket b;
+  const Status s = find_bracket(table, a_deg, clamp, b);
+  if (s != Status::kOk) return s;
+  RigidityState out;
+  out.rotvec_rad = blend_rotvec(table, b, blend);
+  const RigidityPose& p0 = table.poses[b.k];
+  if (b.on_pose) {
+    out.a_error_rad = p0.a_error_rad;
+    out.origin_offset_mm = p0.origin_offset_mm;
+  } else {
+    const RigidityPose& p1 = table.poses[b.k + 1];
+    out.a_error_rad = (1.0 - b.w) * p0.a_error_rad + b.w * p1.a_error_rad;
+    out.origin_offset_mm = (1.0 - b.w) * p0.origin_offset_mm + b.w * p1.origin_offset_mm;
+  }
+  // The commanded A, not the clamped one, turns the frames (convention 4).
+  out.theta_rad = deg_to_rad(a_deg - table.poses[table.reference].a_deg) + out.a_error_rad;
+  return out;
+}
+
+Result<RigidityFrames> rigidity_frames(const RigidityTable& table, double a_deg, double c_deg, Blend blend,
+                                       bool clamp) {
+  if (!std::isfinite(c_deg)) return Status::kNotFinite;
+  const Result<RigidityState> state = rigidity_state(table, a_deg, blend, clamp);
+  if (!state.ok()) return state.status();
+  const RigidityState& st = state.value();
+  const Vec3& a0 = table.a_axis_point_mm;
+  const Mat3 turn = so3_exp(st.theta_rad * table.a_axis_direction);
+  const Mat3 table_axes = turn * table.reference_axes * rot_z(deg_to_rad(c_deg));
+  RigidityFrames f;
+  f.machine_T_table_theory.rotation = table_axes;
+  f.machine_T_table_theory.translation_mm = a0 + turn * (table.poses[table.reference].c_centre_mm - a0);
+  f.machine_T_table_actual.rotation = so3_exp(st.rotvec_rad) * table_axes;
+  f.machine_T_table_actual.translation_mm = f.machine_T_table_theory.translation_mm + st.origin_offset_mm;
+  return f;
+}
+
+Result<RigidTransform> rigidity_correction(const RigidityTable& table, double a_deg, double c_deg, Blend blend,
+                                           bool clamp) {
+  const Result<RigidityFrames> frames = rigidity_frames(table, a_deg, c_deg, blend, clamp);
+  if (!frames.ok()) return frames.status();
+  return frames.value().machine_T_table_actual * frames.value().machine_T_table_theory.inverse();
+}
+
+}  // namespace trueaxis::core
