@@ -44,7 +44,7 @@ void RigidityBuilder::start(const RigiditySample* samples, std::size_t count, co
   first_seen_count_ = 0;
   eigen_pose_ = kMaxAPoses;
   plus_done_ = false;
-  table_ = RigidityTable{};
+  table_.pose_count = 0;  // no 5.5 kB temporary on a firmware stack
 }
 
 RigidityStep RigidityBuilder::fail(Status s, std::size_t pose_index_plus_one) {
