@@ -340,7 +340,10 @@ Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count, const Cir
   const NormalEquations final_ne = accumulate(p, count, s, x, fit.axis_u, fit.axis_v);
   const Eigen::LLT<Mat6> llt(final_ne.jtj);
   if (llt.info() != Eigen::Success) return converged ? Status::kPointsCollinear : Status::kArcTooShort;
-  Mat6 cov = llt.solve(Mat6::Identity());
+  // Column by column: a matrix right-hand side takes Eigen's blocked triangular
+  // solver, whose workspace may come from the heap (the target link refuses it).
+  Mat6 cov;
+  for (int k = 0; k < 6; ++k) cov.col(k) = llt.solve(Vec6::Unit(k));
   // Per unit noise in mm: lengths keep their scale (residuals and parameters
   // scale alike), the normal's angles gain 1 / scale.
   Vec6 unscale;

@@ -34,6 +34,16 @@ Status find_bracket(const RigidityTable& t, double a_deg, bool clamp, Bracket& b
   return Status::kOk;
 }
 
+// The natural cubic spline between poses k and k + 1 (convention 3), for the
+// rotation vector, the A positioning error or the origin offset.
+template <typename T>
+T cubic(const RigidityTable& t, const Bracket& b, const T& y0, const T& y1, const T& m0, const T& m1) {
+  const double h = t.poses[b.k + 1].a_deg - t.poses[b.k].a_deg;
+  const double x = b.a_deg - t.poses[b.k].a_deg;
+  const T slope = (y1 - y0) / h - (h / 6.0) * (2.0 * m0 + m1);
+  return y0 + x * (slope + x * (0.5 * m0 + x * ((m1 - m0) / (6.0 * h))));
+}
+
 Vec3 blend_rotvec(const RigidityTable& t, const Bracket& b, Blend blend) {
   const RigidityPose& p0 = t.poses[b.k];
   if (b.on_pose) return p0.rotvec_rad;
@@ -43,19 +53,16 @@ Vec3 blend_rotvec(const RigidityTable& t, const Bracket& b, Blend blend) {
       return (1.0 - b.w) * p0.rotvec_rad + b.w * p1.rotvec_rad;
     case Blend::kGeodesic:
       return so3_log(t.rotation[b.k] * so3_exp(b.w * t.geodesic_step_rad[b.k]));
-    default: {
-      const double h = p1.a_deg - p0.a_deg;
-      const double x = b.a_deg - p0.a_deg;
-      const Vec3& m0 = t.spline_m[b.k];
-      const Vec3& m1 = t.spline_m[b.k + 1];
-      const Vec3 slope = (p1.rotvec_rad - p0.rotvec_rad) / h - (h / 6.0) * (2.0 * m0 + m1);
-      return p0.rotvec_rad + x * (slope + x * (0.5 * m0 + x * ((m1 - m0) / (6.0 * h))));
-    }
+    case Blend::kCubic:
+      return cubic(t, b, p0.rotvec_rad, p1.rotvec_rad, t.spline_m[b.k], t.spline_m[b.k + 1]);
+    default:
+      return cubic(t, b, p0.rotvec_rad, p1.rotvec_rad, t.spline_k[b.k], t.spline_k[b.k + 1]);
   }
 }
 
 bool valid_blend(Blend blend) {
-  return blend == Blend::kLinear || blend == Blend::kGeodesic || blend == Blend::kCubic;
+  return blend == Blend::kLinear || blend == Blend::kGeodesic || blend == Blend::kCubic ||
+         blend == Blend::kCubicNotAKnot;
 }
 
 }  // namespace
@@ -81,8 +88,14 @@ Result<RigidityState> rigidity_state(const RigidityTable& table, double a_deg, B
     out.origin_offset_mm = p0.origin_offset_mm;
   } else {
     const RigidityPose& p1 = table.poses[b.k + 1];
-    out.a_error_rad = (1.0 - b.w) * p0.a_error_rad + b.w * p1.a_error_rad;
-    out.origin_offset_mm = (1.0 - b.w) * p0.origin_offset_mm + b.w * p1.origin_offset_mm;
+    if (blend == Blend::kCubic || blend == Blend::kCubicNotAKnot) {
+      out.a_error_rad = cubic(table, b, p0.a_error_rad, p1.a_error_rad, table.spline_e[b.k], table.spline_e[b.k + 1]);
+      out.origin_offset_mm =
+          cubic(table, b, p0.origin_offset_mm, p1.origin_offset_mm, table.spline_d[b.k], table.spline_d[b.k + 1]);
+    } else {
+      out.a_error_rad = (1.0 - b.w) * p0.a_error_rad + b.w * p1.a_error_rad;
+      out.origin_offset_mm = (1.0 - b.w) * p0.origin_offset_mm + b.w * p1.origin_offset_mm;
+    }
   }
   // The commanded A, not the clamped one, turns the frames (convention 4).
   out.theta_rad = deg_to_rad(a_deg - table.poses[table.reference].a_deg) + out.a_error_rad;

@@ -85,32 +85,99 @@ Status evaluate_rigidity(const RigidityPoseFrame* poses, std::size_t count, std:
 
 namespace trueaxis::core {
 
+namespace {
+
+// Natural cubic spline through (knot_i, y_i): its second derivatives M_i, zero at
+// both ends. Interior knots: h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i + h_i M_{i+1}
+// = 6 (slope_i - slope_{i-1}); diagonally dominant, so Thomas' elimination needs
+// no pivoting. T is double or Vec3.
+template <typename T, typename Y>
+void natural_spline(const RigidityTable& t, Y y, T* out, const T& zero) {
+  const std::size_t m = t.pose_count;
+  for (std::size_t i = 0; i < m; ++i) out[i] = zero;
+  if (m < 3) return;
+  double c_prime[kMaxAPoses] = {};
+  T r_prime[kMaxAPoses];
+  for (std::size_t i = 1; i + 1 < m; ++i) {
+    const double h0 = t.poses[i].a_deg - t.poses[i - 1].a_deg;
+    const double h1 = t.poses[i + 1].a_deg - t.poses[i].a_deg;
+    const T rhs = 6.0 * ((y(i + 1) - y(i)) / h1 - (y(i) - y(i - 1)) / h0);
+    const double below = i > 1 ? h0 : 0.0;
+    const double den = 2.0 * (h0 + h1) - below * (i > 1 ? c_prime[i - 1] : 0.0);
+    c_prime[i] = h1 / den;
+    r_prime[i] = (rhs - below * (i > 1 ? r_prime[i - 1] : zero)) / den;
+  }
+  out[m - 2] = r_prime[m - 2];
+  for (std::size_t i = m - 2; i-- > 1;) out[i] = r_prime[i] - c_prime[i] * out[i + 1];
+}
+
+// Not-a-knot cubic spline through (knot_i, y_i): its second derivatives M_i.
+// The third derivative is continuous at the second and the second-to-last
+// knots, so a smooth law (sin A) keeps its curvature at the ends of the range,
+// where the natural spline forces it to zero. Three knots: the parabola through
+// them. The (at most 16 x 16) system is solved densely by Gaussian elimination
+// with partial pivoting; it runs when a table is built or loaded, never in a
+// query. T is double or Vec3.
+template <typename T, typename Y>
+void not_a_knot_spline(const RigidityTable& t, Y y, T* out, const T& zero) {
+  const std::size_t m = t.pose_count;
+  for (std::size_t i = 0; i < m; ++i) out[i] = zero;
+  if (m < 3) return;
+  const auto h = [&t](std::size_t i) { return t.poses[i + 1].a_deg - t.poses[i].a_deg; };
+  if (m == 3) {
+    const T second = 2.0 * ((y(2) - y(1)) / h(1) - (y(1) - y(0)) / h(0)) / (h(0) + h(1));
+    for (std::size_t i = 0; i < 3; ++i) out[i] = second;
+    return;
+  }
+  double a[kMaxAPoses][kMaxAPoses] = {};
+  T rhs[kMaxAPoses];
+  for (std::size_t i = 0; i < m; ++i) rhs[i] = zero;
+  a[0][0] = h(1);
+  a[0][1] = -(h(0) + h(1));
+  a[0][2] = h(0);
+  for (std::size_t i = 1; i + 1 < m; ++i) {
+    a[i][i - 1] = h(i - 1);
+    a[i][i] = 2.0 * (h(i - 1) + h(i));
+    a[i][i + 1] = h(i);
+    rhs[i] = 6.0 * ((y(i + 1) - y(i)) / h(i) - (y(i) - y(i - 1)) / h(i - 1));
+  }
+  a[m - 1][m - 3] = h(m - 2);
+  a[m - 1][m - 2] = -(h(m - 3) + h(m - 2));
+  a[m - 1][m - 1] = h(m - 3);
+  for (std::size_t col = 0; col < m; ++col) {
+    std::size_t pivot = col;
+    for (std::size_t r = col + 1; r < m; ++r) {
+      if (std::fabs(a[r][col]) > std::fabs(a[pivot][col])) pivot = r;
+    }
+    for (std::size_t c = 0; c < m; ++c) std::swap(a[col][c], a[pivot][c]);
+    std::swap(rhs[col], rhs[pivot]);
+    for (std::size_t r = col + 1; r < m; ++r) {
+      const double f = a[r][col] / a[col][col];
+      for (std::size_t c = col; c < m; ++c) a[r][c] -= f * a[col][c];
+      rhs[r] = rhs[r] - f * rhs[col];
+    }
+  }
+  for (std::size_t r = m; r-- > 0;) {
+    T v = rhs[r];
+    for (std::size_t c = r + 1; c < m; ++c) v = v - a[r][c] * out[c];
+    out[r] = v / a[r][r];
+  }
+}
+
+}  // namespace
+
 void prepare_rigidity_table(RigidityTable& t) {
   const std::size_t m = t.pose_count;
   t.reference_axes = detail::frame_axes(t.poses[t.reference].c_x_axis, t.poses[t.reference].c_direction);
   for (std::size_t i = 0; i < m; ++i) t.rotation[i] = so3_exp(t.poses[i].rotvec_rad);
   for (std::size_t i = 0; i < m; ++i) {
     t.geodesic_step_rad[i] = i + 1 < m ? so3_log(t.rotation[i].transpose() * t.rotation[i + 1]) : Vec3::Zero();
-    t.spline_m[i] = Vec3::Zero();
   }
-  if (m < 3) return;
-  // Natural spline, knots A (deg): h_{i-1} M_{i-1} + 2 (h_{i-1} + h_i) M_i + h_i M_{i+1}
-  // = 6 (slope_i - slope_{i-1}) for the interior knots, M = 0 at both ends; the
-  // system is diagonally dominant, so Thomas' elimination needs no pivoting.
-  double c_prime[kMaxAPoses] = {};
-  Vec3 r_prime[kMaxAPoses];
-  for (std::size_t i = 1; i + 1 < m; ++i) {
-    const double h0 = t.poses[i].a_deg - t.poses[i - 1].a_deg;
-    const double h1 = t.poses[i + 1].a_deg - t.poses[i].a_deg;
-    const Vec3 rhs = 6.0 * ((t.poses[i + 1].rotvec_rad - t.poses[i].rotvec_rad) / h1 -
-                            (t.poses[i].rotvec_rad - t.poses[i - 1].rotvec_rad) / h0);
-    const double below = i > 1 ? h0 : 0.0;
-    const double den = 2.0 * (h0 + h1) - below * (i > 1 ? c_prime[i - 1] : 0.0);
-    c_prime[i] = h1 / den;
-    r_prime[i] = (rhs - below * (i > 1 ? r_prime[i - 1] : Vec3::Zero())) / den;
-  }
-  t.spline_m[m - 2] = r_prime[m - 2];
-  for (std::size_t i = m - 2; i-- > 1;) t.spline_m[i] = r_prime[i] - c_prime[i] * t.spline_m[i + 1];
+  natural_spline(t, [&t](std::size_t i) { return t.poses[i].rotvec_rad; }, t.spline_m, Vec3(Vec3::Zero()));
+  not_a_knot_spline(t, [&t](std::size_t i) { return t.poses[i].rotvec_rad; }, t.spline_k, Vec3(Vec3::Zero()));
+  not_a_knot_spline(t, [&t](std::size_t i) { return t.poses[i].a_error_rad; }, t.spline_e, 0.0);
+  not_a_knot_spline(t, [&t](std::size_t i) { return t.poses[i].origin_offset_mm; }, t.spline_d,
+                    Vec3(Vec3::Zero()));
 }
 
 }  // namespace trueaxis::core

@@ -128,7 +128,9 @@ RigidityStep RigidityBuilder::step_sort() {
 RigidityStep RigidityBuilder::step_fit() {
   const std::size_t r = cursor_;
   PoseFit& pf = fits_[r];
-  if (pf.count > kMaxCirclePoints) return fail(Status::kTooManyPoints, r + 1);
+  if (pf.count > kMaxCirclePoints || pf.count > options_.max_pose_samples) {
+    return fail(Status::kTooManyPoints, r + 1);
+  }
   std::size_t n = 0;
   for (std::size_t k = 0; k < count_; ++k) {
     if (sorted_of_first_seen_[pose_of_sample_[k]] == r) pose_samples_[n++] = static_cast<std::uint16_t>(k);

@@ -107,6 +107,12 @@ core::Status Module::start() {
   if (s != core::Status::kOk) return s;
   load_variables(RecordKey::kConfig);
   load_variables(RecordKey::kWorkOffsets);
+  for (const RecordKey key : kTableRecords) {
+    std::size_t length = 0;
+    if (store_.load(record_key(key), record_.bytes, sizeof record_.bytes, length) == core::Status::kOk) {
+      on_table_loaded(methods_, key, record_.bytes, length);
+    }
+  }
   return core::Status::kOk;
 }
 
@@ -273,6 +279,7 @@ void Module::step() {
     finish(core::Status::kStorageFailure);
     return;
   }
+  on_table_committed(methods_, record_.key);
   publish_results();
   finish(core::Status::kOk);
 }

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include <limits>
+
 #include <memory>
 #include <vector>
 
@@ -96,8 +98,11 @@ struct DenseSpline {
   }
 };
 
+// A product of three rotations (exp(rv), the A turn, E_ref Rz(C)), each
+// orthonormal to an ulp or two: a few eps off, never more.
 bool orthonormal(const Mat3& r) {
-  return (r.transpose() * r - Mat3::Identity()).cwiseAbs().maxCoeff() < 1e-15 && std::abs(r.determinant() - 1.0) < 1e-15;
+  constexpr double kTol = 8 * std::numeric_limits<double>::epsilon();
+  return (r.transpose() * r - Mat3::Identity()).cwiseAbs().maxCoeff() < kTol && std::abs(r.determinant() - 1.0) < kTol;
 }
 
 constexpr Blend kBlends[] = {Blend::kLinear, Blend::kGeodesic, Blend::kCubic};
@@ -169,7 +174,7 @@ TEST_CASE("A outside the measured range is refused unless clamped", "[rigidity][
     CHECK(core::rigidity_rotvec_rad(table, last, blend, false).ok());
     CHECK(core::rigidity_rotvec_rad(table, std::nan(""), blend, true).status() == Status::kNotFinite);
   }
-  CHECK(core::rigidity_rotvec_rad(table, 0.0, static_cast<Blend>(3), false).status() == Status::kArgumentOutOfRange);
+  CHECK(core::rigidity_rotvec_rad(table, 0.0, static_cast<Blend>(4), false).status() == Status::kArgumentOutOfRange);
   CHECK(core::rigidity_rotvec_rad(core::RigidityTable{}, 0.0, Blend::kLinear, true).status() == Status::kNoTable);
   CHECK(core::rigidity_frames(table, 0.0, std::nan(""), Blend::kLinear, true).status() == Status::kNotFinite);
 
@@ -248,4 +253,46 @@ TEST_CASE("queries allocate nothing", "[rigidity][compensation][alloc]") {
     CHECK(core::rigidity_correction(table, 60.0, 10.0, blend, false).ok());
   }
   CHECK(scope.count() == 0);
+}
+
+TEST_CASE("the not-a-knot blend reproduces a cubic law exactly, the natural one does not", "[rigidity][compensation]") {
+  // A table whose rotation vector, A error and origin offset follow cubics in A:
+  // a not-a-knot spline through 4 or more knots is that cubic itself (a closed
+  // form), while the natural spline bends it to zero curvature at the ends.
+  for (const std::size_t m : {3u, 4u, 7u, 16u}) {
+    CAPTURE(m);
+    core::RigidityTable t;
+    t.pose_count = m;
+    t.reference = 0;
+    const auto law = [](double a, double k) { return 1e-6 * k * (2.0 + 0.3 * a + 0.01 * a * a + (1e-4 * a * a * a)); };
+    const auto quad = [](double a, double k) { return 1e-6 * k * (2.0 + 0.3 * a + 0.01 * a * a); };
+    const bool cubic_law = m >= 4;  // three knots fix a parabola, not a cubic
+    const auto f = [&](double a, double k) { return cubic_law ? law(a, k) : quad(a, k); };
+    for (std::size_t i = 0; i < m; ++i) {
+      const double a = -90.0 + 180.0 * static_cast<double>(i) / static_cast<double>(m - 1) + (i % 2 ? 3.0 : 0.0);
+      t.poses[i].a_deg = a;
+      t.poses[i].rotvec_rad = Vec3(f(a, 1), f(a, -2), f(a, 0.5));
+      t.poses[i].a_error_rad = f(a, 3);
+      t.poses[i].origin_offset_mm = Vec3(f(a, 1e3), f(a, 2e3), f(a, -1e3));
+      t.poses[i].c_direction = Vec3::UnitZ();
+      t.poses[i].c_x_axis = Vec3::UnitX();
+    }
+    core::prepare_rigidity_table(t);
+    double worst_knot = 0.0, worst_e = 0.0, worst_d = 0.0, worst_natural = 0.0;
+    for (double a = t.poses[0].a_deg; a <= t.poses[m - 1].a_deg; a += 0.37) {
+      const auto knot = core::rigidity_state(t, a, Blend::kCubicNotAKnot, false);
+      const auto natural = core::rigidity_rotvec_rad(t, a, Blend::kCubic, false);
+      REQUIRE(knot.ok());
+      REQUIRE(natural.ok());
+      const Vec3 want(f(a, 1), f(a, -2), f(a, 0.5));
+      worst_knot = std::fmax(worst_knot, (knot.value().rotvec_rad - want).norm());
+      worst_e = std::fmax(worst_e, std::fabs(knot.value().a_error_rad - f(a, 3)));
+      worst_d = std::fmax(worst_d, (knot.value().origin_offset_mm - Vec3(f(a, 1e3), f(a, 2e3), f(a, -1e3))).norm());
+      worst_natural = std::fmax(worst_natural, (natural.value() - want).norm());
+    }
+    CHECK(worst_knot < 1e-15);
+    CHECK(worst_e < 1e-15);
+    CHECK(worst_d < 1e-12);
+    if (cubic_law) CHECK(worst_natural > 1e-9);  // the natural ends really differ
+  }
 }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "trueaxis/core/leveling.hpp"
+#include "trueaxis/core/rigidity_leveling.hpp"
 #include "trueaxis/macros/macro_context.hpp"
 #include "trueaxis/macros/methods.hpp"
 
@@ -37,7 +38,15 @@ MacroStep level_and_report(MacroContext& ctx, const core::Vec3* points, std::siz
   input.current_pose = input.probe_pose;  // the table has not moved since probing
   input.outward_hint_machine = read_point<var::kArgI>(ctx);
 
-  const core::Result<core::LevelResult> r = core::level_face(input, read_config(ctx));
+  const bool calibrated = ctx.in<var::kLevelAxes>() == 1.0;
+  core::Result<core::LevelResult> r = core::Status::kNoTable;
+  if (!calibrated) {
+    r = core::level_face(input, read_config(ctx));
+  } else if (!ctx.methods().rigidity.live.read([&](const core::RigidityTable& table) {
+               r = core::level_on_table(input, read_config(ctx), table, core::Blend::kCubicNotAKnot, false);
+             })) {
+    return done(core::Status::kNoTable);
+  }
   if (!r.ok()) return done(r.status());
   const core::LevelResult& out = r.value();
   ctx.out<var::kLevelC>(out.chosen.c_deg);
@@ -56,6 +65,7 @@ MacroStep level_and_report(MacroContext& ctx, const core::Vec3* points, std::siz
   ctx.out<var::kLevelOutlierPoint>(static_cast<double>(out.outlier_point));
   ctx.out<var::kLevelMaxResidual>(out.max_standardized_residual);
   ctx.out<var::kLevelOtherReachable>(out.other.reachable ? 1.0 : 0.0);
+  ctx.out<var::kLevelAxesUsed>(calibrated ? 1.0 : 0.0);
   return done(core::Status::kOk);
 }
 

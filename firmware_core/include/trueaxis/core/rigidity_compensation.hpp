@@ -15,13 +15,21 @@
 //       kGeodesic R = R_k exp(w log(R_k^T R_{k+1})), rv = log(R), R_i = exp(rv_i)
 //                 (the constant-speed path on SO(3); log(R_k^T R_{k+1}) is
 //                 precomputed in the table);
-//       kCubic    the natural cubic spline through (A_i, rv_i), per component,
-//                 second derivatives precomputed in the table:
+//       kCubic    the natural cubic spline through (A_i, rv_i), per component
+//                 (INTERFACE.md's blend 2), second derivatives M precomputed in
+//                 the table; kCubicNotAKnot the same with the not-a-knot end
+//                 conditions, which keep a smooth law's curvature at the ends of
+//                 the range where the natural spline forces it to zero (a
+//                 gravity-like sin A deflection of 50" misses by 1.1" near the
+//                 ends with kCubic and by 0.1" with kCubicNotAKnot, poses 30 deg
+//                 apart). Both:
 //                 rv = y_k + t (b + t (M_k / 2 + t (M_{k+1} - M_k) / (6 h))),
 //                 t = A - A_k, h = A_{k+1} - A_k,
 //                 b = (y_{k+1} - y_k) / h - h (2 M_k + M_{k+1}) / 6.
 //  4. The A positioning error e(A) and the origin offset d(A) interpolate
-//     linearly for every blend. theta(A) = deg2rad(A - A_ref) + e(A): with
+//     linearly for kLinear and kGeodesic, and along their own not-a-knot cubic
+//     splines for kCubic and kCubicNotAKnot (a sin-like e(A) of 80" misses by about 2.7" midway
+//     between poses 30 deg apart when linear: 2.6 um at 200 mm). theta(A) = deg2rad(A - A_ref) + e(A): with
 //     `clamp` outside the range, A itself still turns the frames and e, d, rv
 //     are the end pose's (the nearest measured correction, not a frozen frame).
 //  5. Frames at commanded (A, C), as rigid transforms machine_T_table (a table
@@ -52,7 +60,7 @@
 
 namespace trueaxis::core {
 
-enum class Blend : std::uint8_t { kLinear = 0, kGeodesic = 1, kCubic = 2 };
+enum class Blend : std::uint8_t { kLinear = 0, kGeodesic = 1, kCubic = 2, kCubicNotAKnot = 3 };
 
 // The rotation vector (rad, machine) at commanded A (conventions 2, 3). The
 // real-time query: a bracket search over <= 16 poses and a few flops (one exp

@@ -53,8 +53,10 @@
 //     spread evenly over a turn).
 //  8. Derived data (computed by build and by decode, never serialized): E_ref,
 //     exp(rotvec_i), log(exp(rotvec_i)^T exp(rotvec_{i+1})) for the geodesic
-//     blend, and the natural cubic spline's second derivatives d2 rotvec / dA^2
-//     (rad / deg^2, per component; zero at both ends) for the cubic blend.
+//     blend, and the cubic splines' second derivatives over A: of the rotation
+//     vector (per component) with natural and with not-a-knot end conditions,
+//     and of the A positioning error and the origin offset (not-a-knot) for the
+//     cubic blends (rigidity_compensation.hpp convention 3).
 //
 // Bounded work (a macro's step() stays under ~60,000 Cortex-M7 instructions):
 // RigidityBuilder::step() does one of: grouping kGroupChunk samples, one pose's
@@ -65,7 +67,7 @@
 // Status codes: kNotFinite (a sample or an option), kArgumentOutOfRange
 // (samples null with count > 0, min_c_arc_deg or min_a_arc_deg outside
 // [0, 360)), kTooManyPoints (more than kMaxRigiditySamples samples, or more than
-// kMaxCirclePoints in one pose), kTooManyPoses, kTooFewPoses, kNoReferencePose,
+// kMaxCirclePoints or options.max_pose_samples in one pose), kTooManyPoses, kTooFewPoses, kNoReferencePose,
 // kTooFewCPositions, from a pose's circle fit: kArcTooShort (its C arc below
 // min_c_arc_deg), kPointsCoincident, kPointsCollinear, kNoConvergence;
 // kCPhaseInconsistent (the phase offsets' resultant length below
@@ -104,6 +106,9 @@ struct RigiditySample {
 struct RigidityOptions {
   double min_c_arc_deg = kDefaultMinCArcDeg;  // a pose's C arc shorter than this: kArcTooShort
   double min_a_arc_deg = kDefaultMinAArcDeg;  // the poses' A arc shorter than this: kAAxisUndetermined
+  // A pose with more samples: kTooManyPoints. A pose's circle fit is one step,
+  // so this bounds the longest step (the module passes kMaxPoseSamples).
+  std::size_t max_pose_samples = kMaxCirclePoints;
 };
 
 struct RigidityPose {
@@ -139,7 +144,10 @@ struct RigidityTable {
   Mat3 reference_axes = Mat3::Identity();     // E_ref
   Mat3 rotation[kMaxAPoses];                  // exp(rotvec_i)
   Vec3 geodesic_step_rad[kMaxAPoses];         // log(R_i^T R_{i+1}); the last is 0
-  Vec3 spline_m[kMaxAPoses];                  // d2 rotvec / dA^2, rad / deg^2
+  Vec3 spline_m[kMaxAPoses];                  // d2 rotvec / dA^2, rad / deg^2 (natural)
+  Vec3 spline_k[kMaxAPoses];                  // d2 rotvec / dA^2, rad / deg^2 (not-a-knot)
+  double spline_e[kMaxAPoses];                // d2 a_error / dA^2, rad / deg^2
+  Vec3 spline_d[kMaxAPoses];                  // d2 origin_offset / dA^2, mm / deg^2
 };
 
 // Fills the derived data of convention 8 from the stored fields.

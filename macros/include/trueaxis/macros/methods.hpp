@@ -7,7 +7,9 @@
 //                       (register_map.hpp checks them against its blocks);
 //  - Methods:           its state (streaming session, live tables), owned by
 //                       the Module, reached by its handlers through
-//                       MacroContext::methods();
+//                       MacroContext::methods(); on_table_loaded,
+//                       on_table_committed and kTableRecords when it
+//                       stores a table;
 //  - kMacroSources:     its macros (register_map.hpp checks numbers, inputs
 //                       and outputs at compile time).
 #pragma once
@@ -18,6 +20,9 @@
 #include "trueaxis/macros/level/level_macros.hpp"
 #include "trueaxis/macros/level/level_map.hpp"
 #include "trueaxis/macros/macro_info.hpp"
+#include "trueaxis/macros/records.hpp"
+#include "trueaxis/macros/rigidity/rigidity_macros.hpp"
+#include "trueaxis/macros/rigidity/rigidity_map.hpp"
 #include "trueaxis/macros/var_info.hpp"
 
 namespace trueaxis::macros {
@@ -26,7 +31,7 @@ namespace trueaxis::macros {
 // reserved so that the published map does not move when they land.
 inline constexpr MethodBlock kMethodBlocks[] = {
     level::kBlock,
-    {"rigidity", 600, 699, 2000, 2999},
+    rigidity::kBlock,
     {"gantry", 700, 799, 3000, 3999},
     {"spindle", 800, 899, 4000, 4999},
 };
@@ -44,11 +49,29 @@ constexpr RowSource row_source(const VarInfo (&t)[N], const MethodBlock* block) 
 
 inline constexpr RowSource kMethodRowSources[] = {
     row_source(level::kRows, &level::kBlock),
+    row_source(rigidity::kRows, &rigidity::kBlock),
 };
 
 struct Methods {
   level::State level;
+  rigidity::State rigidity;
 };
+
+// A method's table record loaded at start(): its owner decodes it and makes
+// it the live table. Keys without a table do nothing.
+inline void on_table_loaded(Methods& methods, RecordKey key, const std::uint8_t* bytes, std::size_t length) {
+  if (key == RecordKey::kRigidityTable) rigidity::on_record(methods.rigidity, bytes, length);
+}
+
+// A table a macro staged has just been committed: its owner makes the table it
+// encoded the live one (bit for bit what decoding the record gives, without
+// the cost of decoding it inside the commit's step).
+inline void on_table_committed(Methods& methods, RecordKey key) {
+  if (key == RecordKey::kRigidityTable) rigidity::on_committed(methods.rigidity);
+}
+
+// The table records, in the order start() loads them.
+inline constexpr RecordKey kTableRecords[] = {RecordKey::kRigidityTable};
 
 struct MacroSource {
   const MacroInfo* macros;
@@ -63,6 +86,7 @@ constexpr MacroSource macro_source(const MacroInfo (&t)[N], const char* method) 
 
 inline constexpr MacroSource kMacroSources[] = {
     macro_source(level::kMacros, "level"),
+    macro_source(rigidity::kMacros, "rigidity"),
 };
 
 constexpr const MacroInfo* find_macro(std::uint16_t number) {

@@ -5,9 +5,12 @@
 //       machine frame, probed with the table at A = #1, C = #3 (deg); optional
 //       outward direction I, J, K (#4..#6, machine frame as probed, any length;
 //       0,0,0 = +Z). Configuration #500..#507.
-//  Out: #100..#115 (level_map.hpp kLevelOutputs). Leveling runs on ideal axes
-//       (Rx(A) Rz(C)); calibrated axes come with M3.
-//  Status: those of core::level_face.
+//  Out: #100..#116 (level_map.hpp kLevelOutputs). With #508 level_axes = 0 it
+//       levels on the ideal axes Rx(A) Rz(C) (core::level_face); with 1 on the
+//       calibrated axes of the stored rigidity table (core::level_on_table,
+//       not-a-knot cubic blend, no clamping); #116 says which ran.
+//  Status: those of core::level_face or core::level_on_table; kNoTable when
+//  #508 = 1 and no rigidity table is stored.
 // Macro 9811: N-point auto-level, 3 <= Q (#17) <= 32 points from the point list
 //  #1001.. (X, Y, Z interleaved); otherwise as 9810. kArgumentOutOfRange when Q
 //  is not a whole number in 3..32.
@@ -41,13 +44,13 @@ inline constexpr InputRef kPoseInputs[] = {
   {var::kArgA, 1, "Commanded A (deg) while probing."},
   {var::kArgC, 1, "Commanded C (deg) while probing."},
   {var::kArgI, 3, "Outward direction I, J, K (any length; 0,0,0 means +Z)."},
-  {var::kAMin, 8, "Configuration: travel limits, axis signs, probe repeatability, direction limit."},
+  {var::kAMin, 9, "Configuration: travel limits, axis signs, probe repeatability, direction limit, axes."},
 };
 inline constexpr InputRef k3ptInputs[] = {
   {var::kArgA, 1, "Commanded A (deg) while probing."},
   {var::kArgC, 1, "Commanded C (deg) while probing."},
   {var::kArgI, 3, "Outward direction I, J, K (any length; 0,0,0 means +Z)."},
-  {var::kAMin, 8, "Configuration: travel limits, axis signs, probe repeatability, direction limit."},
+  {var::kAMin, 9, "Configuration: travel limits, axis signs, probe repeatability, direction limit, axes."},
   {var::kG57, 3, "P1 (mm, machine frame)."},
   {var::kG58, 3, "P2 (mm, machine frame)."},
   {var::kG59, 3, "P3 (mm, machine frame)."},
@@ -57,7 +60,7 @@ inline constexpr InputRef kPointsInputs[] = {
   {var::kArgC, 1, "Commanded C (deg) while probing."},
   {var::kArgI, 3, "Outward direction I, J, K (any length; 0,0,0 means +Z)."},
   {var::kArgQ, 1, "Number of points, 3..32."},
-  {var::kAMin, 8, "Configuration: travel limits, axis signs, probe repeatability, direction limit."},
+  {var::kAMin, 9, "Configuration: travel limits, axis signs, probe repeatability, direction limit, axes."},
   {var::kPointList, var::kPointListCount, "Points 1..Q (mm, machine frame)."},
 };
 inline constexpr InputRef kAddInputs[] = {{var::kArgX, 3, "The point X, Y, Z (mm, machine frame)."}};

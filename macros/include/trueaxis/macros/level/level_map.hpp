@@ -4,7 +4,7 @@
 // Conventions
 //  1. Configuration #500..#507 (block #500..#599), the point list of 9811
 //     #1001..#1096 (block #1000..#1999).
-//  2. Outputs #100..#115 of 9810, 9811 and 9814. Interface version 1 named the
+//  2. Outputs #100..#116 of 9810, 9811 and 9814. Interface version 1 named the
 //     result variables #100..#115 after them (level_c ...); the map keeps those
 //     names (kLegacyResultNames in register_map.hpp).
 #pragma once
@@ -34,6 +34,7 @@ inline constexpr std::uint16_t kLevelPointCount = 112;
 inline constexpr std::uint16_t kLevelOutlierPoint = 113;
 inline constexpr std::uint16_t kLevelMaxResidual = 114;
 inline constexpr std::uint16_t kLevelOtherReachable = 115;
+inline constexpr std::uint16_t kLevelAxesUsed = 116;
 
 inline constexpr std::uint16_t kLevelSessionCount = 100;     // 9812, 9813
 inline constexpr std::uint16_t kLevelSessionCapacity = 101;  // 9812, 9813
@@ -46,6 +47,7 @@ inline constexpr std::uint16_t kASign = 504;
 inline constexpr std::uint16_t kCSign = 505;
 inline constexpr std::uint16_t kProbeSigma = 506;
 inline constexpr std::uint16_t kMaxDirectionSigma = 507;
+inline constexpr std::uint16_t kLevelAxes = 508;
 
 inline constexpr std::uint16_t kPointList = 1001;
 inline constexpr std::uint16_t kPointListCount = static_cast<std::uint16_t>(3 * core::kMaxPlanePoints);
@@ -70,6 +72,8 @@ inline constexpr VarInfo kRows[] = {
   rows::sign_config(var::kCSign, kDefaults.c_sign, "c_sign", "C direction: +1 when +C turns the table right-handed about +Z, -1 otherwise."),
   rows::config(var::kProbeSigma, 0.0, 1.0, kDefaults.probe_sigma_mm, "probe_sigma", "mm", "Touch-probe repeatability, 1 sigma."),
   rows::config(var::kMaxDirectionSigma, 1e-6, 90.0, kDefaults.max_direction_sigma_deg, "max_direction_sigma", "deg", "Leveling refuses points whose normal would be uncertain by more than this (1 sigma)."),
+  {var::kLevelAxes, 1, Access::kConfig, ValueKind::kInteger, 0.0, 1.0, 0.0, "level_axes", "",
+   "Leveling runs on 0: the ideal axes Rx(A) Rz(C); 1: the calibrated axes of the stored rigidity table (M3)."},
   rows::data_block(var::kPointList, var::kPointListCount, "level_points", "mm", "Macro 9811: X, Y, Z of points 1..32, interleaved, machine frame."),
 };
 
@@ -91,6 +95,7 @@ inline constexpr OutputInfo kLevelOutputs[] = {
   {var::kLevelOutlierPoint, "level_outlier_point", "", "Leveling: number of the point flagged as an outlier (5 or more points), 0 if none."},
   {var::kLevelMaxResidual, "level_max_residual", "sigma", "Leveling: largest standardised residual (5 or more points)."},
   {var::kLevelOtherReachable, "level_other_reachable", "", "Leveling: 1 when the other solution is inside the travel limits too, else 0."},
+  {var::kLevelAxesUsed, "level_axes_used", "", "Leveling: the axes it ran on, 0 ideal, 1 calibrated (level_axes, #508)."},
 };
 
 // What 9812 and 9813 put in #100, #101.

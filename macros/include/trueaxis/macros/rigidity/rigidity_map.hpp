@@ -54,6 +54,9 @@ inline constexpr MethodBlock kBlock{"rigidity", 600, 699, 2000, 2999};
 
 // Ball positions the session holds: 16 A poses of 32 C positions.
 inline constexpr std::uint16_t kSessionCapacity = 512;
+// Samples one A pose may hold (C every 10 deg): a pose's circle fit is one step
+// of 9832, and this keeps it inside Module::kStepBoundInstructions.
+inline constexpr std::uint16_t kMaxPoseSamples = 36;
 
 // clang-format off
 inline constexpr VarInfo kRows[] = {

@@ -1,0 +1,191 @@
+#include "trueaxis/macros/rigidity/rigidity_macros.hpp"
+
+#include <cmath>
+
+#include "trueaxis/core/rigidity_codec.hpp"
+#include "trueaxis/macros/macro_context.hpp"
+#include "trueaxis/macros/methods.hpp"
+
+namespace trueaxis::macros::rigidity {
+
+namespace {
+
+constexpr double kArcsecPerRad = 180.0 / core::kPi * 3600.0;
+
+MacroStep report_session(MacroContext& ctx, std::size_t count) {
+  ctx.out<var::kRigiditySessionCount>(static_cast<double>(count));
+  ctx.out<var::kRigiditySessionCapacity>(static_cast<double>(kSessionCapacity));
+  return done(core::Status::kOk);
+}
+
+// Q (#17) as a blend; false when it is not 0, 1, 2 or 3.
+bool blend_of(double q, core::Blend& blend) {
+  if (q == 0.0) blend = core::Blend::kLinear;
+  else if (q == 1.0) blend = core::Blend::kGeodesic;
+  else if (q == 2.0) blend = core::Blend::kCubic;
+  else if (q == 3.0) blend = core::Blend::kCubicNotAKnot;
+  else return false;
+  return true;
+}
+
+// R (#18) as a flag; false when it is not 0 or 1.
+bool flag_of(double r, bool& flag) {
+  if (r != 0.0 && r != 1.0) return false;
+  flag = r == 1.0;
+  return true;
+}
+
+template <std::uint16_t X>
+void out_vec3(MacroContext& ctx, const core::Vec3& v, double scale) {
+  ctx.out<X>(v.x() * scale);
+  ctx.out<X + 1>(v.y() * scale);
+  ctx.out<X + 2>(v.z() * scale);
+}
+
+}  // namespace
+
+core::Result<core::Vec3> compensation_rad(const State& state, double a_deg, core::Blend blend, bool clamp) {
+  core::Result<core::Vec3> r = core::Status::kNoTable;
+  if (!state.live.read([&](const core::RigidityTable& t) { r = core::rigidity_rotvec_rad(t, a_deg, blend, clamp); })) {
+    return core::Status::kNoTable;
+  }
+  return r;
+}
+
+void on_record(State& state, const std::uint8_t* bytes, std::size_t length) {
+  if (length == 0 || core::decode_rigidity_table(bytes, length, state.decoded) != core::Status::kOk) return;
+  state.live.publish(state.decoded);
+}
+
+void on_committed(State& state) {
+  if (state.built) state.live.publish(state.builder.table());
+}
+
+MacroStep run_session_clear(MacroContext& ctx) {
+  ctx.methods().rigidity.samples.clear();
+  return report_session(ctx, 0);
+}
+
+MacroStep run_session_add(MacroContext& ctx) {
+  core::RigiditySample s;
+  s.a_deg = ctx.in<var::kArgA>();
+  s.c_deg = ctx.in<var::kArgC>();
+  s.p_mm = core::Vec3(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
+  auto& samples = ctx.methods().rigidity.samples;
+  const core::Status status = samples.add(s);
+  if (status != core::Status::kOk) return done(status);
+  return report_session(ctx, samples.size());
+}
+
+MacroStep run_build(MacroContext& ctx) {
+  State& state = ctx.methods().rigidity;
+  bool store = false;
+  if (ctx.first_step()) {
+    if (!flag_of(ctx.in<var::kArgR>(), store)) return done(core::Status::kArgumentOutOfRange);
+    core::RigidityOptions options;
+    options.min_c_arc_deg = ctx.in<var::kRigidityMinCArc>();
+    options.max_pose_samples = kMaxPoseSamples;
+    state.built = false;
+    state.builder.start(state.samples.data(), state.samples.size(), options);
+    return more();  // the first step only checks and starts: the builder's steps follow
+  }
+  const core::RigidityStep step = state.builder.step();
+  if (step.more) return more();
+  if (step.status != core::Status::kOk) return done(step.status);
+  state.built = true;
+
+  const core::RigidityTable& t = state.builder.table();
+  std::size_t worst = 0;
+  double worst_rms = 0.0;
+  for (std::size_t i = 0; i < t.pose_count; ++i) {
+    if (t.poses[i].rigidity_rad > t.poses[worst].rigidity_rad) worst = i;
+    worst_rms = std::fmax(worst_rms, t.poses[i].c_circle_rms_mm);
+  }
+  ctx.out<var::kRigidityPoses>(static_cast<double>(t.pose_count));
+  ctx.out<var::kRigidityWorst>(t.poses[worst].rigidity_rad * kArcsecPerRad);
+  ctx.out<var::kRigidityWorstSigma>(t.poses[worst].rigidity_sigma_rad * kArcsecPerRad);
+  out_vec3<var::kRigidityAPointX>(ctx, t.a_axis_point_mm, 1.0);
+  out_vec3<var::kRigidityADirectionX>(ctx, t.a_axis_direction, 1.0);
+  ctx.out<var::kRigidityCToAOffset>(t.c_to_a_offset_mm);
+  ctx.out<var::kRigidityCToASquareness>(t.c_to_a_squareness_rad * kArcsecPerRad);
+  ctx.out<var::kRigidityWorstCircleRms>(worst_rms);
+
+  if (!flag_of(ctx.in<var::kArgR>(), store) || !store) return done(core::Status::kOk);
+  std::uint8_t* bytes = ctx.stage_record(RecordKey::kRigidityTable, core::rigidity_table_bytes(t.pose_count));
+  if (bytes == nullptr ||
+      core::encode_rigidity_table(t, bytes, core::rigidity_table_bytes(t.pose_count)) == 0) {
+    return done(core::Status::kTableInvalid);
+  }
+  return done(core::Status::kOk);  // the module commits the record, then on_record makes it live
+}
+
+MacroStep run_query(MacroContext& ctx) {
+  core::Blend blend = core::Blend::kLinear;
+  bool clamp = false;
+  if (!blend_of(ctx.in<var::kArgQ>(), blend) || !flag_of(ctx.in<var::kArgR>(), clamp)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
+  const core::Result<core::Vec3> r = compensation_rad(ctx.methods().rigidity, ctx.in<var::kArgA>(), blend, clamp);
+  if (!r.ok()) return done(r.status());
+  out_vec3<var::kRigidityRotvecX>(ctx, r.value(), kArcsecPerRad);
+  ctx.out<var::kRigidityRotvecNorm>(r.value().norm() * kArcsecPerRad);
+  return done(core::Status::kOk);
+}
+
+namespace {
+
+MacroStep report_pose(MacroContext& ctx, const core::RigidityTable& t) {
+  const double q = ctx.in<var::kArgQ>();
+  if (!(q >= 1.0 && q <= static_cast<double>(t.pose_count)) || q != std::floor(q)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
+  const core::RigidityPose& p = t.poses[static_cast<std::size_t>(q) - 1];
+  ctx.out<var::kPoseA>(p.a_deg);
+  out_vec3<var::kPoseRotvecX>(ctx, p.rotvec_rad, kArcsecPerRad);
+  out_vec3<var::kPoseRotvecSigmaX>(ctx, p.rotvec_sigma_rad, kArcsecPerRad);
+  ctx.out<var::kPoseRigidity>(p.rigidity_rad * kArcsecPerRad);
+  ctx.out<var::kPoseRigiditySigma>(p.rigidity_sigma_rad * kArcsecPerRad);
+  ctx.out<var::kPoseAError>(p.a_error_rad * kArcsecPerRad);
+  out_vec3<var::kPoseCCentreX>(ctx, p.c_centre_mm, 1.0);
+  out_vec3<var::kPoseCDirectionX>(ctx, p.c_direction, 1.0);
+  ctx.out<var::kPoseCCircleRms>(p.c_circle_rms_mm);
+  ctx.out<var::kPoseCount>(static_cast<double>(t.pose_count));
+  return done(core::Status::kOk);
+}
+
+}  // namespace
+
+MacroStep run_pose(MacroContext& ctx) {
+  State& state = ctx.methods().rigidity;
+  bool stored = false;
+  if (!flag_of(ctx.in<var::kArgR>(), stored)) return done(core::Status::kArgumentOutOfRange);
+  if (!stored) return state.built ? report_pose(ctx, state.builder.table()) : done(core::Status::kNoTable);
+  MacroStep result = done(core::Status::kNoTable);
+  if (!state.live.read([&](const core::RigidityTable& t) { result = report_pose(ctx, t); })) {
+    return done(core::Status::kNoTable);
+  }
+  return result;
+}
+
+MacroStep run_convert(MacroContext& ctx) {
+  core::Blend blend = core::Blend::kLinear;
+  bool inverse = false;
+  if (!blend_of(ctx.in<var::kArgQ>(), blend) || !flag_of(ctx.in<var::kArgR>(), inverse)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
+  const core::Vec3 direction(ctx.in<var::kArgI>(), ctx.in<var::kArgJ>(), ctx.in<var::kArgK>());
+  const core::Vec3 point(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
+  core::Result<core::RigidTransform> r = core::Status::kNoTable;
+  if (!ctx.methods().rigidity.live.read([&](const core::RigidityTable& t) {
+        r = core::rigidity_correction(t, ctx.in<var::kArgA>(), ctx.in<var::kArgC>(), blend, false);
+      })) {
+    return done(core::Status::kNoTable);
+  }
+  if (!r.ok()) return done(r.status());
+  const core::RigidTransform actual_T_theory = inverse ? r.value().inverse() : r.value();
+  out_vec3<var::kConvertPointX>(ctx, actual_T_theory.point(point), 1.0);
+  out_vec3<var::kConvertDirectionX>(ctx, actual_T_theory.direction(direction), 1.0);
+  return done(core::Status::kOk);
+}
+
+}  // namespace trueaxis::macros::rigidity

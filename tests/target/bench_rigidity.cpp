@@ -1,0 +1,133 @@
+// Bench and bound check of M3 on the Cortex-M7 (QEMU mps2-an500, -icount
+// shift=6; bench_support.hpp): the instructions of the real-time compensation
+// query (rigidity::compensation_rad, the direct call) for each blend, which the
+// issue bounds at 1,500, and the longest step of the table build (9832) and of
+// the query macro (9833), against Module::kStepBoundInstructions. It exits
+// non-zero when a figure is over its bound; ctest runs it as
+// rigidity_bounds_target.
+//
+// The samples come from a cradle whose C table tilts with A (a rotation of up
+// to 30" that grows as sin A about X), 7 A poses x 12 C positions, ball 200 mm
+// out: the production shape of a calibration.
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Geometry>
+
+#include "bench_support.hpp"
+#include "trueaxis/hal/mps2/board_nv_storage.hpp"
+#include "trueaxis/macros/module.hpp"
+
+namespace {
+
+namespace m = trueaxis::macros;
+namespace core = trueaxis::core;
+namespace mps2 = trueaxis::hal::mps2;
+namespace var = trueaxis::macros::var;
+using trueaxis::bench::print;
+using trueaxis::bench::ticks_to_instructions;
+
+constexpr std::uint32_t kQueryBound = 1500;
+
+core::Vec3 ball(double a_deg, double c_deg) {
+  const double a = core::deg_to_rad(a_deg);
+  const double droop = core::deg_to_rad(30.0 / 3600.0) * std::sin(a);
+  const Eigen::AngleAxisd ra(a, core::Vec3::UnitX());
+  const Eigen::AngleAxisd rd(droop, core::Vec3::UnitX());
+  const Eigen::AngleAxisd rc(core::deg_to_rad(c_deg), core::Vec3::UnitZ());
+  return ra * (rd * (rc * core::Vec3(200.0, 0.0, 50.0)));
+}
+
+bool write_n(m::Module& mod, std::uint16_t first, std::uint16_t n, const double* v) {
+  return mod.write(first, n, v) == m::AccessFault::kNone;
+}
+
+// Runs a macro to its end; the longest step (instructions) and the step count.
+bool run(m::Module& mod, const mps2::SysTickClock& clock, std::uint64_t overhead, double macro,
+         std::uint64_t& longest, std::uint64_t& steps) {
+  if (!write_n(mod, var::kCmd, 1, &macro)) return false;
+  longest = steps = 0;
+  while (mod.busy()) {
+    const std::uint64_t t0 = clock.ticks();
+    mod.step();
+    const std::uint64_t n = ticks_to_instructions(clock.ticks() - t0 - overhead);
+    longest = n > longest ? n : longest;
+    ++steps;
+  }
+  return mod.value(var::kStatus) == static_cast<double>(m::MacroState::kDone);
+}
+
+}  // namespace
+
+int main() {
+  trueaxis::hal::RamNvStorage storage = mps2::board_nv_storage();
+  mps2::SysTickClock clock;
+  static m::Module module(storage, clock);
+  if (module.start() != core::Status::kOk) return 2;
+  const std::uint64_t overhead = trueaxis::bench::clock_overhead(clock);
+  if (!trueaxis::bench::calibrated(clock, overhead)) return 3;
+
+  // The densest poses first (36 C each, rigidity_map.hpp kMaxPoseSamples: the
+  // step bound must hold for them; 14 x 36 = 504 of the 512 samples), then the production shape that stays stored.
+  struct Shape {
+    const char* name;
+    int poses, c_positions;
+    double a_first, a_step;
+  };
+  const Shape shapes[2] = {{"macro 9832 (14 poses x 36 C): ", 14, 36, -84.0, 12.0},
+                           {"macro 9832 (7 poses x 12 C): ", 7, 12, -90.0, 30.0}};
+  std::uint64_t longest = 0, steps = 0;
+  bool within = true;
+  for (const Shape& shape : shapes) {
+    bool ok = run(module, clock, overhead, 9830, longest, steps);
+    for (int i = 0; i < shape.poses && ok; ++i) {
+      for (int k = 0; k < shape.c_positions && ok; ++k) {
+        const double a = shape.a_first + shape.a_step * i;
+        const double c = 360.0 / shape.c_positions * k;
+        const core::Vec3 p = ball(a, c);
+        const double ac[3] = {a, 0.0, c};
+        const double xyz[3] = {p.x(), p.y(), p.z()};
+        ok = write_n(module, var::kArgA, 3, ac) && write_n(module, var::kArgX, 3, xyz) &&
+             run(module, clock, overhead, 9831, longest, steps);
+      }
+    }
+    const double unlock = m::kUnlockCode;
+    const double store = 1.0;
+    ok = ok && write_n(module, var::kUnlock, 1, &unlock) && write_n(module, var::kArgR, 1, &store) &&
+         run(module, clock, overhead, 9832, longest, steps);
+    if (!ok) {
+      mps2::console_write("FAILED: the table could not be built\n");
+      return 4;
+    }
+    print(shape.name, steps, " steps, longest ");
+    print("", longest, " instructions\n");
+    within = within && longest <= m::Module::kStepBoundInstructions;
+  }
+
+  bool ok = true;
+  const double a = 47.5;
+  const double query[3] = {a, 0.0, 0.0};  // A, then Q (#17) and R (#18) below
+  ok = write_n(module, var::kArgA, 1, query) && run(module, clock, overhead, 9833, longest, steps);
+  print("macro 9833 (linear): ", steps, " step, ");
+  print("", longest, " instructions\n");
+  within = within && ok && longest <= m::Module::kStepBoundInstructions;
+
+  const char* names[4] = {"linear", "geodesic", "cubic", "cubic not-a-knot"};
+  for (int b = 0; b < 4; ++b) {
+    std::uint64_t samples[9];
+    for (std::uint64_t& s : samples) {
+      const std::uint64_t t0 = clock.ticks();
+      const auto r = m::rigidity::compensation_rad(module.methods().rigidity, a, static_cast<core::Blend>(b), false);
+      const std::uint64_t t1 = clock.ticks();
+      if (!r.ok()) return 5;
+      s = t1 - t0 - overhead;
+    }
+    const std::uint64_t n = ticks_to_instructions(trueaxis::bench::median(samples));
+    print("compensation query, ", static_cast<std::uint64_t>(b), " ");
+    mps2::console_write(names[b]);
+    print(": ", n, " instructions (bound 1500)\n");
+    within = within && n <= kQueryBound;
+  }
+  mps2::console_write(within ? "all within their bounds\n" : "FAILED: a figure over its bound\n");
+  return within ? 0 : 1;
+}
