@@ -6,6 +6,9 @@
 //   4. probe again and run 9810 with A = C = 0, so #107 is the face's residual
 //      tilt in the machine frame;
 //   5. print before / after, and the simulator's ground truth.
+// With --axes ideal|calibrated it first sets the module's level_axes (#508: the
+// ideal axes, or the calibrated axes of the stored rigidity table), unlocking
+// and locking again; without it the module's setting stays.
 // Exit 0 when the true residual tilt is within 3 x #108 (the module's 1-sigma
 // uncertainty of the second measurement), 1 when it is not, 2 on bad usage,
 // 3 on a communication failure or a macro error.
@@ -27,6 +30,9 @@ constexpr std::uint16_t kG57 = 5281;
 constexpr std::uint16_t kG58 = 5301;
 constexpr std::uint16_t kG59 = 5321;
 constexpr std::uint16_t kLevelMacro = 9810;
+constexpr std::uint16_t kLevelAxes = 508;
+constexpr std::uint16_t kUnlock = 9004;
+constexpr double kUnlockCode = 2718.0;
 
 struct Measurement {
   double c_deg = 0.0;        // #100
@@ -38,7 +44,7 @@ struct Measurement {
 
 void usage() {
   std::fprintf(stderr,
-               "usage: trueaxis-level --port PORT [--host ADDR] [--spread MM]\n"
+               "usage: trueaxis-level --port PORT [--host ADDR] [--spread MM] [--axes ideal|calibrated]\n"
                "  probes three points of the face (an equilateral triangle of side MM, default 100,\n"
                "  centred on the table axis), levels the table with macro 9810 and measures again.\n"
                "  Exit 0: true residual tilt within 3 sigma; 1: not; 2: usage; 3: communication or macro error.\n");
@@ -87,6 +93,7 @@ int main(int argc, char** argv) {
   std::string host = "127.0.0.1";
   int port = -1;
   double spread_mm = 100.0;
+  double axes = -1.0;  // #508 to set: 0 ideal, 1 calibrated; -1 leave it
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string arg = argv[i];
     if (arg == "--port") {
@@ -95,6 +102,8 @@ int main(int argc, char** argv) {
       host = argv[i + 1];
     } else if (arg == "--spread") {
       spread_mm = std::atof(argv[i + 1]);
+    } else if (arg == "--axes" && (std::string(argv[i + 1]) == "ideal" || std::string(argv[i + 1]) == "calibrated")) {
+      axes = std::string(argv[i + 1]) == "ideal" ? 0.0 : 1.0;
     } else {
       port = -1;
       break;
@@ -110,6 +119,15 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "trueaxis-level: cannot connect to %s:%d: %s\n", host.c_str(), port,
                  client.error_text().c_str());
     return 3;
+  }
+  if (axes >= 0.0) {
+    const bool set = client.write_one(kUnlock, kUnlockCode) && client.write_one(kLevelAxes, axes);
+    client.write_one(kUnlock, 0.0);
+    if (!set) {
+      fail(client, "setting level_axes (#508)");
+      return 3;
+    }
+    std::printf("leveling on the %s axes (#508 = %.0f)\n", axes == 0.0 ? "ideal" : "calibrated", axes);
   }
   double table[2];  // A, C where the operator left the table
   if (!client.read(simvar::kAxisA, 2, table)) {
