@@ -7,7 +7,8 @@
 #   2. build the rigidity table in the module and store it (trueaxis-calibrate
 #      rigidity --store), with the JSON and the report page;
 #   3. level an inclined face on the ideal axes (before) and on the calibrated
-#      axes (after), each checked against the simulator's ground truth.
+#      axes (after), each from the table at zero, each checked against the
+#      simulator's ground truth.
 # Exit 0 when the calibrated leveling is within 3 sigma of the truth and the
 # ideal one is not (the machine's errors are real and the table removes them).
 #
@@ -48,7 +49,7 @@ cleanup() {
 trap cleanup EXIT
 
 mkfifo "$work/out"
-"$bin_dir/trueaxis-sim" --port 0 --nv "$work/demo.nv" --errors realistic >"$work/out" &
+"$bin_dir/trueaxis-sim" --port 0 --nv "$work/demo.nv" --errors realistic --face-tilt 40 --face-azimuth 30 >"$work/out" &
 sim_pid=$!
 exec 3<"$work/out"
 port=""
@@ -86,11 +87,11 @@ if [ -n "$keep" ]; then echo "  report: $out_dir/report/index.html"; fi
 echo
 echo "== 3a. level the face on the ideal axes (before)"
 set +e
-"$bin_dir/trueaxis-level" --port "$port" --axes ideal
+"$bin_dir/trueaxis-level" --port "$port" --axes ideal --home 1
 ideal=$?
 echo
 echo "== 3b. level the face on the calibrated axes (after)"
-"$bin_dir/trueaxis-level" --port "$port" --axes calibrated
+"$bin_dir/trueaxis-level" --port "$port" --axes calibrated --home 1
 calibrated=$?
 set -e
 

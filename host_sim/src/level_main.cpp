@@ -8,7 +8,8 @@
 //   5. print before / after, and the simulator's ground truth.
 // With --axes ideal|calibrated it first sets the module's level_axes (#508: the
 // ideal axes, or the calibrated axes of the stored rigidity table), unlocking
-// and locking again; without it the module's setting stays.
+// and locking again; without it the module's setting stays. With --home 1 it
+// first turns the table to A = 0, C = 0.
 // Exit 0 when the true residual tilt is within 3 x #108 (the module's 1-sigma
 // uncertainty of the second measurement), 1 when it is not, 2 on bad usage,
 // 3 on a communication failure or a macro error.
@@ -44,7 +45,7 @@ struct Measurement {
 
 void usage() {
   std::fprintf(stderr,
-               "usage: trueaxis-level --port PORT [--host ADDR] [--spread MM] [--axes ideal|calibrated]\n"
+               "usage: trueaxis-level --port PORT [--host ADDR] [--spread MM] [--axes ideal|calibrated] [--home 1]\n"
                "  probes three points of the face (an equilateral triangle of side MM, default 100,\n"
                "  centred on the table axis), levels the table with macro 9810 and measures again.\n"
                "  Exit 0: true residual tilt within 3 sigma; 1: not; 2: usage; 3: communication or macro error.\n");
@@ -94,6 +95,7 @@ int main(int argc, char** argv) {
   int port = -1;
   double spread_mm = 100.0;
   double axes = -1.0;  // #508 to set: 0 ideal, 1 calibrated; -1 leave it
+  bool home = false;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string arg = argv[i];
     if (arg == "--port") {
@@ -102,6 +104,8 @@ int main(int argc, char** argv) {
       host = argv[i + 1];
     } else if (arg == "--spread") {
       spread_mm = std::atof(argv[i + 1]);
+    } else if (arg == "--home" && std::string(argv[i + 1]) == "1") {
+      home = true;
     } else if (arg == "--axes" && (std::string(argv[i + 1]) == "ideal" || std::string(argv[i + 1]) == "calibrated")) {
       axes = std::string(argv[i + 1]) == "ideal" ? 0.0 : 1.0;
     } else {
@@ -128,6 +132,11 @@ int main(int argc, char** argv) {
       return 3;
     }
     std::printf("leveling on the %s axes (#508 = %.0f)\n", axes == 0.0 ? "ideal" : "calibrated", axes);
+  }
+  const double zero[2] = {0.0, 0.0};
+  if (home && !client.write(simvar::kAxisA, 2, zero)) {
+    fail(client, "turning the table to zero");
+    return 3;
   }
   double table[2];  // A, C where the operator left the table
   if (!client.read(simvar::kAxisA, 2, table)) {

@@ -266,3 +266,41 @@ TEST_CASE("a failed build stores nothing and keeps the live table", "[rigidity][
   REQUIRE(live_after.ok());
   CHECK(live_after.value() == live_before.value());
 }
+
+TEST_CASE("leveling on the calibrated axes is within 3 sigma where the ideal axes are not", "[rigidity][flow][level]") {
+  struct Face {
+    double tilt_deg, azimuth_deg;
+  };
+  for (const Face face : {Face{40.0, 30.0}, Face{35.0, 200.0}, Face{45.0, 120.0}, Face{30.0, 300.0}}) {
+    CAPTURE(face.tilt_deg, face.azimuth_deg);
+    sim::CradleErrors e = sim::realistic_errors();
+    const sim::CradleMachine mc(sim::FaceConfig{face.tilt_deg, face.azimuth_deg, 40.0}, e);
+    Rig rig;
+    REQUIRE(measure_and_build(rig, mc, sim::kDefaultBallSigmaMm, 21, true) == 2.0);
+    sim::SimRng rng(77);
+    const auto level = [&](double axes, double& true_tilt_arcsec, double& sigma_arcsec) {
+      rig.put(v::kUnlock, m::kUnlockCode);
+      rig.put(v::kLevelAxes, axes);
+      rig.put(v::kUnlock, 0.0);
+      const std::uint16_t targets[3] = {v::kG57, v::kG58, v::kG59};
+      for (int i = 0; i < 3; ++i) {  // an equilateral triangle of side 100 mm, table at zero
+        const double angle = core::kPi / 2 + 2 * core::kPi * i / 3;
+        Vec3 p;
+        REQUIRE(mc.touch(0.0, 0.0, 57.735 * std::cos(angle), 57.735 * std::sin(angle), p));
+        const double noisy[3] = {p.x() + 0.0005 * rng.normal(), p.y() + 0.0005 * rng.normal(), p.z() + 0.0005 * rng.normal()};
+        REQUIRE(rig.module.write(targets[i], 3, noisy) == F::kNone);
+      }
+      REQUIRE(rig.run(9810) == 2.0);
+      CHECK(rig.get(v::kLevelAxesUsed) == axes);
+      true_tilt_arcsec = mc.tilt_deg_at(rig.get(v::kLevelA), rig.get(v::kLevelC)) * 3600.0;
+      sigma_arcsec = rig.get(v::kLevelTiltSigma);
+    };
+    double ideal = 0, ideal_sigma = 0, calibrated = 0, calibrated_sigma = 0;
+    level(0.0, ideal, ideal_sigma);
+    level(1.0, calibrated, calibrated_sigma);
+    INFO("true residual tilt: ideal axes " << ideal << "\", calibrated " << calibrated << "\" (1 sigma "
+                                          << calibrated_sigma << "\")");
+    CHECK(calibrated <= 3.0 * calibrated_sigma);
+    CHECK(ideal > 3.0 * ideal_sigma);
+  }
+}
