@@ -104,7 +104,17 @@ int main() {
     within = within && longest <= m::Module::kStepBoundInstructions;
   }
 
-  bool ok = true;
+  // The values, too (a contract check on the target): the droop is a turn
+  // about the A axis, which M3's definitions count as A positioning error, so
+  // pose 7 (A = 90) must read a_error = 30" and a zero rotation vector.
+  const double pose_args[2] = {7.0, 1.0};  // Q = pose 7, R = 1: the stored table
+  bool ok = write_n(module, var::kArgQ, 2, pose_args) && run(module, clock, overhead, 9834, longest, steps);
+  const double a_error = module.value(var::kPoseAError);
+  const double rigidity = module.value(var::kPoseRigidity);
+  print("pose A = 90: A positioning error (micro-arcsec) ", static_cast<std::uint64_t>(a_error * 1e6 + 0.5),
+        ", rigidity (micro-arcsec) ");
+  print("", static_cast<std::uint64_t>(rigidity * 1e6 + 0.5), " (30000000 and 0 expected)\n");
+  within = within && ok && std::fabs(a_error - 30.0) < 1e-6 && rigidity < 1e-6;
   const double a = 47.5;
   const double query[3] = {a, 0.0, 0.0};  // A, then Q (#17) and R (#18) below
   ok = write_n(module, var::kArgA, 1, query) && run(module, clock, overhead, 9833, longest, steps);
