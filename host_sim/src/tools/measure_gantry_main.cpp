@@ -11,8 +11,9 @@
 //                         2.5; 1..20 accepted; 2..6 is the tracker's sweet spot)
 //   --noise on|off        the tracker's noise (default on)
 //   --truth TRUTH.json    also the TRUE values in the shape of OUT.json
-// Exit 0, or 1 with one line on stderr; a file is written whole or not at all
-// as far as the file system allows (each is written after everything is computed).
+// Prints the number of points, the ranges and the tracker's sigmas there. Exit
+// 0, or 1 with one line on stderr; the files are written only after everything
+// is computed, samples first, then MACHINE, then the truth.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>

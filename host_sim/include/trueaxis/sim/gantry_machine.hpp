@@ -128,8 +128,9 @@ GantryConfig ideal_gantry();
 
 // ideal_gantry() with the errors issue 6 asks for (sizes in the .cpp, one line
 // each): gantry 6" yaw, -4" pitch, bowed 3 um sideways and 2 um up; side faces
-// 10..25" out of square with the bed; per sub-machine mount rotations and
-// squareness of 8..30", heads turned 5..15", A-to-C offsets 0.015..0.040 mm and
+// 10..25" out of square with the bed; per sub-machine mount rotations of
+// 7..25" per component, squareness of 10..30", heads turned 5..15" per
+// component, A-to-C offsets 0.015..0.040 mm and
 // angles 90 deg +- 18..32", axis bows 1..2 um.
 GantryConfig realistic_gantry();
 
