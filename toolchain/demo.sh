@@ -26,32 +26,9 @@ if [ -z "$bin_dir" ]; then
   bin_dir="$root/build/host/bin"
 fi
 
-work="$(mktemp -d "${TMPDIR:-/tmp}/trueaxis-demo.XXXXXX")"
-sim_pid=""
-cleanup() {
-  if [ -n "$sim_pid" ]; then
-    kill -TERM "$sim_pid" 2>/dev/null || true
-    wait "$sim_pid" 2>/dev/null || true
-  fi
-  rm -rf "$work"
-}
-trap cleanup EXIT
-
-mkfifo "$work/out"
-"$bin_dir/trueaxis-sim" --port 0 --nv "$work/demo.nv" "${sim_args[@]}" >"$work/out" &
-sim_pid=$!
-exec 3<"$work/out"
-port=""
-if IFS= read -r -t 10 line <&3; then
-  case "$line" in
-    "listening on "*) port="${line##*:}" ;;
-  esac
-fi
-if [ -z "$port" ]; then
-  echo "demo: trueaxis-sim did not start" >&2
-  exit 3
-fi
-echo "demo: trueaxis-sim (pid $sim_pid) $line"
+source "$root/toolchain/sim_session.sh"
+start_sim "$bin_dir" "${sim_args[@]}"
+echo "demo: trueaxis-sim (pid $sim_pid) $sim_line"
 
 set +e
 "$bin_dir/trueaxis-level" --port "$port"

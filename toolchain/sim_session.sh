@@ -1,0 +1,36 @@
+# Sourced by the demo scripts: a trueaxis-sim for the length of the script.
+#   start_sim BIN_DIR [trueaxis-sim options...]
+# makes a work directory ($work), starts trueaxis-sim on 127.0.0.1 port 0 with
+# an NV file in it, waits for its "listening on" line and sets $port and
+# $sim_line; stops the sim and removes $work when the script exits. Exits 3
+# when the sim does not start within 10 s.
+work="$(mktemp -d "${TMPDIR:-/tmp}/trueaxis-demo.XXXXXX")"
+sim_pid=""
+cleanup_sim() {
+  if [ -n "$sim_pid" ]; then
+    kill -TERM "$sim_pid" 2>/dev/null || true
+    wait "$sim_pid" 2>/dev/null || true
+  fi
+  rm -rf "$work"
+}
+trap cleanup_sim EXIT
+
+start_sim() {
+  local bin_dir="$1"
+  shift
+  mkfifo "$work/out"
+  "$bin_dir/trueaxis-sim" --port 0 --nv "$work/demo.nv" "$@" >"$work/out" &
+  sim_pid=$!
+  exec 3<"$work/out"
+  port=""
+  sim_line=""
+  if IFS= read -r -t 10 sim_line <&3; then
+    case "$sim_line" in
+      "listening on "*) port="${sim_line##*:}" ;;
+    esac
+  fi
+  if [ -z "$port" ]; then
+    echo "demo: trueaxis-sim did not start" >&2
+    exit 3
+  fi
+}
