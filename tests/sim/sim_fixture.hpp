@@ -24,6 +24,7 @@ class SimFixture {
   int restart();
 
   VariableClient& client() { return client_; }
+  const std::string& nv_path() const { return nv_path_; }
   int port() const { return sim_.port(); }
 
   double get(std::uint16_t number);
