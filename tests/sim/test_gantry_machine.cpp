@@ -8,6 +8,7 @@
 
 #include <cmath>
 
+#include "gantry_geometry.hpp"
 #include "trueaxis/sim/gantry_machine.hpp"
 
 namespace {
@@ -19,26 +20,7 @@ using trueaxis::sim::GantryMachine;
 using trueaxis::sim::MasterAxis;
 using trueaxis::sim::SubMachineTruth;
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kRadPerArcsec = kPi / (180.0 * 3600.0);
-
-double angle_arcsec(const Vec3& u, const Vec3& w) {
-  return std::acos(std::max(-1.0, std::min(1.0, u.normalized().dot(w.normalized())))) / kRadPerArcsec;
-}
-
-// Centre and right-handed unit normal of the circle through p0, p1, p2 (in that order).
-Vec3 circumcentre(const Vec3& p0, const Vec3& p1, const Vec3& p2, Vec3& normal) {
-  const Vec3 u = p1 - p0;
-  const Vec3 v = p2 - p0;
-  const Vec3 w = u.cross(v);
-  normal = w.normalized();
-  return p0 + (u.squaredNorm() * v.cross(w) + v.squaredNorm() * w.cross(u)) / (2.0 * w.squaredNorm());
-}
-
-double distance_to_line(const Vec3& p, const Vec3& point, const Vec3& dir) {
-  const Vec3 d = p - point;
-  return (d - d.dot(dir) * dir).norm();
-}
+using namespace trueaxis::test::gantry;  // NOLINT: the closed forms these tests check against
 
 void check_orthonormal_right_handed(const Mat3& r) {
   CHECK((r.transpose() * r - Mat3::Identity()).norm() < 1e-14);
