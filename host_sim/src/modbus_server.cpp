@@ -2,95 +2,192 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstring>
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
-#include <sys/select.h>
+#include <netinet/tcp.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
 namespace trueaxis::sim {
 
-ModbusTcpServer::ModbusTcpServer(RequestHandler& handler, Simulator& simulator)
-    : handler_(handler), simulator_(simulator) {}
+namespace {
+
+constexpr std::size_t kHeaderBytes = 6;  // transaction id, protocol id, length
+constexpr std::size_t kMinLength = 2;    // unit id + function code
+constexpr std::size_t kMaxLength = 1 + kMaxPduBytes;
+
+std::size_t be16(const std::uint8_t* p) { return static_cast<std::size_t>((p[0] << 8) | p[1]); }
+
+}  // namespace
+
+ModbusTcpServer::ModbusTcpServer(RequestHandler& handler, Simulator& simulator, const ServerLimits& limits)
+    : handler_(handler), simulator_(simulator), limits_(limits) {
+  clients_.reserve(limits_.max_clients);
+  polled_.reserve(limits_.max_clients + 1);
+}
 
 ModbusTcpServer::~ModbusTcpServer() {
-  for (int fd : clients_) ::close(fd);
+  for (const Connection& c : clients_) ::close(c.fd);
   if (listen_fd_ >= 0) ::close(listen_fd_);
-  if (image_ != nullptr) modbus_mapping_free(image_);
-  if (ctx_ != nullptr) modbus_free(ctx_);
 }
 
 bool ModbusTcpServer::listen(const char* host, int port) {
-  ctx_ = modbus_new_tcp(host, port);
-  if (ctx_ == nullptr) return false;
-  image_ = modbus_mapping_new_start_address(0, 0, 0, 0, 0, static_cast<unsigned>(kImageRegisters), 0, 0);
-  if (image_ == nullptr) return false;
-  modbus_set_indication_timeout(ctx_, 2, 0);
-  modbus_set_byte_timeout(ctx_, 0, 500000);
-  listen_fd_ = modbus_tcp_listen(ctx_, 16);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<std::uint16_t>(port));
+  if (port < 0 || port > 65535 || ::inet_pton(AF_INET, host, &address.sin_addr) != 1) {
+    errno = EINVAL;
+    return false;
+  }
+  listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
   if (listen_fd_ < 0) return false;
-  sockaddr_in bound{};
-  socklen_t size = sizeof bound;
-  if (::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&bound), &size) != 0) return false;
-  port_ = ntohs(bound.sin_port);
+  const int on = 1;
+  ::setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &on, sizeof on);
+  if (::bind(listen_fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0 ||
+      ::listen(listen_fd_, 64) != 0) {
+    return false;
+  }
+  socklen_t size = sizeof address;
+  if (::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&address), &size) != 0) return false;
+  port_ = ntohs(address.sin_port);
   return true;
 }
 
 void ModbusTcpServer::serve(volatile std::sig_atomic_t& stop, const sigset_t& wait_mask) {
   while (stop == 0) {
-    fd_set readable;
-    FD_ZERO(&readable);
-    FD_SET(listen_fd_, &readable);
-    int max_fd = listen_fd_;
-    for (int fd : clients_) {
-      FD_SET(fd, &readable);
-      max_fd = std::max(max_fd, fd);
+    polled_.clear();
+    polled_.push_back(pollfd{listen_fd_, POLLIN, 0});
+    for (const Connection& c : clients_) {
+      // A client whose replies wait is not read until they are gone (contract 3).
+      polled_.push_back(pollfd{c.fd, static_cast<short>(c.out_used > 0 ? POLLOUT : POLLIN), 0});
     }
-    const int n = ::pselect(max_fd + 1, &readable, nullptr, nullptr, nullptr, &wait_mask);
+    timespec storage{};
+    const int n = ::ppoll(polled_.data(), polled_.size(), next_timeout(Clock::now(), storage), &wait_mask);
     if (n < 0) continue;  // EINTR: the loop condition looks at `stop`
-    if (FD_ISSET(listen_fd_, &readable)) accept_client();
-    // From the back: dropping client i moves none of those still to be served.
+    const Clock::time_point now = Clock::now();
+    // From the back: drop() moves the last client into the hole, one already served.
     for (std::size_t i = clients_.size(); i-- > 0;) {
-      const int fd = clients_[i];
-      if (!FD_ISSET(fd, &readable)) continue;
-      if (!serve_one(fd)) {
-        ::close(fd);
-        clients_.erase(clients_.begin() + static_cast<std::ptrdiff_t>(i));
+      Connection& c = clients_[i];
+      const short events = polled_[i + 1].revents;
+      bool keep = true;
+      if ((events & POLLOUT) != 0) {
+        keep = flush(c) && serve_frames(c, now);
+      } else if ((events & POLLIN) != 0) {
+        keep = receive(c, now) && serve_frames(c, now);
+      } else if ((events & (POLLERR | POLLHUP | POLLNVAL)) != 0) {
+        keep = false;
       }
+      if (!keep || timed_out(c, now)) drop(i);
+    }
+    if ((polled_[0].revents & POLLIN) != 0) accept_clients(now);
+  }
+}
+
+void ModbusTcpServer::accept_clients(Clock::time_point now) {
+  // A bounded number per wake-up, so a flood of connections cannot starve the others.
+  for (int k = 0; k < 16; ++k) {
+    const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    if (fd < 0) return;
+    if (clients_.size() >= limits_.max_clients) {  // contract 5: accepted and closed
+      ::close(fd);
+      continue;
+    }
+    // Replies are whole frames sent at once: Nagle would only hold them back.
+    const int on = 1;
+    ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &on, sizeof on);
+    clients_.emplace_back();
+    Connection& c = clients_.back();
+    c.fd = fd;
+    c.last_frame = now;
+  }
+}
+
+bool ModbusTcpServer::receive(Connection& c, Clock::time_point now) {
+  if (c.in_used == sizeof c.in) return true;  // a whole frame waits for its reply to fit
+  const ssize_t got = ::recv(c.fd, c.in + c.in_used, sizeof c.in - c.in_used, 0);
+  if (got == 0) return false;  // the client closed
+  if (got < 0) return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;
+  if (c.in_used == 0) c.stalled_since = now;
+  c.in_used += static_cast<std::size_t>(got);
+  return true;
+}
+
+bool ModbusTcpServer::serve_frames(Connection& c, Clock::time_point now) {
+  std::size_t at = 0;
+  bool ok = true;
+  while (c.in_used - at >= kHeaderBytes) {
+    const std::uint8_t* frame = c.in + at;
+    const std::size_t length = be16(frame + 4);
+    if (be16(frame + 2) != 0 || length < kMinLength || length > kMaxLength) {
+      ok = false;  // contract 2: closed without a reply, nothing after it runs
+      break;
+    }
+    if (c.in_used - at < kHeaderBytes + length) break;  // the rest has not arrived
+    if (sizeof c.out - c.out_used < kMaxAduBytes && !flush(c)) return false;
+    if (sizeof c.out - c.out_used < kMaxAduBytes) break;  // replies not taken yet: wait for POLLOUT
+    std::uint8_t* reply = c.out + c.out_used;
+    std::copy(frame, frame + 4, reply);  // transaction id, protocol id
+    reply[6] = frame[6];                 // unit id
+    const std::size_t pdu_bytes = handler_.respond(frame + 7, length - 1, reply + 7);
+    reply[4] = static_cast<std::uint8_t>((pdu_bytes + 1) >> 8);
+    reply[5] = static_cast<std::uint8_t>(pdu_bytes + 1);
+    c.out_used += 7 + pdu_bytes;
+    simulator_.after_request();
+    at += kHeaderBytes + length;
+    c.last_frame = now;
+    c.stalled_since = now;
+  }
+  if (at > 0) {
+    std::memmove(c.in, c.in + at, c.in_used - at);
+    c.in_used -= at;
+  }
+  // The replies already built go out even when a bad frame follows them.
+  const bool flushed = flush(c);
+  return ok && flushed;
+}
+
+bool ModbusTcpServer::flush(Connection& c) {
+  if (c.out_used == 0) return true;
+  const ssize_t sent = ::send(c.fd, c.out + c.out_sent, c.out_used - c.out_sent, MSG_NOSIGNAL);
+  if (sent < 0) return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;
+  c.out_sent += static_cast<std::size_t>(sent);
+  if (c.out_sent == c.out_used) c.out_used = c.out_sent = 0;
+  return true;
+}
+
+bool ModbusTcpServer::timed_out(const Connection& c, Clock::time_point now) const {
+  const bool stalled = c.in_used > 0 || c.out_used > 0;
+  if (stalled && now - c.stalled_since >= std::chrono::milliseconds(limits_.frame_timeout_ms)) return true;
+  return limits_.idle_timeout_ms > 0 && now - c.last_frame >= std::chrono::milliseconds(limits_.idle_timeout_ms);
+}
+
+const timespec* ModbusTcpServer::next_timeout(Clock::time_point now, timespec& storage) const {
+  bool any = false;
+  Clock::time_point earliest = Clock::time_point::max();
+  for (const Connection& c : clients_) {
+    if (c.in_used > 0 || c.out_used > 0) {
+      earliest = std::min(earliest, c.stalled_since + std::chrono::milliseconds(limits_.frame_timeout_ms));
+      any = true;
+    }
+    if (limits_.idle_timeout_ms > 0) {
+      earliest = std::min(earliest, c.last_frame + std::chrono::milliseconds(limits_.idle_timeout_ms));
+      any = true;
     }
   }
+  if (!any) return nullptr;
+  const auto wait = std::max(Clock::duration::zero(), earliest - now);
+  const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(wait);
+  storage.tv_sec = static_cast<time_t>(seconds.count());
+  storage.tv_nsec = static_cast<long>(std::chrono::duration_cast<std::chrono::nanoseconds>(wait - seconds).count());
+  return &storage;
 }
 
-void ModbusTcpServer::accept_client() {
-  const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
-  if (fd < 0) return;
-  if (fd >= FD_SETSIZE) {  // select cannot watch it
-    ::close(fd);
-    return;
-  }
-  clients_.push_back(fd);
-}
-
-bool ModbusTcpServer::serve_one(int fd) {
-  std::uint8_t adu[MODBUS_TCP_MAX_ADU_LENGTH];
-  modbus_set_socket(ctx_, fd);
-  const int length = modbus_receive(ctx_, adu);
-  if (length < 0) return false;
-  if (length == 0) return true;  // a frame for another unit: ignored
-  const int header = modbus_get_header_length(ctx_);
-  if (length <= header) return false;
-  const macros::ModbusException e =
-      handler_.handle(adu + header, static_cast<std::size_t>(length - header), image_->tab_registers);
-  if (e == macros::ModbusException::kNone) {
-    RequestHandler::prepare_read_write_reply(adu + header, static_cast<std::size_t>(length - header),
-                                             image_->tab_registers);
-  }
-  const int sent = e == macros::ModbusException::kNone
-                       ? modbus_reply(ctx_, adu, length, image_)
-                       : modbus_reply_exception(ctx_, adu, static_cast<unsigned>(e));
-  simulator_.after_request();
-  return sent >= 0;
+void ModbusTcpServer::drop(std::size_t index) {
+  ::close(clients_[index].fd);
+  if (index + 1 != clients_.size()) clients_[index] = clients_.back();
+  clients_.pop_back();
 }
 
 }  // namespace trueaxis::sim

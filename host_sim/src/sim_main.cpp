@@ -26,7 +26,8 @@ void usage() {
   std::fprintf(stderr,
                "usage: trueaxis-sim --port PORT [--host ADDR] [--nv PATH] [--seed N]\n"
                "                    [--face-tilt DEG] [--face-azimuth DEG] [--face-height MM]\n"
-               "                    [--errors ideal|realistic]\n"
+               "                    [--errors ideal|realistic] [--max-clients N]\n"
+               "                    [--frame-timeout MS] [--idle-timeout MS]\n"
                "  --port PORT        TCP port; 0 picks a free one (printed)\n"
                "  --host ADDR        IPv4 address to listen on (default 127.0.0.1)\n"
                "  --nv PATH          non-volatile storage file (default ./trueaxis-sim.nv)\n"
@@ -36,6 +37,11 @@ void usage() {
                "  --face-height MM   Z of the face above the table centre (default 40)\n"
                "  --errors KIND      the machine's geometric errors at start (sim_errors #12020):\n"
                "                     ideal (none, the default) or realistic (cradle_errors.hpp)\n"
+               "  --max-clients N    connections served at once; the next is closed at once (default 32)\n"
+               "  --frame-timeout MS a connection holding a partial frame or an unsent reply that\n"
+               "                     long is closed (default 5000)\n"
+               "  --idle-timeout MS  a connection that sends no whole frame that long is closed\n"
+               "                     (default 0: never)\n"
                "Serves until SIGINT or SIGTERM; exit 0 then, 1 on a start-up failure, 2 on bad usage.\n");
 }
 
@@ -63,6 +69,8 @@ int main(int argc, char** argv) {
   unsigned long long seed = 1;
   sim::FaceConfig face;
   bool errors_on = false;
+  sim::ServerLimits limits;
+  unsigned long long number = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (i + 1 >= argc) {
@@ -89,6 +97,15 @@ int main(int argc, char** argv) {
       const std::string kind = value;
       ok = kind == "ideal" || kind == "realistic";
       errors_on = kind == "realistic";
+    } else if (arg == "--max-clients") {
+      ok = parse_u64(value, number) && number >= 1 && number <= 1024;
+      limits.max_clients = static_cast<std::size_t>(number);
+    } else if (arg == "--frame-timeout") {
+      ok = parse_u64(value, number) && number >= 1 && number <= 3600000;
+      limits.frame_timeout_ms = static_cast<int>(number);
+    } else if (arg == "--idle-timeout") {
+      ok = parse_u64(value, number) && number <= 3600000;
+      limits.idle_timeout_ms = static_cast<int>(number);
     } else {
       ok = false;
     }
@@ -116,9 +133,9 @@ int main(int argc, char** argv) {
   sim::Simulator simulator(module, face, seed, errors_on);
   sim::VariableRouter router(module, simulator);
   sim::RequestHandler handler(router);
-  sim::ModbusTcpServer server(handler, simulator);
+  sim::ModbusTcpServer server(handler, simulator, limits);
 
-  // Block the stop signals; pselect unblocks them only while waiting.
+  // Block the stop signals; ppoll unblocks them only while waiting.
   sigset_t stop_signals;
   sigemptyset(&stop_signals);
   sigaddset(&stop_signals, SIGINT);
@@ -134,7 +151,7 @@ int main(int argc, char** argv) {
 
   if (!server.listen(host.c_str(), static_cast<int>(port))) {
     std::fprintf(stderr, "trueaxis-sim: cannot listen on %s:%llu: %s\n", host.c_str(), port,
-                 modbus_strerror(errno));
+                 std::strerror(errno));
     return 1;
   }
   std::printf("listening on %s:%d\n", host.c_str(), server.port());

@@ -1,21 +1,37 @@
-// The Modbus protocol core of trueaxis-sim: one request PDU in, the decision out.
-// Knows nothing of sockets or of libmodbus; the TCP server (modbus_server.hpp)
-// strips the MBAP header, calls handle(), and answers with modbus_reply over the
-// register image this fills, or with modbus_reply_exception(code).
+// The Modbus protocol core of trueaxis-sim: one request PDU in, the response PDU
+// (or the exception) out. Knows nothing of sockets, frames or libmodbus; the TCP
+// server (modbus_server.hpp) cuts the frames and wraps what respond() writes.
+// No allocation, no exceptions: it is written to move to the firmware side.
 //
 // Contract
 //  1. `pdu` is the function code and its data (no MBAP header), `length` bytes.
-//  2. `image` is a 65536-register image indexed by protocol address. For a read,
-//     handle() fills the registers read from the variables (register_codec.hpp)
-//     so that a reply built from the image carries them; nothing else in it is
-//     meaningful.
-//  3. Returns ModbusException::kNone when the request was carried out, else the
-//     exception to answer with; in that case the variables are unchanged and the
-//     fault is noted (#9007).
-//  4. Served: FC3, FC16, FC23 (write first, then read, as the standard says).
-//     FC6 can never write a whole variable: exception 02. Any other function
-//     code: exception 01. A PDU shorter than its function needs, or whose byte
-//     count disagrees with its quantity, is exception 03.
+//  2. respond() writes the response PDU into `response` (room for kMaxPduBytes)
+//     and returns its length: the normal response, or the exception response
+//     | fc | 0x80 | code | (2 bytes). When the exception is not kNone the
+//     variables are unchanged.
+//  3. Served: FC3, FC16, FC23 (write first, then read, as the standard says; the
+//     read range is checked by the map before the write is applied, so a request
+//     whose read would be refused changes nothing). FC6 can never write a whole
+//     variable: exception 02. Any other function code, 0x80..0xFF included:
+//     exception 01 (noted in #9007 as bad_function).
+//  4. The checks, in the order of the Modbus Application Protocol V1.1b3 (6.3,
+//     6.12, 6.17 and their state diagrams), each refusing before the next runs:
+//       a. function code not served                                -> 01;
+//       b. PDU length not the one its header fields imply (a truncated or
+//          over-long PDU), quantity 0 or above the function's maximum
+//          (FC3 125, FC16 123, FC23 read 125 / write 121), byte count not
+//          twice the write quantity                                 -> 03;
+//       c. start + quantity past register 0xFFFF                    -> 02
+//          (noted as undefined);
+//       d. the map (register_codec.hpp): whole variables, at most 31 per read
+//          and 30 per write, defined numbers, access, values, busy -> 02, 03,
+//          06 or 04, noted in #9007 by the map.
+//     The faults of b are refused before the request reaches the map and are
+//     not noted in #9007 (it holds map faults; #9007 keeps its last value).
+//  5. handle() is the same decision with the read registers put into a
+//     65536-register image indexed by protocol address instead of a response
+//     PDU (for callers that build the reply from an image); nothing else in the
+//     image is meaningful.
 #pragma once
 
 #include <cstddef>
@@ -27,28 +43,44 @@
 namespace trueaxis::sim {
 
 inline constexpr std::size_t kImageRegisters = 65536;
+// The largest PDU Modbus allows (MBAP length 254 minus the unit id).
+inline constexpr std::size_t kMaxPduBytes = 253;
 
 class RequestHandler {
  public:
   explicit RequestHandler(macros::VariableAccess& vars) : vars_(vars) {}
 
+  // Contract 2.
+  [[nodiscard]] std::size_t respond(const std::uint8_t* pdu, std::size_t length, std::uint8_t* response);
+
+  // Contract 5.
   [[nodiscard]] macros::ModbusException handle(const std::uint8_t* pdu, std::size_t length, std::uint16_t* image);
 
   // libmodbus's modbus_reply answers FC23 by writing the request's words into the
   // image and reading the image back, so an overlap of the two ranges would echo
   // the written words (#9004 would read the code, not 1). After a successful
   // handle(), this overwrites the request's written words inside the read range
-  // with what the read produced. Other function codes are left alone.
+  // with what the read produced. Other function codes are left alone. respond()
+  // needs none of this.
   static void prepare_read_write_reply(std::uint8_t* pdu, std::size_t length, const std::uint16_t* image);
 
  private:
-  macros::ModbusException read_holding(const std::uint8_t* pdu, std::size_t length, std::uint16_t* image);
+  // What a served request read: `count` registers from protocol `address`.
+  struct ReadWords {
+    std::uint16_t address = 0;
+    std::uint16_t count = 0;
+    std::uint16_t words[macros::kMaxVariablesPerRead * macros::kRegistersPerVariable] = {};
+  };
+
+  macros::ModbusException decide(const std::uint8_t* pdu, std::size_t length, ReadWords& read);
+  macros::ModbusException read_holding(const std::uint8_t* pdu, std::size_t length, ReadWords& read);
   macros::ModbusException write_multiple(const std::uint8_t* pdu, std::size_t length);
-  macros::ModbusException read_write_multiple(const std::uint8_t* pdu, std::size_t length, std::uint16_t* image);
+  macros::ModbusException read_write_multiple(const std::uint8_t* pdu, std::size_t length, ReadWords& read);
   macros::ModbusException write_single(std::size_t length);
 
-  macros::ModbusException read_into(std::uint16_t address, std::uint16_t quantity, std::uint16_t* image);
+  macros::ModbusException read_into(std::uint16_t address, std::uint16_t quantity, ReadWords& read);
   macros::ModbusException write_from(std::uint16_t address, std::uint16_t quantity, const std::uint8_t* bytes);
+  macros::ModbusException past_last_register(std::uint16_t address, std::uint16_t quantity);
 
   macros::VariableAccess& vars_;
 };
