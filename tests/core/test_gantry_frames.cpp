@@ -169,3 +169,53 @@ TEST_CASE("the frame computation allocates nothing", "[gantry]") {
   CHECK(scope.count() == 0);
   CHECK(status == core::Status::kOk);
 }
+
+TEST_CASE("the reported covariance is the numeric Jacobian over every point", "[gantry]") {
+  // Model noise, exact data: the first-order covariance of sub-machine 1's frame
+  // is sum_i sigma_i^2 J_i J_i^T over every coordinate of every point that
+  // reaches it (global groups and its own), J_i by central differences of the
+  // whole computation. It shares with the module only compute_gantry_frames.
+  // C is turned through 120 deg only, so its centre and normal correlate.
+  Fixture f;
+  f.samples.subs[0].c.resize(9);
+  core::GantryOptions options;
+  options.noise = {0.0075, 3e-6, Vec3::Zero()};
+  auto out = std::make_unique<core::GantryFrames>();
+  REQUIRE(core::compute_gantry_frames(t::make_input(f.truth, f.samples), options, *out) == core::Status::kOk);
+  const core::SubMachineFrame nominal = out->sub_machines[0];
+  using Vec6 = Eigen::Matrix<double, 6, 1>;
+  core::Mat6 cov = core::Mat6::Zero();
+  std::vector<std::vector<Vec3>*> groups = {&f.samples.bed, &f.samples.side_1, &f.samples.side_2, &f.samples.subs[0].c,
+                                            &f.samples.subs[0].a};
+  for (auto& p : f.samples.gantry) groups.push_back(&p);
+  for (auto& axis : f.samples.subs[0].passes) {
+    for (auto& p : axis) groups.push_back(&p);
+  }
+  for (std::vector<Vec3>* g : groups) {
+    for (Vec3& p : *g) {
+      const double sigma = options.noise.sigma_mm(p);
+      for (int k = 0; k < 3; ++k) {
+        Vec6 d[2];
+        for (int side = 0; side < 2; ++side) {
+          const Vec3 keep = p;
+          p(k) += side == 0 ? sigma : -sigma;
+          REQUIRE(core::compute_gantry_frames(t::make_input(f.truth, f.samples), options, *out) == core::Status::kOk);
+          p = keep;
+          const core::Rigid3& r = out->sub_machines[0].global_T_sub;
+          d[side] << r.t - nominal.global_T_sub.t, core::so3_log(nominal.global_T_sub.R.transpose() * r.R);
+        }
+        const Vec6 g6 = 0.5 * (d[0] - d[1]);
+        cov += g6 * g6.transpose();
+      }
+    }
+  }
+  const core::Mat6& reported = nominal.uncertainty.covariance;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) {
+      INFO("element " << i << ", " << j);
+      // Correlation-scaled difference; 3 %: the circles take the RMS of their
+      // points' sigmas (gantry_fits.hpp item 6).
+      CHECK(std::abs(reported(i, j) - cov(i, j)) < 0.03 * std::sqrt(cov(i, i) * cov(j, j)));
+    }
+  }
+}
