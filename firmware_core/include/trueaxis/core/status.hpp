@@ -27,6 +27,7 @@ enum class Status : std::uint16_t {
   kTooManyPoints = 102,    // more points than the compile-time capacity
   kArgumentOutOfRange = 103,  // a macro argument is outside its documented range
   kTooFewSamples = 104,    // a compute macro ran on a session with fewer samples than it needs
+  kMissingGroup = 105,     // a group of points the method needs was not given
 
   kPointsCoincident = 200,  // the points do not span a line
   kPointsCollinear = 201,   // the points do not span a plane
@@ -43,6 +44,12 @@ enum class Status : std::uint16_t {
   kAAxisUndetermined = 212, // the poses' C centres do not determine the A axis
   kCPhaseInconsistent = 213,  // a pose's measured phases disagree with its commanded C
   kTableInvalid = 214,      // a serialized table is malformed
+  kAxesParallel = 215,      // two lines (axes) that must cross at an angle are (nearly) parallel
+  kPlanesDegenerate = 216,  // three planes do not meet in one well-defined point
+  kAxisOppositeGantry = 217,  // a sub-machine's X axis points against the gantry's +X
+  kPassesDisagree = 218,    // the passes of one axis point in opposite directions
+  kToolDirectionAmbiguous = 219,  // the nominal tool direction is perpendicular to the C axis
+  kBedNotLevel = 220,       // the bed plane's normal is far from the data's +Z (not levelled)
 
   kConfigInvalid = 300,     // the stored configuration is inconsistent
 
@@ -70,6 +77,8 @@ inline constexpr StatusInfo kStatusTable[] = {
      "A macro argument is outside its documented range."},
     {Status::kTooFewSamples, "too_few_samples",
      "The session holds fewer samples than the computation needs: add more, then compute again."},
+    {Status::kMissingGroup, "missing_group",
+     "A group of points the method needs (a plane, a pass or a circle) was not measured."},
     {Status::kPointsCoincident, "points_coincident",
      "The probed points coincide: they do not span a line."},
     {Status::kPointsCollinear, "points_collinear",
@@ -105,6 +114,24 @@ inline constexpr StatusInfo kStatusTable[] = {
      "The ball's measured positions around a C circle disagree with the commanded C angles."},
     {Status::kTableInvalid, "table_invalid",
      "The stored rigidity table is malformed (layout version, counts, values or A order)."},
+    {Status::kAxesParallel, "axes_parallel",
+     "Two axes that must cross at an angle are parallel or nearly so (A and C of a head, two "
+     "linear axes, or the gantry and the bed normal): their common perpendicular is undefined."},
+    {Status::kPlanesDegenerate, "planes_degenerate",
+     "The three planes do not meet in one well-defined point: two of them are parallel or "
+     "nearly so (the bed and the two side faces)."},
+    {Status::kAxisOppositeGantry, "axis_opposite_gantry",
+     "A sub-machine's X axis points against the gantry's positive X: check the order in "
+     "which its passes were measured."},
+    {Status::kPassesDisagree, "passes_disagree",
+     "The passes of one axis run in opposite directions: every pass must be measured moving "
+     "the axis in its positive direction."},
+    {Status::kToolDirectionAmbiguous, "tool_direction_ambiguous",
+     "The nominal tool direction is perpendicular to the measured C axis: it cannot say which "
+     "way the C axis points towards the tool tip."},
+    {Status::kBedNotLevel, "bed_not_level",
+     "The bed plane's normal is far from the measurement's +Z: the tracker data must be "
+     "levelled (+Z up)."},
     {Status::kConfigInvalid, "config_invalid",
      "The stored configuration is inconsistent (for example a lower limit above the "
      "upper one)."},

@@ -1,0 +1,259 @@
+#include "trueaxis/core/gantry_frames.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include "trueaxis/core/so3.hpp"
+
+namespace trueaxis::core {
+
+namespace {
+
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+
+// (t, phi) of `moved` relative to `nominal`: moved.R = nominal.R exp([phi]x).
+Vec6 frame_delta(const Rigid3& nominal, const Rigid3& moved) {
+  Vec6 d;
+  d.head<3>() = moved.t - nominal.t;
+  d.tail<3>() = so3_log(nominal.R.transpose() * moved.R);
+  return d;
+}
+
+FrameUncertainty summarise(const Mat6& cov) {
+  FrameUncertainty u;
+  u.covariance = cov;
+  u.origin_sigma_mm = std::sqrt(std::max(0.0, cov.topLeftCorner<3, 3>().trace()));
+  for (int k = 0; k < 3; ++k) u.angle_sigma_arcsec(k) = kArcsecPerRad * std::sqrt(std::max(0.0, cov(3 + k, 3 + k)));
+  return u;
+}
+
+// Adds sum_k g_k g_k^T over the eigenvectors of a fit's covariance (convention 5);
+// eval(delta, frame) recomputes the frame with the fit's parameters moved by delta.
+template <int N, typename Eval>
+Status add_sensitivity(const Eigen::Matrix<double, N, N>& cov, const Rigid3& nominal, Eval eval, Mat6& acc) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> es(cov);
+  if (es.info() != Eigen::Success) return Status::kNotFinite;
+  for (int k = 0; k < N; ++k) {
+    const double lambda = es.eigenvalues()(k);
+    if (!(lambda > 0.0)) continue;
+    const Eigen::Matrix<double, N, 1> step = std::sqrt(lambda) * es.eigenvectors().col(k);
+    Rigid3 plus;
+    Rigid3 minus;
+    Status status = eval(step, plus);
+    if (status != Status::kOk) return status;
+    status = eval(Eigen::Matrix<double, N, 1>(-step), minus);
+    if (status != Status::kOk) return status;
+    const Vec6 g = 0.5 * (frame_delta(nominal, plus) - frame_delta(nominal, minus));
+    acc += g * g.transpose();
+  }
+  return Status::kOk;
+}
+
+template <typename T>
+Status take(const Result<T>& r, T& out) {
+  if (r.ok()) out = r.value();
+  return r.status();
+}
+
+Status check_options(const GantryOptions& o) {
+  const Status status = check_noise(o.noise);
+  if (status != Status::kOk) return status;
+  if (std::isnan(o.min_arc_deg) || std::isnan(o.min_ac_sin)) return Status::kNotFinite;
+  if (!(o.min_arc_deg >= 0.0 && o.min_arc_deg < 360.0) || !(o.min_ac_sin > 0.0 && o.min_ac_sin <= 1.0)) {
+    return Status::kArgumentOutOfRange;
+  }
+  return Status::kOk;
+}
+
+Status check_ids(const GantryInput& in) {
+  if (in.sub_machine_count == 0) return Status::kMissingGroup;
+  if (in.sub_machine_count > kMaxSubMachines) return Status::kTooManyPoints;
+  for (std::size_t i = 0; i < in.sub_machine_count; ++i) {
+    const int id = in.sub_machines[i].id;
+    if (id < 1 || id > static_cast<int>(kMaxSubMachines)) return Status::kArgumentOutOfRange;
+    for (std::size_t j = 0; j < i; ++j) {
+      if (in.sub_machines[j].id == id) return Status::kArgumentOutOfRange;
+    }
+  }
+  return Status::kOk;
+}
+
+Status compute_global(const GantryInput& in, const GantryOptions& opt, GlobalFrame& out) {
+  PlaneEstimate bed;
+  PlaneEstimate side_1;
+  PlaneEstimate side_2;
+  AxisEstimate gantry;
+  Status status = take(fit_plane_group(in.bed, opt.noise), bed);
+  if (status != Status::kOk) return status;
+  bed = orient_plane(bed, Vec3::UnitZ());
+  if ((status = take(fit_plane_group(in.side_1, opt.noise), side_1)) != Status::kOk) return status;
+  if ((status = take(fit_plane_group(in.side_2, opt.noise), side_2)) != Status::kOk) return status;
+  if (in.gantry_pass_count > kMaxPasses) return Status::kTooManyPoints;
+  if ((status = take(fit_axis_passes(in.gantry_passes, in.gantry_pass_count, opt.noise), gantry)) != Status::kOk) {
+    return status;
+  }
+
+  const Vec3 zero = Vec3::Zero();
+  const Plane3 p_bed = perturbed_plane(bed, zero);
+  const Plane3 p_1 = perturbed_plane(side_1, zero);
+  const Plane3 p_2 = perturbed_plane(side_2, zero);
+  Rigid3 nominal;
+  if ((status = take(global_frame_from(p_bed, p_1, p_2, gantry.direction), nominal)) != Status::kOk) return status;
+
+  Mat6 cov = Mat6::Zero();
+  const auto bed_eval = [&](const Vec3& d, Rigid3& f) {
+    return take(global_frame_from(perturbed_plane(bed, d), p_1, p_2, gantry.direction), f);
+  };
+  const auto side_1_eval = [&](const Vec3& d, Rigid3& f) {
+    return take(global_frame_from(p_bed, perturbed_plane(side_1, d), p_2, gantry.direction), f);
+  };
+  const auto side_2_eval = [&](const Vec3& d, Rigid3& f) {
+    return take(global_frame_from(p_bed, p_1, perturbed_plane(side_2, d), gantry.direction), f);
+  };
+  const auto gantry_eval = [&](const Vec3& d, Rigid3& f) {
+    return take(global_frame_from(p_bed, p_1, p_2, (gantry.direction + d).normalized()), f);
+  };
+  if ((status = add_sensitivity(bed.covariance, nominal, bed_eval, cov)) != Status::kOk) return status;
+  if ((status = add_sensitivity(side_1.covariance, nominal, side_1_eval, cov)) != Status::kOk) return status;
+  if ((status = add_sensitivity(side_2.covariance, nominal, side_2_eval, cov)) != Status::kOk) return status;
+  if ((status = add_sensitivity(gantry.covariance, nominal, gantry_eval, cov)) != Status::kOk) return status;
+
+  out.tracker_T_global = nominal;
+  out.bed_flatness_mm = bed.flatness_mm;
+  out.gantry_straightness_mm = gantry.straightness_mm;
+  out.side_1_flatness_mm = side_1.flatness_mm;
+  out.side_2_flatness_mm = side_2.flatness_mm;
+  out.uncertainty = summarise(cov);
+  return Status::kOk;
+}
+
+Axis longest_stroke(const AxisEstimate axes[3]) {
+  int best = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (axes[k].stroke_mm > axes[best].stroke_mm) best = k;
+  }
+  return static_cast<Axis>(best);
+}
+
+CircleSummary summarise_circle(const CircleFit& fit, const Vec3& oriented_normal, const Rigid3& global_T_tracker) {
+  CircleSummary s;
+  s.centre_mm = apply_point(global_T_tracker, fit.centre_mm);
+  s.normal = apply_direction(global_T_tracker, oriented_normal);
+  s.radius_mm = fit.radius_mm;
+  s.rms_distance_mm = fit.rms_distance_mm;
+  s.max_distance_mm = fit.max_distance_mm;
+  s.arc_deg = fit.arc_deg;
+  return s;
+}
+
+Status compute_sub(const SubMachineInput& in, const GantryOptions& opt, const GlobalFrame& global,
+                   SubMachineFrame& out) {
+  AxisEstimate axes[3];
+  Status status = Status::kOk;
+  for (int k = 0; k < 3; ++k) {
+    const std::size_t count = in.pass_count[k];
+    if (count > kMaxPasses) return Status::kTooManyPoints;
+    if ((status = take(fit_axis_passes(in.passes[k], count, opt.noise), axes[k])) != Status::kOk) return status;
+  }
+  CircleFit c_fit;
+  CircleFit a_fit;
+  if ((status = take(fit_circle_group(in.c_circle, opt.noise, opt.min_arc_deg), c_fit)) != Status::kOk) {
+    return status;
+  }
+  if ((status = take(fit_circle_group(in.a_circle, opt.noise, opt.min_arc_deg), a_fit)) != Status::kOk) {
+    return status;
+  }
+  const Axis master = longest_stroke(axes);
+  const Vec3 gantry_x = global.tracker_T_global.R.col(0);
+  Vec3 dirs[3] = {axes[0].direction, axes[1].direction, axes[2].direction};
+  const Line3 c_line{c_fit.centre_mm, c_fit.normal};
+  const Line3 a_line{a_fit.centre_mm, a_fit.normal};
+  const auto build = [&](const Vec3 d[3], const Line3& c, const Line3& a, SubGeometry& g) {
+    return take(sub_frame_from(d, master, c, in.tool_direction, a, in.swing_mm, gantry_x, opt.min_ac_sin), g);
+  };
+  SubGeometry nominal;
+  if ((status = build(dirs, c_line, a_line, nominal)) != Status::kOk) return status;
+
+  Mat6 own = Mat6::Zero();  // tracker-frame origin, rotation about the sub-machine's axes
+  for (int k = 0; k < 3; ++k) {
+    const auto eval = [&](const Vec3& d, Rigid3& f) {
+      Vec3 moved[3] = {dirs[0], dirs[1], dirs[2]};
+      moved[k] = (dirs[k] + d).normalized();
+      SubGeometry g;
+      const Status s = build(moved, c_line, a_line, g);
+      f = g.tracker_T_sub;
+      return s;
+    };
+    if ((status = add_sensitivity(axes[k].covariance, nominal.tracker_T_sub, eval, own)) != Status::kOk) {
+      return status;
+    }
+  }
+  const auto c_eval = [&](const Vec6& d, Rigid3& f) {
+    SubGeometry g;
+    const Status s = build(dirs, perturbed_circle_axis(c_fit, d), a_line, g);
+    f = g.tracker_T_sub;
+    return s;
+  };
+  const auto a_eval = [&](const Vec6& d, Rigid3& f) {
+    SubGeometry g;
+    const Status s = build(dirs, c_line, perturbed_circle_axis(a_fit, d), g);
+    f = g.tracker_T_sub;
+    return s;
+  };
+  if ((status = add_sensitivity(c_fit.covariance, nominal.tracker_T_sub, c_eval, own)) != Status::kOk) return status;
+  if ((status = add_sensitivity(a_fit.covariance, nominal.tracker_T_sub, a_eval, own)) != Status::kOk) return status;
+
+  // Into the global frame, with the global frame's own covariance (convention 5).
+  const Rigid3 global_T_tracker = inverse(global.tracker_T_global);
+  const Rigid3 global_T_sub = compose(global_T_tracker, nominal.tracker_T_sub);
+  const Mat3 r_g_t = global_T_tracker.R;
+  Mat6 j_own = Mat6::Identity();
+  j_own.topLeftCorner<3, 3>() = r_g_t;
+  Mat6 j_global = Mat6::Zero();
+  j_global.topLeftCorner<3, 3>() = -r_g_t;
+  j_global.topRightCorner<3, 3>() = hat(global_T_sub.t);
+  j_global.bottomRightCorner<3, 3>() = -global_T_sub.R.transpose();
+  const Mat6 cov = j_own * own * j_own.transpose() +
+                   j_global * global.uncertainty.covariance * j_global.transpose();
+
+  out.id = in.id;
+  out.global_T_sub = global_T_sub;
+  out.master_axis = master;
+  for (int k = 0; k < 3; ++k) {
+    out.measured_axes[k] = r_g_t * dirs[k];
+    out.stroke_mm[k] = axes[k].stroke_mm;
+    out.straightness_mm[k] = axes[k].straightness_mm;
+  }
+  for (int k = 0; k < 3; ++k) {
+    out.squareness_arcsec(k) = kArcsecPerRad * (angle_between(dirs[k], dirs[(k + 1) % 3]) - 0.5 * kPi);
+  }
+  out.a_c_offset_mm = nominal.a_c_offset_mm;
+  out.a_c_angle_deg = nominal.a_c_angle_deg;
+  out.wrist_centre_mm = apply_point(global_T_tracker, nominal.wrist_centre_mm);
+  out.c_circle = summarise_circle(c_fit, nominal.c, global_T_tracker);
+  out.a_circle = summarise_circle(a_fit, nominal.a, global_T_tracker);
+  out.uncertainty = summarise(cov);
+  return Status::kOk;
+}
+
+Status compute_all(const GantryInput& input, const GantryOptions& options, GantryFrames& out) {
+  Status status = check_options(options);
+  if (status != Status::kOk) return status;
+  if ((status = check_ids(input)) != Status::kOk) return status;
+  if ((status = compute_global(input, options, out.global)) != Status::kOk) return status;
+  for (std::size_t i = 0; i < input.sub_machine_count; ++i) {
+    status = compute_sub(input.sub_machines[i], options, out.global, out.sub_machines[i]);
+    if (status != Status::kOk) return status;
+  }
+  out.sub_machine_count = input.sub_machine_count;
+  return Status::kOk;
+}
+
+}  // namespace
+
+Status compute_gantry_frames(const GantryInput& input, const GantryOptions& options, GantryFrames& out) {
+  const Status status = compute_all(input, options, out);
+  if (status != Status::kOk) out = GantryFrames();
+  return status;
+}
+
+}  // namespace trueaxis::core
