@@ -49,9 +49,10 @@ echo
 echo "== 2. build and store the rigidity table (trueaxis-calibrate rigidity --store)"
 "$bin_dir/trueaxis-calibrate" rigidity --in "$out_dir/samples.csv" --json "$out_dir/rigidity.json" \
   --report "$out_dir/report" --store --port "$port"
-/usr/bin/python3 - "$out_dir/rigidity.json" <<'PY'
+/usr/bin/python3 - "$out_dir/rigidity.json" "$out_dir/report/module_figures.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
+d.update(json.load(open(sys.argv[2])))
 print(f"  A axis point {', '.join(f'{v:.4f}' for v in d['a_axis']['point_mm'])} mm, "
       f"C-to-A offset {d['c_to_a_offset_mm'] * 1000:.1f} um, squareness {d['c_to_a_squareness_arcsec']:.1f}\"")
 print("  A (deg)   rigidity (arcsec)   A positioning error (arcsec)")

@@ -5,7 +5,7 @@ JSON the module's results were written to. Plots are drawn by matplotlib
 
 usage: trueaxis_report.py METHOD OUT.json DIR
 
-The shape every method's report shares: a title, a summary table (what an
+DIR must exist (trueaxis-calibrate makes it). The shape every method's report shares: a title, a summary table (what an
 integrator files), figures with a caption each (what a metrology engineer
 reads), and the per-sample table. A method adds one function below.
 """
@@ -137,7 +137,12 @@ def main(argv):
     title, draw = METHODS[argv[1]]
     with open(argv[2], encoding="utf-8") as f:
         data = json.load(f)
-    os.makedirs(argv[3], exist_ok=True)
+    # Figures the module computed beyond OUT.json's fixed keys, written beside
+    # the report by trueaxis-calibrate.
+    extras = os.path.join(argv[3], "module_figures.json")
+    if os.path.exists(extras):
+        with open(extras, encoding="utf-8") as f:
+            data.update(json.load(f))
     report = Report(argv[3], f"trueaxis report: {title}")
     draw(data, report)
     report.write()

@@ -103,8 +103,10 @@ Module::Module(hal::NvStorage& storage, hal::Clock& clock, const MacroInfo* extr
 }
 
 core::Status Module::start() {
+  // Every record that mounted is loaded even when another did not: the store
+  // refuses saves only to the unread ones, so a record left unloaded here would
+  // be saved back with defaults by the next write to it.
   const core::Status s = store_.mount();
-  if (s != core::Status::kOk) return s;
   load_variables(RecordKey::kConfig);
   load_variables(RecordKey::kWorkOffsets);
   for (const RecordKey key : kTableRecords) {
@@ -113,7 +115,7 @@ core::Status Module::start() {
       on_table_loaded(methods_, key, record_.bytes, length);
     }
   }
-  return core::Status::kOk;
+  return s;
 }
 
 // Entries are looked up by number: a later map that adds variables still loads

@@ -269,3 +269,39 @@ TEST_CASE("the leveling session streams points one at a time and levels through 
     CHECK(rig.get(v::kError) == static_cast<double>(Status::kTooFewSamples));
   }
 }
+
+TEST_CASE("a start that cannot read one record loads the others, and a write keeps them", "[module][persist]") {
+  trueaxis::test::FlakyStorage storage;
+  trueaxis::test::FakeClock clock;
+  {
+    m::Module first(storage, clock);
+    REQUIRE(first.start() == Status::kOk);
+    const double unlock = m::kUnlockCode;
+    const double a_max = 45.0;
+    const double g57 = 7.5;
+    REQUIRE(first.write(v::kUnlock, 1, &unlock) == F::kNone);
+    REQUIRE(first.write(v::kAMax, 1, &a_max) == F::kNone);
+    REQUIRE(first.write(v::kG57, 1, &g57) == F::kNone);
+  }
+  const auto offsets = region_of(m::RecordKey::kWorkOffsets);
+  storage.unreadable_first = offsets.first;
+  storage.unreadable_end = offsets.first + 1;
+  {
+    m::Module second(storage, clock);
+    CHECK(second.start() == Status::kStorageFailure);
+    CHECK(second.value(v::kAMax) == 45.0);  // the config record was read
+    CHECK(second.value(v::kG57) == 0.0);    // the work offsets were not: defaults
+    const double unlock = m::kUnlockCode;
+    const double a_min = -10.0;
+    const double g58 = 1.0;
+    REQUIRE(second.write(v::kUnlock, 1, &unlock) == F::kNone);
+    CHECK(second.write(v::kAMin, 1, &a_min) == F::kNone);          // config still works
+    CHECK(second.write(v::kG58, 1, &g58) == F::kStorageFailure);  // the unread record refuses
+  }
+  storage.unreadable_end = 0;
+  m::Module third(storage, clock);
+  REQUIRE(third.start() == Status::kOk);
+  CHECK(third.value(v::kAMax) == 45.0);  // not wiped by the write above
+  CHECK(third.value(v::kAMin) == -10.0);
+  CHECK(third.value(v::kG57) == 7.5);
+}

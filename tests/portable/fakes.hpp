@@ -30,6 +30,8 @@ class FlakyStorage final : public hal::NvStorage {
   std::array<std::uint8_t, macros::kRequiredStorageBytes> bytes{};
   bool refuse = false;
   bool refuse_reads = false;
+  std::size_t unreadable_first = 0;  // reads touching [unreadable_first, unreadable_end) fail
+  std::size_t unreadable_end = 0;
   bool land_then_fail = false;  // the bytes land, then the write reports failure (fsync failed)
   long cut_after_bytes = -1;    // -1: no cut
   std::size_t written_first = SIZE_MAX;  // lowest offset written since forget_writes()
@@ -46,6 +48,7 @@ class FlakyStorage final : public hal::NvStorage {
   std::size_t do_size_bytes() const override { return bytes.size(); }
   hal::IoStatus do_read(std::size_t offset, std::uint8_t* out, std::size_t length) override {
     if (refuse_reads) return hal::IoStatus::kIoError;
+    if (offset < unreadable_end && offset + length > unreadable_first) return hal::IoStatus::kIoError;
     for (std::size_t i = 0; i < length; ++i) out[i] = bytes[offset + i];
     return hal::IoStatus::kOk;
   }

@@ -304,3 +304,17 @@ TEST_CASE("leveling on the calibrated axes is within 3 sigma where the ideal axe
     CHECK(ideal > 3.0 * ideal_sigma);
   }
 }
+
+TEST_CASE("9834 R = 0 reports only a table whose 9832 succeeded", "[rigidity][flow]") {
+  const sim::CradleMachine mc = machine(true);
+  Rig rig;
+  REQUIRE(measure_and_build(rig, mc, sim::kDefaultBallSigmaMm, 9, false) == 2.0);
+  REQUIRE(pose(rig, 7, false).rotvec_arcsec.norm() > 0.0);
+  rig.put(v::kArgR, 1.0);  // store while locked: built, then refused
+  CHECK(rig.run(9832) == 3.0);
+  CHECK(rig.get(v::kError) == static_cast<double>(Status::kTableLocked));
+  rig.put(v::kArgQ, 7.0);
+  rig.put(v::kArgR, 0.0);
+  CHECK(rig.run(9834) == 3.0);
+  CHECK(rig.get(v::kError) == static_cast<double>(Status::kNoTable));
+}

@@ -14,6 +14,8 @@
 
 #include <unistd.h>
 
+#include <cerrno>
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -39,26 +41,25 @@ int fail(const std::string& line) {
   return 1;
 }
 
-// Writes through a temporary file and a rename, so OUT.json is whole or absent.
-bool write_whole(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!(out << text) || !out.flush()) return false;
-  }
-  return std::rename(tmp.c_str(), path.c_str()) == 0;
+bool write_file(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  return static_cast<bool>(out << text) && static_cast<bool>(out.flush());
 }
 
 // Runs Debian's python3 (where python3-matplotlib installs, whatever else is
 // first on PATH) on the report script with argv, no shell; true on exit 0.
-bool make_report(const CalibrateOptions& o) {
+// Its stderr goes nowhere: a failure is the command's one line.
+bool make_report(const CalibrateOptions& o, const std::string& json_path) {
   const std::string script = TRUEAXIS_REPORT_SCRIPT;
-  const char* args[] = {TRUEAXIS_PYTHON, script.c_str(), o.method.c_str(), o.json_path.c_str(),
+  const char* args[] = {TRUEAXIS_PYTHON, script.c_str(), o.method.c_str(), json_path.c_str(),
                         o.report_dir.c_str(), nullptr};
+  posix_spawn_file_actions_t quiet;
+  posix_spawn_file_actions_init(&quiet);
+  posix_spawn_file_actions_addopen(&quiet, 2, "/dev/null", O_WRONLY, 0);
   pid_t pid = 0;
-  if (posix_spawn(&pid, TRUEAXIS_PYTHON, nullptr, nullptr, const_cast<char* const*>(args), environ) != 0) {
-    return false;
-  }
+  const int spawned = posix_spawn(&pid, TRUEAXIS_PYTHON, &quiet, nullptr, const_cast<char* const*>(args), environ);
+  posix_spawn_file_actions_destroy(&quiet);
+  if (spawned != 0) return false;
   int status = 0;
   return waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
@@ -103,14 +104,27 @@ int main(int argc, char** argv) {
   if (!client.connect(o.host, o.port)) {
     return fail("cannot connect to " + o.host + ":" + std::to_string(o.port) + ": " + client.error_text());
   }
-  const FlowResult r = trueaxis::sim::calibrate_rigidity(client, o);
-  client.close();
+  FlowResult r = trueaxis::sim::calibrate_rigidity(client, o);
   if (!r.ok) return fail(r.error);
-  if (!write_whole(o.json_path, r.json)) return fail(o.json_path + ": cannot be written");
 
+  // OUT.json goes to a temporary file first and into place last, after the
+  // report and the store: on any failure it is absent and nothing is stored.
+  const std::string tmp = o.json_path + ".tmp";
+  const auto fail_clean = [&tmp](const std::string& line) {
+    std::remove(tmp.c_str());
+    return fail(line);
+  };
+  if (!write_file(tmp, r.json)) return fail_clean(o.json_path + ": cannot be written");
   if (!o.report_dir.empty()) {
-    ::mkdir(o.report_dir.c_str(), 0755);
-    if (!make_report(o)) return fail(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
+    struct stat st {};
+    if ((::mkdir(o.report_dir.c_str(), 0755) != 0 && errno != EEXIST) || ::stat(o.report_dir.c_str(), &st) != 0 ||
+        !S_ISDIR(st.st_mode) || !write_file(o.report_dir + "/module_figures.json", r.report_extras) ||
+        !make_report(o, tmp)) {
+      return fail_clean(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
+    }
   }
+  if (o.store && !trueaxis::sim::store_rigidity(client, r)) return fail_clean(r.error);
+  client.close();
+  if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
   return 0;
 }

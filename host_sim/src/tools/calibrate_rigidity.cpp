@@ -1,6 +1,9 @@
 // The rigidity flow (INTERFACE.md "M3 rigidity"): samples -> session 9830/9831
 // -> build 9832 (stored with --store) -> per pose 9834 -> OUT.json.
+#include <cmath>
 #include <vector>
+
+#include "trueaxis/core/rigidity_table.hpp"
 
 #include "trueaxis/macros/rigidity/rigidity_map.hpp"
 #include "trueaxis/macros/register_map.hpp"
@@ -44,39 +47,51 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
     if (!run_or_fail(client, kAdd, where, r)) return r;
   }
 
-  if (options.store && !transport(client, client.write_one(var::kUnlock, macros::kUnlockCode), r)) return r;
-  const bool built = transport(client, client.write_one(var::kArgR, options.store ? 1.0 : 0.0), r) &&
-                     run_or_fail(client, kBuild, "", r);
-  if (options.store) client.write_one(var::kUnlock, 0.0);  // lock again, whatever happened
-  if (!built) return r;
+  // Built without storing: the command stores only after the JSON and the
+  // report are made (store_rigidity), so a later failure stores nothing.
+  if (!transport(client, client.write_one(var::kArgR, 0.0), r) || !run_or_fail(client, kBuild, "", r)) return r;
 
   double summary[12];
   if (!transport(client, client.read(var::kRigidityPoses, 12, summary), r)) return r;
   const int poses = static_cast<int>(summary[0]);
-  std::string json = "{\n  \"method\": \"rigidity\",\n  \"reference_a_deg\": 0.0,\n";
-  json += "  \"a_axis\": { \"point_mm\": " + json_vec3(summary + 3) + ", \"direction\": " + json_vec3(summary + 6) +
-          " },\n";
-  json += "  \"c_to_a_offset_mm\": " + json_number(summary[9]) + ",\n";
-  json += "  \"c_to_a_squareness_arcsec\": " + json_number(summary[10]) + ",\n";
-  json += "  \"poses\": [";
+  double reference_a_deg = 0.0;
+  std::string pose_json;
   for (int q = 1; q <= poses; ++q) {
     const double args[2] = {static_cast<double>(q), 0.0};  // Q = pose, R = 0: the table just built
     if (!transport(client, client.write(var::kArgQ, 2, args), r)) return r;
     if (!run_or_fail(client, kPose, "", r)) return r;
     double p[18];
     if (!transport(client, client.read(var::kPoseA, 18, p), r)) return r;
-    json += q > 1 ? ",\n" : "\n";
-    json += "    { \"a_deg\": " + json_number(p[0]) + ", \"rotation_vector_arcsec\": " + json_vec3(p + 1) +
-            ",\n      \"rotation_vector_sigma_arcsec\": " + json_vec3(p + 4) +
-            ", \"rigidity_arcsec\": " + json_number(p[7]) + ", \"rigidity_sigma_arcsec\": " + json_number(p[8]) +
-            ",\n      \"a_positioning_error_arcsec\": " + json_number(p[9]) + ", \"c_centre_mm\": " +
-            json_vec3(p + 10) + ",\n      \"c_direction\": " + json_vec3(p + 13) +
-            ", \"c_circle_rms_mm\": " + json_number(p[16]) + " }";
+    if (std::fabs(p[0]) <= core::kPoseAToleranceDeg) reference_a_deg = p[0];
+    pose_json += q > 1 ? ",\n" : "\n";
+    pose_json += "    { \"a_deg\": " + json_number(p[0]) + ", \"rotation_vector_arcsec\": " + json_vec3(p + 1) +
+                 ",\n      \"rotation_vector_sigma_arcsec\": " + json_vec3(p + 4) +
+                 ", \"rigidity_arcsec\": " + json_number(p[7]) + ", \"rigidity_sigma_arcsec\": " + json_number(p[8]) +
+                 ",\n      \"a_positioning_error_arcsec\": " + json_number(p[9]) + ", \"c_centre_mm\": " +
+                 json_vec3(p + 10) + ",\n      \"c_direction\": " + json_vec3(p + 13) +
+                 ", \"c_circle_rms_mm\": " + json_number(p[16]) + " }";
   }
-  json += "\n  ]\n}\n";
+  // INTERFACE.md writes the reference A as 0.0; keep that form when it is exactly 0.
+  const std::string reference = reference_a_deg == 0.0 ? "0.0" : json_number(reference_a_deg);
+  r.json = "{\n  \"method\": \"rigidity\",\n  \"reference_a_deg\": " + reference + ",\n" +
+           "  \"a_axis\": { \"point_mm\": " + json_vec3(summary + 3) + ", \"direction\": " + json_vec3(summary + 6) +
+           " },\n  \"poses\": [" + pose_json + "\n  ]\n}\n";
+  // What the module computed beyond INTERFACE.md's OUT.json, for the report only.
+  r.report_extras = "{ \"c_to_a_offset_mm\": " + json_number(summary[9]) +
+                    ", \"c_to_a_squareness_arcsec\": " + json_number(summary[10]) + " }\n";
   r.ok = true;
-  r.json = json;
   return r;
+}
+
+bool store_rigidity(VariableClient& client, FlowResult& fail) {
+  if (!transport(client, client.write_one(var::kUnlock, macros::kUnlockCode), fail)) return false;
+  // The same session built again, now stored: the build is deterministic, so
+  // the stored table is the one OUT.json describes.
+  const bool stored = transport(client, client.write_one(var::kArgR, 1.0), fail) &&
+                      run_or_fail(client, kBuild, "", fail);
+  const bool locked = client.write_one(var::kUnlock, 0.0);  // lock again, whatever happened
+  if (stored && !locked) fail.error = "Modbus: the controller could not be locked again: " + client.error_text();
+  return stored && locked;
 }
 
 }  // namespace trueaxis::sim

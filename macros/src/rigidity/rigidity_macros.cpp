@@ -58,7 +58,10 @@ void on_record(State& state, const std::uint8_t* bytes, std::size_t length) {
 }
 
 void on_committed(State& state) {
-  if (state.built) state.live.publish(state.builder.table());
+  if (!state.staged) return;  // a record 9832 did not stage (an integrator's macro)
+  state.staged = false;
+  state.built = true;  // the macro that built it has succeeded
+  state.live.publish(state.builder.table());
 }
 
 MacroStep run_session_clear(MacroContext& ctx) {
@@ -86,13 +89,13 @@ MacroStep run_build(MacroContext& ctx) {
     options.min_c_arc_deg = ctx.in<var::kRigidityMinCArc>();
     options.max_pose_samples = kMaxPoseSamples;
     state.built = false;
+    state.staged = false;
     state.builder.start(state.samples.data(), state.samples.size(), options);
     return more();  // the first step only checks and starts: the builder's steps follow
   }
   const core::RigidityStep step = state.builder.step();
   if (step.more) return more();
   if (step.status != core::Status::kOk) return done(step.status);
-  state.built = true;
 
   const core::RigidityTable& t = state.builder.table();
   std::size_t worst = 0;
@@ -110,13 +113,17 @@ MacroStep run_build(MacroContext& ctx) {
   ctx.out<var::kRigidityCToASquareness>(t.c_to_a_squareness_rad * kArcsecPerRad);
   ctx.out<var::kRigidityWorstCircleRms>(worst_rms);
 
-  if (!flag_of(ctx.in<var::kArgR>(), store) || !store) return done(core::Status::kOk);
+  if (!flag_of(ctx.in<var::kArgR>(), store) || !store) {
+    state.built = true;
+    return done(core::Status::kOk);
+  }
   std::uint8_t* bytes = ctx.stage_record(RecordKey::kRigidityTable, core::rigidity_table_bytes(t.pose_count));
   if (bytes == nullptr ||
       core::encode_rigidity_table(t, bytes, core::rigidity_table_bytes(t.pose_count)) == 0) {
     return done(core::Status::kTableInvalid);
   }
-  return done(core::Status::kOk);  // the module commits the record, then on_record makes it live
+  state.staged = true;
+  return done(core::Status::kOk);  // the module commits the record, then on_committed makes it live
 }
 
 MacroStep run_query(MacroContext& ctx) {

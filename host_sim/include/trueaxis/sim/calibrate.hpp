@@ -9,9 +9,10 @@
 //  2. A failure is one line for stderr: "FILE:LINE: what" for a bad sample,
 //     "module error CODE NAME: MESSAGE" for a macro the module refused (with the
 //     sample's file and line when a sample caused it), or a transport problem.
-//     The caller then writes no JSON, makes no report and exits 1; with --store
-//     the module has stored nothing (a refused macro changes no table) and is
-//     locked again.
+//     The caller then writes no JSON and exits 1; with --store the module has
+//     stored nothing and is locked again: the command stores last, after the
+//     JSON is written (to a temporary file) and the report is made, and only
+//     then moves OUT.json into place.
 #pragma once
 
 #include <cstdint>
@@ -34,8 +35,9 @@ struct CalibrateOptions {
 
 struct FlowResult {
   bool ok = false;
-  std::string error;  // one line, when !ok
-  std::string json;   // the OUT.json text, when ok
+  std::string error;          // one line, when !ok
+  std::string json;           // the OUT.json text, when ok
+  std::string report_extras;  // JSON of the module's figures beyond OUT.json, for the report
 };
 
 // The text of a module error code, "module error 402 session_full: The session is full ...".
@@ -49,6 +51,12 @@ bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string&
 std::string json_number(double v);
 std::string json_vec3(const double* v);
 
+// Streams the samples and builds the table WITHOUT storing it; reads back
+// what the module computed.
 FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& options);
+
+// Stores the table of the samples already in the module's session (unlock,
+// build with R = 1, lock again); false with fail.error set otherwise.
+bool store_rigidity(VariableClient& client, FlowResult& fail);
 
 }  // namespace trueaxis::sim

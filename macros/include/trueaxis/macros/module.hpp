@@ -52,8 +52,9 @@ class Module final : public VariableAccess {
   Module(hal::NvStorage& storage, hal::Clock& clock, const MacroInfo* extra_macros = nullptr,
          std::size_t extra_count = 0);
 
-  // kOk, or kStorageFailure when storage could not be read (defaults are used,
-  // and persistent writes are refused until a later start() succeeds).
+  // kOk, or kStorageFailure when a record could not be read: the records that
+  // could are loaded; the unread ones keep the map's defaults, and writes to
+  // them are refused (kStorageFailure) until a later start() reads them.
   [[nodiscard]] core::Status start();
 
   // Does one bounded piece of the pending macro, if any.

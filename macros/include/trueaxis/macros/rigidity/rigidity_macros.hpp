@@ -45,7 +45,8 @@ static_assert(kSessionCapacity <= core::kMaxRigiditySamples, "the builder takes 
 struct State {
   Session<core::RigiditySample, kSessionCapacity> samples;
   core::RigidityBuilder builder;
-  bool built = false;                    // builder.table() holds a table built since start
+  bool built = false;   // builder.table() holds the table of the last 9832 that succeeded
+  bool staged = false;  // 9832 staged builder.table() for the commit now under way
   LiveTable<core::RigidityTable> live;   // the stored table the controller queries
   core::RigidityTable decoded;           // where a stored record is decoded before it goes live
 };
@@ -61,7 +62,8 @@ struct State {
 // is ignored (the controller then has no table).
 void on_record(State& state, const std::uint8_t* bytes, std::size_t length);
 
-// The table 9832 built and staged has been committed: it becomes the live one.
+// The table 9832 built and staged has been committed: the macro succeeds, its
+// table becomes the last built one and the live one.
 void on_committed(State& state);
 
 MacroStep run_session_clear(MacroContext& ctx);

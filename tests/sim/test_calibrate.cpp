@@ -1,0 +1,626 @@
+// `trueaxis-calibrate rigidity` as an integrator runs it (INTERFACE.md "The
+// integrator's command", "M3 rigidity"): the tools run as child processes (argv,
+// no shell) against a trueaxis-sim; OUT.json is parsed and held against what the
+// module answers over Modbus (9832, 9834, 9833); every bad input gets exit 1, one
+// stderr line naming its physical line or the module's code, no OUT.json, no
+// report, nothing stored and the module locked again; a stored table whose CRC
+// fails falls back to the older copy, then to no table.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <ftw.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "sim_fixture.hpp"
+#include "trueaxis/core/status.hpp"
+#include "trueaxis/macros/records.hpp"
+#include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/macros/rigidity/rigidity_map.hpp"
+
+extern char** environ;
+
+namespace {
+
+namespace m = trueaxis::macros;
+namespace v = trueaxis::macros::var;
+using trueaxis::core::Status;
+using trueaxis::sim::SimProcess;
+using trueaxis::sim::VariableClient;
+using trueaxis::sim::test::SimFixture;
+
+// ---- processes and files -------------------------------------------------------------
+
+struct Run {
+  int exit_code = -1;
+  std::string err;  // all of stderr
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool exists(const std::string& path) { return ::access(path.c_str(), F_OK) == 0; }
+
+Run run(const std::vector<std::string>& argv, const std::string& err_path) {
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = 0;
+  Run r;
+  const int rc = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  REQUIRE(rc == 0);
+  int status = 0;
+  REQUIRE(::waitpid(pid, &status, 0) == pid);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  r.err = slurp(err_path);
+  return r;
+}
+
+int remove_entry(const char* path, const struct stat*, int, struct FTW*) { return std::remove(path); }
+
+struct Workspace {
+  std::string dir;
+  Workspace() {
+    char path[] = "/tmp/trueaxis-calibrate-cli-XXXXXX";
+    REQUIRE(::mkdtemp(path) != nullptr);
+    dir = path;
+  }
+  ~Workspace() { ::nftw(dir.c_str(), remove_entry, 16, FTW_DEPTH | FTW_PHYS); }
+  std::string file(const std::string& name) const { return dir + "/" + name; }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(file(name), std::ios::binary) << text;
+    return file(name);
+  }
+};
+
+std::string measure(int port, const Workspace& w, const std::string& name, std::vector<std::string> extra = {}) {
+  std::vector<std::string> argv = {TRUEAXIS_MEASURE_BINARY, "--port", std::to_string(port), "--out", w.file(name)};
+  argv.insert(argv.end(), extra.begin(), extra.end());
+  const Run r = run(argv, w.file("measure.err"));
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  return slurp(w.file(name));
+}
+
+Run calibrate(int port, const Workspace& w, const std::string& in, const std::string& json, bool store,
+              const std::string& report = "") {
+  std::vector<std::string> argv = {TRUEAXIS_CALIBRATE_BINARY, "rigidity", "--in", in, "--json", json,
+                                   "--port", std::to_string(port)};
+  if (store) argv.emplace_back("--store");
+  if (!report.empty()) argv.insert(argv.end(), {"--report", report});
+  return run(argv, w.file("calibrate.err"));
+}
+
+// ---- a small strict JSON reader --------------------------------------------------------
+
+struct Json {
+  enum Kind { kNull, kBool, kNumber, kString, kArray, kObject } kind = kNull;
+  double number = 0.0;
+  std::string text;
+  std::vector<Json> items;
+  std::vector<std::pair<std::string, Json>> members;
+
+  const Json& operator[](const std::string& key) const {
+    static const Json missing;
+    for (const auto& kv : members) {
+      if (kv.first == key) return kv.second;
+    }
+    return missing;
+  }
+};
+
+class JsonReader {
+ public:
+  explicit JsonReader(const std::string& s) : s_(s) {}
+  bool parse(Json& out) {
+    const bool ok = value(out);
+    space();
+    return ok && at_ == s_.size();
+  }
+
+ private:
+  void space() {
+    while (at_ < s_.size() && (s_[at_] == ' ' || s_[at_] == '\n' || s_[at_] == '\r' || s_[at_] == '\t')) ++at_;
+  }
+  bool eat(char c) {
+    space();
+    if (at_ >= s_.size() || s_[at_] != c) return false;
+    ++at_;
+    return true;
+  }
+  bool string(std::string& out) {
+    if (!eat('"')) return false;
+    while (at_ < s_.size() && s_[at_] != '"') {
+      if (s_[at_] == '\\') ++at_;
+      if (at_ < s_.size()) out += s_[at_++];
+    }
+    return eat('"');
+  }
+  bool value(Json& out) {
+    space();
+    if (at_ >= s_.size()) return false;
+    const char c = s_[at_];
+    if (c == '{') {
+      out.kind = Json::kObject;
+      ++at_;
+      if (eat('}')) return true;
+      do {
+        std::pair<std::string, Json> kv;
+        if (!string(kv.first) || !eat(':') || !value(kv.second)) return false;
+        out.members.push_back(std::move(kv));
+      } while (eat(','));
+      return eat('}');
+    }
+    if (c == '[') {
+      out.kind = Json::kArray;
+      ++at_;
+      if (eat(']')) return true;
+      do {
+        out.items.emplace_back();
+        if (!value(out.items.back())) return false;
+      } while (eat(','));
+      return eat(']');
+    }
+    if (c == '"') {
+      out.kind = Json::kString;
+      return string(out.text);
+    }
+    const std::size_t end = s_.find_first_not_of("+-0123456789.eE", at_);
+    const std::string token = s_.substr(at_, end - at_);
+    char* stop = nullptr;
+    out.number = std::strtod(token.c_str(), &stop);
+    if (token.empty() || *stop != '\0' || token[0] == '+' || token[0] == '.') return false;
+    out.kind = Json::kNumber;
+    at_ = end;
+    return true;
+  }
+
+  const std::string& s_;
+  std::size_t at_ = 0;
+};
+
+// The pose's 17 figures in 9834's order (#100..#116), -1e300 for a missing or ill-typed key.
+std::vector<double> pose_figures(const Json& pose) {
+  std::vector<double> f;
+  const auto num = [&](const char* key) { f.push_back(pose[key].kind == Json::kNumber ? pose[key].number : -1e300); };
+  const auto vec = [&](const char* key) {
+    const Json& a = pose[key];
+    for (std::size_t i = 0; i < 3; ++i) {
+      f.push_back(a.items.size() == 3 && a.items[i].kind == Json::kNumber ? a.items[i].number : -1e300);
+    }
+  };
+  num("a_deg");
+  vec("rotation_vector_arcsec");
+  vec("rotation_vector_sigma_arcsec");
+  num("rigidity_arcsec");
+  num("rigidity_sigma_arcsec");
+  num("a_positioning_error_arcsec");
+  vec("c_centre_mm");
+  vec("c_direction");
+  num("c_circle_rms_mm");
+  return f;
+}
+
+// ---- the module over Modbus --------------------------------------------------------------
+
+// 9834 pose q of the table built last (stored = 0) or the stored one: #100..#117,
+// or {error} when the macro fails.
+std::vector<double> pose(VariableClient& client, int q, int stored) {
+  const double args[2] = {static_cast<double>(q), static_cast<double>(stored)};
+  REQUIRE(client.write(v::kArgQ, 2, args));
+  const auto outcome = client.run_macro(9834);
+  REQUIRE(outcome.status >= 2);
+  if (outcome.status == 3) return {static_cast<double>(outcome.error)};
+  std::vector<double> p(18);
+  REQUIRE(client.read(v::kPoseA, 18, p.data()));
+  return p;
+}
+
+// 9833 at commanded A, blend Q, clamp R: #100..#103, or {error}.
+std::vector<double> query(VariableClient& client, double a_deg, int blend, int clamp) {
+  const double qr[2] = {static_cast<double>(blend), static_cast<double>(clamp)};
+  REQUIRE(client.write_one(v::kArgA, a_deg));
+  REQUIRE(client.write(v::kArgQ, 2, qr));
+  const auto outcome = client.run_macro(9833);
+  REQUIRE(outcome.status >= 2);
+  if (outcome.status == 3) return {static_cast<double>(outcome.error)};
+  std::vector<double> r(4);
+  REQUIRE(client.read(v::kRigidityRotvecX, 4, r.data()));
+  return r;
+}
+
+// What a client can see of the stored table: every pose (9834 R = 1) and 9833
+// at three A with every blend; 404s when there is none.
+std::vector<std::vector<double>> stored_table(VariableClient& client) {
+  std::vector<std::vector<double>> t;
+  const std::vector<double> first = pose(client, 1, 1);
+  t.push_back(first);
+  for (int q = 2; first.size() == 18 && q <= static_cast<int>(first[17]); ++q) t.push_back(pose(client, q, 1));
+  for (double a : {-75.0, 10.0, 45.0}) {
+    for (int blend = 0; blend <= 2; ++blend) t.push_back(query(client, a, blend, 0));
+  }
+  return t;
+}
+
+double read_var(VariableClient& client, std::uint16_t number) {
+  double x = 0.0;
+  REQUIRE(client.read_one(number, x));
+  return x;
+}
+
+const std::vector<double> kNoTable = {404.0};
+
+// ---- samples files ------------------------------------------------------------------------
+
+struct Row {
+  double a_deg, c_deg;
+  std::string text;
+};
+
+std::vector<Row> rows_of(const std::string& csv) {
+  std::vector<Row> rows;
+  std::istringstream in(csv);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || line[0] == 'a') continue;
+    char* end = nullptr;
+    const double a = std::strtod(line.c_str(), &end);
+    rows.push_back({a, std::strtod(end + 1, nullptr), line});
+  }
+  return rows;
+}
+
+const std::string kHeader = "a_deg,c_deg,x_mm,y_mm,z_mm\n";
+
+template <class Keep>
+std::string csv_where(const std::vector<Row>& rows, Keep keep) {
+  std::string out = kHeader;
+  for (const Row& r : rows) {
+    if (keep(r)) out += r.text + "\n";
+  }
+  return out;
+}
+
+std::string module_error(Status s) {
+  return "trueaxis-calibrate: module error " + std::to_string(static_cast<int>(s)) + " " +
+         trueaxis::core::status_name(s) + ": " + trueaxis::core::status_message(s);
+}
+
+}  // namespace
+
+TEST_CASE("calibrate rigidity: OUT.json holds exactly what the module computed, --store stores it, --report draws it",
+          "[calibrate]") {
+  SimFixture sim({"--errors", "realistic"});
+  VariableClient& client = sim.client();
+  Workspace w;
+  const std::string samples = measure(sim.port(), w, "samples.csv");
+  REQUIRE(rows_of(samples).size() == 252);
+  REQUIRE(read_var(client, v::kUnlock) == 0.0);  // locked
+  CHECK(query(client, 0.0, 0, 0) == kNoTable);
+
+  // Without --store: the module's figures, nothing stored.
+  Run r = calibrate(sim.port(), w, w.file("samples.csv"), w.file("built.json"), false);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.err.empty());
+  const std::string built = slurp(w.file("built.json"));
+  Json json;
+  REQUIRE(JsonReader(built).parse(json));
+  CHECK(json["method"].text == "rigidity");
+  CHECK(json["reference_a_deg"].kind == Json::kNumber);
+  CHECK(json["reference_a_deg"].number == 0.0);
+  const Json& poses = json["poses"];
+  REQUIRE(poses.items.size() == 7);
+  for (int q = 1; q <= 7; ++q) {
+    CAPTURE(q);
+    const std::vector<double> p = pose(client, q, 0);
+    REQUIRE(p.size() == 18);
+    CHECK(p[17] == 7.0);
+    CHECK(pose_figures(poses.items[static_cast<std::size_t>(q - 1)]) == std::vector<double>(p.begin(), p.begin() + 17));
+    CHECK(p[0] == -120.0 + 30.0 * q);
+  }
+  const std::vector<double> reference = pose_figures(poses.items[3]);
+  CHECK(std::vector<double>(reference.begin(), reference.begin() + 4) == std::vector<double>{0.0, 0.0, 0.0, 0.0});
+  // The A axis as the build reports it (9832 R = 0 again on the session kept).
+  REQUIRE(client.write_one(v::kArgR, 0.0));
+  REQUIRE(client.run_macro(9832).status == 2);
+  double build[12];
+  REQUIRE(client.read(v::kRigidityPoses, 12, build));
+  CHECK(build[0] == 7.0);
+  for (std::size_t i = 0; i < 3; ++i) {
+    CHECK(json["a_axis"]["point_mm"].items.at(i).number == build[3 + i]);
+    CHECK(json["a_axis"]["direction"].items.at(i).number == build[6 + i]);
+  }
+  CHECK(pose(client, 1, 1) == kNoTable);
+  CHECK(query(client, 45.0, 0, 0) == kNoTable);
+
+  // The same samples with the columns in another order, an extra column, spaces,
+  // CRLF, comments and blank lines: the same OUT.json byte for byte.
+  std::string variant = "# shuffled\r\n\r\nz_mm,note,c_deg , a_deg,y_mm,x_mm\r\n";
+  for (const Row& row : rows_of(samples)) {
+    std::vector<std::string> f;
+    std::istringstream fields(row.text);
+    for (std::string s; std::getline(fields, s, ',');) f.push_back(s);
+    variant += f[4] + ",probe 7, " + f[1] + " ," + f[0] + "," + f[3] + "," + f[2] + "\r\n# again\r\n";
+  }
+  r = calibrate(sim.port(), w, w.write("variant.csv", variant), w.file("variant.json"), false);
+  CHECK(r.exit_code == 0);
+  CHECK(slurp(w.file("variant.json")) == built);
+
+  // With --store (the controller locked) and --report.
+  r = calibrate(sim.port(), w, w.file("samples.csv"), w.file("stored.json"), true, w.file("report"));
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.err.empty());
+  CHECK(read_var(client, v::kUnlock) == 0.0);  // locked again
+  CHECK(slurp(w.file("stored.json")) == built);
+  for (int q = 1; q <= 7; ++q) {
+    CAPTURE(q);
+    const std::vector<double> p = pose(client, q, 1);
+    REQUIRE(p.size() == 18);
+    CHECK(pose_figures(poses.items[static_cast<std::size_t>(q - 1)]) == std::vector<double>(p.begin(), p.begin() + 17));
+    for (int blend = 0; blend <= 2; ++blend) {
+      const std::vector<double> at_pose = query(client, p[0], blend, 0);
+      REQUIRE(at_pose.size() == 4);
+      for (std::size_t i = 0; i < 3; ++i) CHECK(at_pose[i] == Approx(p[1 + i]).margin(1e-9));
+    }
+  }
+
+  {  // A query outside the measured A range is refused, or clamped to the end pose.
+    const std::vector<double> first = pose(client, 1, 1), last = pose(client, 7, 1);
+    for (int blend = 0; blend <= 2; ++blend) {
+      CAPTURE(blend);
+      CHECK(query(client, 95.0, blend, 0) == std::vector<double>{103.0});
+      CHECK(query(client, -90.5, blend, 0) == std::vector<double>{103.0});
+      const std::vector<double> high = query(client, 95.0, blend, 1), low = query(client, -200.0, blend, 1);
+      REQUIRE(high.size() == 4);
+      REQUIRE(low.size() == 4);
+      for (std::size_t i = 0; i < 3; ++i) {
+        CHECK(high[i] == Approx(last[1 + i]).margin(1e-9));
+        CHECK(low[i] == Approx(first[1 + i]).margin(1e-9));
+      }
+      CHECK(high[3] == Approx(last[7]).margin(1e-9));
+    }
+  }
+  {  // The report is a page and four PNG figures.
+    const std::string page = slurp(w.file("report/index.html"));
+    CHECK(page.find("<html") != std::string::npos);
+    std::vector<std::string> pngs;
+    DIR* dir = ::opendir(w.file("report").c_str());
+    REQUIRE(dir != nullptr);
+    while (const dirent* e = ::readdir(dir)) {
+      const std::string name = e->d_name;
+      if (name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0) pngs.push_back(name);
+    }
+    ::closedir(dir);
+    CHECK(pngs.size() == 4);
+    for (const std::string& name : pngs) {
+      CAPTURE(name);
+      CHECK(page.find(name) != std::string::npos);  // the page shows it
+      const std::string png = slurp(w.file("report/" + name));
+      CHECK(png.size() > 1000);
+      CHECK(png.compare(0, 8, std::string("\x89PNG\r\n\x1a\n", 8)) == 0);
+    }
+  }
+}
+
+TEST_CASE("calibrate rigidity: a bad sample is named by its line or the module's code; nothing written or stored",
+          "[calibrate]") {
+  SimFixture sim({"--errors", "realistic"});
+  VariableClient& client = sim.client();
+  Workspace w;
+  const std::vector<Row> good = rows_of(measure(sim.port(), w, "samples.csv"));
+  const std::vector<Row> fine = rows_of(measure(sim.port(), w, "fine.csv", {"--a-from", "30", "--a-to", "30",
+                                                                           "--c-step", "5"}));
+  const std::vector<Row> many = rows_of(measure(sim.port(), w, "many.csv", {"--a-from", "-80", "--a-to", "80",
+                                                                           "--a-step", "10", "--c-step", "30"}));
+  REQUIRE(good.size() == 252);
+  REQUIRE(fine.size() == 72);
+  REQUIRE(many.size() == 17 * 12);
+
+  struct Case {
+    std::string name, csv, line;  // line: the whole stderr line (CSV) or its start (module)
+    bool module_called;
+  };
+  std::vector<Case> cases;
+  const std::string bad = w.file("bad.csv"), at = "trueaxis-calibrate: " + bad + ":";
+  // Lines 1 comment, 2 blank, 3 header, 4 a sample, 5 comment, 6 blank, 7 the bad row.
+  const std::string lead = "# rig 3\n\n" + kHeader + "0,0,1,2,3\n   # an indented comment\n\n";
+  const auto csv_case = [&](const std::string& name, const std::string& row, const std::string& what) {
+    cases.push_back({name, lead + row + "\n0,10,1,2,3\n", at + "7: " + what + "\n", false});
+  };
+  csv_case("a word", "0,abc,1,2,3", "'c_deg' is not a finite number: 'abc'");
+  csv_case("a number with a tail", "0,0,1.5x,2,3", "'x_mm' is not a finite number: '1.5x'");
+  csv_case("nan", "0,0,1,nan,3", "'y_mm' is not a finite number: 'nan'");
+  csv_case("-inf", "0,0,1,2,-inf", "'z_mm' is not a finite number: '-inf'");
+  csv_case("an overflow", "1e999,0,1,2,3", "'a_deg' is not a finite number: '1e999'");
+  csv_case("an empty field", "0,,1,2,3", "'c_deg' is not a finite number: ''");
+  csv_case("a missing field", "0,0,1,2", "too few fields: no value for 'z_mm'");
+  cases.push_back({"a missing column", "# rig 3\na_deg,c_deg,x_mm,z_mm\n0,0,1,3\n",
+                   at + "2: the header has no column 'y_mm'\n", false});
+  cases.push_back({"an empty file", "", at + "1: no header row\n", false});
+  cases.push_back({"CRLF lines", "a_deg,c_deg,x_mm,y_mm,z_mm\r\n0,0,1,2,3\r\n0,0,x,2,3\r\n",
+                   at + "3: 'x_mm' is not a finite number: 'x'\n", false});
+  {
+    // A measured file, a nan in its 200th physical line.
+    std::string text = "# measured\n" + kHeader;
+    for (std::size_t k = 0; k < good.size(); ++k) text += k == 197 ? "30,0,1,2,nan\n" : good[k].text + "\n";
+    cases.push_back({"nan late in a measured file", text, at + "200: 'z_mm' is not a finite number: 'nan'\n", false});
+  }
+  const auto module_case = [&](const std::string& name, const std::string& csv, Status s) {
+    cases.push_back({name, csv, module_error(s), true});
+  };
+  module_case("a header and no rows", kHeader, Status::kTooFewPoses);
+  module_case("two A poses", csv_where(good, [](const Row& r) { return r.a_deg == 0 || r.a_deg == 30; }),
+              Status::kTooFewPoses);
+  module_case("no pose at A = 0", csv_where(good, [](const Row& r) { return r.a_deg != 0; }),
+              Status::kNoReferencePose);
+  module_case("a pose of 3 C positions",
+              csv_where(good, [](const Row& r) { return r.a_deg != 30 || r.c_deg < 25; }), Status::kTooFewCPositions);
+  module_case("a stray sample at A = 45 (a pose of its own)", csv_where(good, [](const Row&) { return true; }) +
+              "45,0,1,2,3\n", Status::kTooFewCPositions);
+  {
+    std::string short_arc = csv_where(good, [](const Row& r) { return r.a_deg != 30; });
+    std::string too_many = csv_where(good, [](const Row&) { return true; });
+    for (const Row& r : fine) {
+      if (r.c_deg <= 15) short_arc += r.text + "\n";  // C 0, 5, 10, 15: a 15 deg arc
+      if (r.c_deg == 5) too_many += r.text + "\n";     // the 37th sample of pose 30
+    }
+    module_case("a pose spanning 15 deg of C", short_arc, Status::kArcTooShort);
+    module_case("37 samples in one pose", too_many, Status::kTooManyPoints);
+  }
+  {
+    // Pose 30's samples at C 0 and C 180 with their C swapped: their phases are 180 deg off.
+    std::string swapped = kHeader;
+    for (const Row& r : good) {
+      std::string text = r.text;
+      if (r.a_deg == 30 && (r.c_deg == 0 || r.c_deg == 180)) {
+        const std::size_t c0 = text.find(',') + 1, c1 = text.find(',', c0);
+        text.replace(c0, c1 - c0, r.c_deg == 0 ? "180" : "0");
+      }
+      swapped += text + "\n";
+    }
+    module_case("two samples with their C swapped", swapped, Status::kCPhaseInconsistent);
+  }
+  module_case("17 A poses", csv_where(many, [](const Row&) { return true; }), Status::kTooManyPoses);
+  {
+    // 513 samples: the session is full at the 513th, physical line 2 + 513.
+    std::string full = "# three times over\n" + kHeader;
+    for (int k = 0; k < 513; ++k) full += good[static_cast<std::size_t>(k) % good.size()].text + "\n";
+    cases.push_back({"more samples than the session holds", full,
+                     at + "515: " + module_error(Status::kSessionFull).substr(20), true});
+  }
+
+  const auto check_refusals = [&](const std::vector<std::vector<double>>& table_before) {
+    for (const Case& c : cases) {
+      CAPTURE(c.name);
+      w.write("bad.csv", c.csv);
+      REQUIRE(read_var(client, v::kUnlock) == 0.0);
+      const double done_before = read_var(client, v::kDoneCount);
+      const Run r = calibrate(sim.port(), w, bad, w.file("out.json"), true, w.file("report"));
+      CAPTURE(r.err);
+      CHECK(r.exit_code == 1);
+      CHECK(r.err.compare(0, c.line.size(), c.line) == 0);
+      CHECK(r.err.find('\n') == r.err.size() - 1);  // one line
+      CHECK_FALSE(exists(w.file("out.json")));
+      CHECK_FALSE(exists(w.file("out.json.tmp")));
+      CHECK_FALSE(exists(w.file("report")));
+      CHECK(read_var(client, v::kUnlock) == 0.0);  // locked again
+      CHECK((read_var(client, v::kDoneCount) > done_before) == c.module_called);
+      CHECK(stored_table(client) == table_before);
+    }
+  };
+
+  SECTION("with no table stored, there is still none") {
+    const std::vector<std::vector<double>> none = stored_table(client);
+    REQUIRE(none.size() == 10);
+    for (const auto& answer : none) REQUIRE(answer == kNoTable);
+    check_refusals(none);
+  }
+  SECTION("with a table stored, it answers exactly as before") {
+    REQUIRE(calibrate(sim.port(), w, w.file("samples.csv"), w.file("good.json"), true).exit_code == 0);
+    const std::vector<std::vector<double>> table = stored_table(client);
+    REQUIRE(table.size() == 16);
+    REQUIRE(table[0].size() == 18);
+    check_refusals(table);
+    // An OUT.json already there stays as it was.
+    w.write("out.json", "before");
+    w.write("bad.csv", cases.front().csv);
+    CHECK(calibrate(sim.port(), w, bad, w.file("out.json"), true).exit_code == 1);
+    CHECK(slurp(w.file("out.json")) == "before");
+  }
+}
+
+TEST_CASE("calibrate rigidity: a stored table whose CRC fails is not used after a restart", "[calibrate]") {
+  Workspace w;
+  const std::string nv = w.file("sim.nv");
+  SimProcess sim;
+  VariableClient client;
+  const auto start = [&] {
+    REQUIRE(sim.start(TRUEAXIS_SIM_BINARY, {"--host", "127.0.0.1", "--port", "0", "--nv", nv, "--errors", "realistic"}));
+    REQUIRE(client.connect("127.0.0.1", sim.port()));
+  };
+  const auto stop = [&] {
+    client.close();
+    REQUIRE(sim.stop() == 0);
+  };
+  start();
+  const std::vector<Row> rows = rows_of(measure(sim.port(), w, "samples.csv"));
+  // Two different tables: six poses (no A = 90) into slot 0, then all seven into slot 1.
+  const std::string six = w.write("six.csv", csv_where(rows, [](const Row& r) { return r.a_deg != 90; }));
+  REQUIRE(calibrate(sim.port(), w, six, w.file("six.json"), true).exit_code == 0);
+  const std::vector<std::vector<double>> older = stored_table(client);
+  REQUIRE(calibrate(sim.port(), w, w.file("samples.csv"), w.file("all.json"), true).exit_code == 0);
+  const std::vector<std::vector<double>> newest = stored_table(client);
+  REQUIRE(older[0].size() == 18);
+  REQUIRE(older[0][17] == 6.0);
+  REQUIRE(newest[0][17] == 7.0);
+  stop();
+
+  std::size_t index = 0;
+  while (m::kRecordSpecs[index].key != m::record_key(m::RecordKey::kRigidityTable)) ++index;
+  const std::size_t slot[2] = {m::KeyedStore::slot_offset(m::kRecordSpecs, index, 0),
+                               m::KeyedStore::slot_offset(m::kRecordSpecs, index, 1)};
+  std::string bytes = slurp(nv);
+  REQUIRE(bytes.size() == m::kRequiredStorageBytes);
+  for (std::size_t s : slot) {
+    REQUIRE(bytes.compare(s, 4, "TAK1") == 0);
+    REQUIRE(static_cast<unsigned char>(bytes[s + 4]) == m::record_key(m::RecordKey::kRigidityTable));
+  }
+  const auto flip = [&](std::size_t offset) {
+    bytes[offset] = static_cast<char>(bytes[offset] ^ 0x10);
+    std::ofstream(nv, std::ios::binary | std::ios::trunc) << bytes;
+  };
+
+  start();
+  CHECK(stored_table(client) == newest);  // a restart keeps the newest
+  stop();
+
+  flip(slot[1] + m::KeyedStore::kHeaderBytes + 300);  // a payload byte of the newest
+  start();
+  CHECK(stored_table(client) == older);
+  stop();
+
+  flip(slot[0] + 12);  // the older one's sequence: the CRC covers the header too
+  start();
+  const std::vector<std::vector<double>> none = stored_table(client);
+  REQUIRE(none.size() == 10);
+  for (const auto& answer : none) CHECK(answer == kNoTable);
+  // A new store is whole again.
+  REQUIRE(calibrate(sim.port(), w, w.file("samples.csv"), w.file("again.json"), true).exit_code == 0);
+  CHECK(stored_table(client) == newest);
+  stop();
+}
+
+TEST_CASE("calibrate rigidity: a report that cannot be made leaves no OUT.json and nothing stored",
+          "[calibrate]") {
+  SimFixture sim({"--errors", "realistic"});
+  Workspace w;
+  measure(sim.port(), w, "samples.csv");
+  w.write("a_file", "not a directory");
+  const Run r = calibrate(sim.port(), w, w.file("samples.csv"), w.file("out.json"), true, w.file("a_file/report"));
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find('\n') == r.err.size() - 1);  // one line
+  CHECK_FALSE(exists(w.file("out.json")));
+  CHECK(query(sim.client(), 45.0, 0, 0) == kNoTable);
+  CHECK(read_var(sim.client(), v::kUnlock) == 0.0);
+}
