@@ -65,9 +65,9 @@ Result<SubGeometry> sub_frame_from(const Vec3 axes[3], Axis master, const Line3&
   const Vec3 x = axes[0].normalized();
   const Vec3 y = axes[1].normalized();
   const Vec3 z = axes[2].normalized();
-  Vec3 xp;
-  Vec3 yp;
-  Vec3 zp;
+  Vec3 xp = Vec3::Zero();
+  Vec3 yp = Vec3::Zero();
+  Vec3 zp = Vec3::Zero();
   bool ok = false;
   switch (master) {
     case Axis::kX:  // y' = z x x, z' = x x y'

@@ -1,5 +1,7 @@
 #include "trueaxis/core/rigidity_codec.hpp"
 
+#include "trueaxis/core/byte_order.hpp"
+
 #include <cstring>
 #include <limits>
 
@@ -7,30 +9,7 @@ namespace trueaxis::core {
 
 namespace {
 
-static_assert(std::numeric_limits<double>::is_iec559 && sizeof(double) == 8, "binary64 doubles required");
-
 constexpr std::size_t kPoseReals = 27;
-
-void put_u16(std::uint8_t* p, std::uint16_t v) {
-  p[0] = static_cast<std::uint8_t>(v & 0xFFu);
-  p[1] = static_cast<std::uint8_t>(v >> 8);
-}
-
-std::uint16_t get_u16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
-
-void put_f64(std::uint8_t* p, double v) {
-  std::uint64_t bits = 0;
-  std::memcpy(&bits, &v, sizeof bits);
-  for (int i = 0; i < 8; ++i) p[i] = static_cast<std::uint8_t>(bits >> (8 * i));
-}
-
-double get_f64(const std::uint8_t* p) {
-  std::uint64_t bits = 0;
-  for (int i = 0; i < 8; ++i) bits |= static_cast<std::uint64_t>(p[i]) << (8 * i);
-  double v = 0.0;
-  std::memcpy(&v, &bits, sizeof v);
-  return v;
-}
 
 // The one list of fields, in layout order, for both directions: `Io` puts or
 // gets a double at the cursor.

@@ -1,10 +1,17 @@
 #include "trueaxis/macros/keyed_store.hpp"
 
+#include "trueaxis/core/byte_order.hpp"
+
 #include <cstring>
 
 namespace trueaxis::macros {
 
 namespace {
+
+using core::get_u16;
+using core::get_u32;
+using core::put_u16;
+using core::put_u32;
 
 constexpr std::uint8_t kMagic[4] = {'T', 'A', 'K', '1'};
 constexpr std::size_t kKeyOffset = 4;
@@ -32,20 +39,6 @@ constexpr CrcTable make_crc_table() {
 constexpr CrcTable kCrcTable = make_crc_table();
 static_assert(kCrcTable.entry[1] == 0x77073096u && kCrcTable.entry[255] == 0x2D02EF8Du,
               "CRC-32 table entries of the reflected polynomial 0xEDB88320");
-
-void put_u16(std::uint8_t* p, std::uint16_t v) {
-  p[0] = static_cast<std::uint8_t>(v);
-  p[1] = static_cast<std::uint8_t>(v >> 8);
-}
-void put_u32(std::uint8_t* p, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>(v >> (8 * i));
-}
-std::uint16_t get_u16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
-std::uint32_t get_u32(const std::uint8_t* p) {
-  std::uint32_t v = 0;
-  for (int i = 3; i >= 0; --i) v = (v << 8) | p[i];
-  return v;
-}
 
 bool newer(std::uint32_t a, std::uint32_t b) { return a != b && static_cast<std::uint32_t>(a - b) < 0x8000'0000u; }
 

@@ -58,11 +58,12 @@
 //     and of the A positioning error and the origin offset (not-a-knot) for the
 //     cubic blends (rigidity_compensation.hpp convention 3).
 //
-// Bounded work (a macro's step() stays under ~60,000 Cortex-M7 instructions):
-// RigidityBuilder::step() does one of: grouping kGroupChunk samples, one pose's
-// circle fit (bounded when the pose holds ~32 samples or fewer: the fit itself
-// is not resumable), the nominal evaluation of 4-6, one side of one Jacobian
-// column (an A-axis circle fit of <= 16 points plus the frames), the finish.
+// Bounded work: RigidityBuilder::step() does one of: grouping kGroupChunk
+// samples, one pose's circle fit (the fit is not resumable, so its cost grows
+// with the pose's samples: about 3.4k Cortex-M7 instructions each; the caller
+// bounds it with options.max_pose_samples), the nominal evaluation of 4-6, one
+// side of one Jacobian column (an A-axis circle fit of <= 16 points plus the
+// frames), the finish. The module's figure is Module::kStepBoundInstructions.
 //
 // Status codes: kNotFinite (a sample or an option), kArgumentOutOfRange
 // (samples null with count > 0, min_c_arc_deg or min_a_arc_deg outside

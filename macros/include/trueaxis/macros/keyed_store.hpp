@@ -163,8 +163,7 @@ class KeyedStore {
   KeyInfo keys_[kMaxRecords] = {};
 };
 
-// The store's CRC-32 (layout note 6). A namespace of its own while the old
-// persistent_store.cpp still defines macros::crc32 (the same function, bitwise).
+// The store's CRC-32 (layout note 6).
 namespace checksum {
 
 // CRC-32 of data[0, length).

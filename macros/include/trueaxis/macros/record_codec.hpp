@@ -1,30 +1,14 @@
-// Little-endian encoding of the values of a persistent record's payload, so a
-// table written on one controller reads the same on another.
+// The byte order of the persistent records' payloads: core's little-endian
+// encoding (firmware_core byte_order.hpp), named here for the macro layer.
 #pragma once
 
-#include <cstddef>
-#include <cstdint>
-#include <cstring>
+#include "trueaxis/core/byte_order.hpp"
 
 namespace trueaxis::macros {
 
-inline void put_u16(std::uint8_t* p, std::uint16_t v) {
-  p[0] = static_cast<std::uint8_t>(v);
-  p[1] = static_cast<std::uint8_t>(v >> 8);
-}
-inline std::uint16_t get_u16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
-
-inline void put_f64(std::uint8_t* p, double value) {
-  std::uint64_t bits = 0;
-  std::memcpy(&bits, &value, sizeof bits);
-  for (int i = 0; i < 8; ++i) p[i] = static_cast<std::uint8_t>(bits >> (8 * i));
-}
-inline double get_f64(const std::uint8_t* p) {
-  std::uint64_t bits = 0;
-  for (int i = 7; i >= 0; --i) bits = (bits << 8) | p[i];
-  double value = 0.0;
-  std::memcpy(&value, &bits, sizeof value);
-  return value;
-}
+using core::get_f64;
+using core::get_u16;
+using core::put_f64;
+using core::put_u16;
 
 }  // namespace trueaxis::macros

@@ -21,7 +21,6 @@
 #include <array>
 #include <cstddef>
 
-#include "trueaxis/macros/level/level_map.hpp"
 #include "trueaxis/macros/methods.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/macros/var_info.hpp"
@@ -30,8 +29,8 @@ namespace trueaxis::macros {
 
 namespace detail {
 
-// #100..#115 keep the names interface version 1 gave them (M1's outputs); the
-// rest of the result range is one block.
+// The result variables named in methods.hpp (kNamedResults) keep their names;
+// the rest of the result range is one block.
 template <std::size_t N>
 constexpr std::array<VarInfo, N + 1> result_rows(const OutputInfo (&named)[N]) {
   std::array<VarInfo, N + 1> out{};
@@ -43,7 +42,7 @@ constexpr std::array<VarInfo, N + 1> result_rows(const OutputInfo (&named)[N]) {
                         "Results of the last macro; their meaning is per macro (see each macro's outputs).");
   return out;
 }
-inline constexpr auto kResultRows = result_rows(level::kLevelOutputs);
+inline constexpr auto kResultRows = result_rows(kNamedResults);
 
 template <std::size_t N>
 constexpr RowSource platform_source(const std::array<VarInfo, N>& t) {
