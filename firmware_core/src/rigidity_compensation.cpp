@@ -22,7 +22,7 @@ Status find_bracket(const RigidityTable& t, double a_deg, bool clamp, Bracket& b
   const double first = t.poses[0].a_deg;
   const double last = t.poses[m - 1].a_deg;
   if (!(a_deg >= first && a_deg <= last)) {
-    if (!clamp) return Status::kArgumentOutOfRange;
+    if (!clamp) return Status::kOutsideMeasuredRange;
     a_deg = a_deg < first ? first : last;
   }
   std::size_t k = 0;

@@ -82,7 +82,7 @@ KeyedStore::SlotState KeyedStore::read_slot(std::size_t index, std::size_t slot,
   std::uint32_t crc = checksum::crc32_update(0, scratch_, kCrcOffset);
   crc = checksum::crc32_update(crc, zero_crc, sizeof zero_crc);
   crc = checksum::crc32_update(crc, scratch_ + kHeaderBytes, n);
-  if (crc != get_u32(scratch_ + kCrcOffset)) return SlotState::kInvalid;
+  if (crc != get_u32(scratch_ + kCrcOffset)) return SlotState::kCrcFailed;
   sequence = get_u32(scratch_ + kSequenceOffset);
   length = n;
   return SlotState::kValid;
@@ -138,7 +138,8 @@ core::Status KeyedStore::mount() {
     const bool valid[2] = {state[0] == SlotState::kValid, state[1] == SlotState::kValid};
     KeyInfo& info = keys_[i];
     if (!valid[0] && !valid[1]) {
-      info.state = KeyState::kEmpty;
+      const bool crc_failed = state[0] == SlotState::kCrcFailed || state[1] == SlotState::kCrcFailed;
+      info.state = crc_failed ? KeyState::kDamaged : KeyState::kEmpty;
       continue;
     }
     const std::uint8_t best = (valid[0] && (!valid[1] || !newer(seq[1], seq[0]))) ? 0 : 1;
@@ -157,7 +158,7 @@ core::Status KeyedStore::load(std::uint8_t key, std::uint8_t* out, std::size_t c
   if (i == count_) return core::Status::kArgumentOutOfRange;
   const KeyInfo& info = keys_[i];
   if (info.state == KeyState::kUnmounted) return core::Status::kStorageFailure;
-  if (info.state == KeyState::kEmpty) return core::Status::kOk;
+  if (info.state == KeyState::kEmpty || info.state == KeyState::kDamaged) return core::Status::kOk;
   if (info.length > capacity) return core::Status::kArgumentOutOfRange;
   std::uint32_t seq = 0;
   std::uint32_t len = 0;
@@ -213,6 +214,11 @@ core::Status KeyedStore::save(std::uint8_t key, const std::uint8_t* payload, std
 std::uint32_t KeyedStore::sequence(std::uint8_t key) const {
   const std::size_t i = index_of(key);
   return i == count_ || keys_[i].state != KeyState::kValid ? 0 : keys_[i].sequence;
+}
+
+bool KeyedStore::damaged(std::uint8_t key) const {
+  const std::size_t i = index_of(key);
+  return i != count_ && keys_[i].state == KeyState::kDamaged;
 }
 
 }  // namespace trueaxis::macros

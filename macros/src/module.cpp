@@ -114,6 +114,7 @@ core::Status Module::start() {
     if (store_.load(record_key(key), record_.bytes, sizeof record_.bytes, length) == core::Status::kOk) {
       on_table_loaded(methods_, key, record_.bytes, length);
     }
+    if (store_.damaged(record_key(key))) on_table_damaged(methods_, key);
   }
   return s;
 }

@@ -164,9 +164,9 @@ TEST_CASE("A outside the measured range is refused unless clamped", "[rigidity][
   const double last = table.poses[table.pose_count - 1].a_deg;
   for (Blend blend : kBlends) {
     CHECK(core::rigidity_rotvec_rad(table, std::nextafter(first, -1e9), blend, false).status() ==
-          Status::kArgumentOutOfRange);
+          Status::kOutsideMeasuredRange);
     CHECK(core::rigidity_rotvec_rad(table, std::nextafter(last, 1e9), blend, false).status() ==
-          Status::kArgumentOutOfRange);
+          Status::kOutsideMeasuredRange);
     CHECK(core::rigidity_rotvec_rad(table, first - 50.0, blend, true).value() == table.poses[0].rotvec_rad);
     CHECK(core::rigidity_rotvec_rad(table, last + 50.0, blend, true).value() ==
           table.poses[table.pose_count - 1].rotvec_rad);

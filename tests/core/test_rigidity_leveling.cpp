@@ -175,7 +175,7 @@ TEST_CASE("calibrated leveling refuses what it cannot reach", "[rigidity][level]
     const core::TablePose far{80.0, 0.0};
     const Face f = make_face(cradle, n45, far);
     CHECK(core::level_on_table(input_for(f, far), core::LevelConfig{}, table, Blend::kLinear, false).status() ==
-          Status::kArgumentOutOfRange);
+          Status::kOutsideMeasuredRange);
     core::LevelConfig bad;
     bad.a_min_deg = 10.0;
     bad.a_max_deg = -10.0;

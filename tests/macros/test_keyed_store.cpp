@@ -144,6 +144,68 @@ TEST_CASE("every single-bit flip of a saved record is detected", "[store]") {
   }
 }
 
+TEST_CASE("a record whose CRC fails is damaged; a blank or foreign slot is absent", "[store]") {
+  Device d;
+  const Bytes payload = pattern(40, 3);
+  {
+    KeyedStore store = d.store();
+    REQUIRE(store.mount() == Status::kOk);
+    for (const m::RecordSpec& s : d.specs) CHECK_FALSE(store.damaged(s.key));
+    save(store, 1, payload);  // slot 0, the key's only copy
+    CHECK_FALSE(store.damaged(1));
+  }
+  const auto saved = d.bytes;
+  const std::size_t at = d.slot(0, 0);
+  const auto mounted = [&d]() {
+    KeyedStore store = d.store();
+    REQUIRE(store.mount() == Status::kOk);
+    return store;
+  };
+
+  SECTION("a flipped payload bit: damaged, loads as absent, the other keys untouched") {
+    d.bytes[at + KeyedStore::kHeaderBytes + 7] ^= 0x10;
+    KeyedStore store = mounted();
+    CHECK(store.damaged(1));
+    CHECK(load(store, 1).empty());
+    CHECK(store.sequence(1) == 0);
+    CHECK_FALSE(store.damaged(2));
+    CHECK_FALSE(store.damaged(200));  // unknown key
+    SECTION("the next save replaces it, and it is no longer damaged") {
+      save(store, 1, pattern(40, 4));
+      CHECK_FALSE(store.damaged(1));
+      KeyedStore again = mounted();
+      CHECK_FALSE(again.damaged(1));
+      CHECK(load(again, 1) == pattern(40, 4));
+    }
+  }
+  SECTION("a flipped sequence or CRC bit: damaged") {
+    d.bytes[at + 12] ^= 0x01;
+    CHECK(mounted().damaged(1));
+    d.bytes = saved;
+    d.bytes[at + 19] ^= 0x80;
+    CHECK(mounted().damaged(1));
+  }
+  SECTION("a broken magic, key or layout version: absent, not damaged") {
+    for (const std::size_t byte : {std::size_t{0}, std::size_t{4}, std::size_t{6}}) {
+      d.bytes = saved;
+      d.bytes[at + byte] ^= 0x01;
+      KeyedStore store = mounted();
+      CHECK_FALSE(store.damaged(1));
+      CHECK(load(store, 1).empty());
+    }
+  }
+  SECTION("a damaged newest copy beside a valid older one: the older loads, not damaged") {
+    {
+      KeyedStore store = mounted();
+      save(store, 1, pattern(40, 5));  // slot 1, newest
+    }
+    d.bytes[d.slot(0, 1) + KeyedStore::kHeaderBytes] ^= 0x02;
+    KeyedStore store = mounted();
+    CHECK_FALSE(store.damaged(1));
+    CHECK(load(store, 1) == payload);
+  }
+}
+
 TEST_CASE("a flip after mount is caught by load", "[store]") {
   Device d;
   KeyedStore store = d.store();

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "fakes.hpp"
@@ -211,10 +212,32 @@ TEST_CASE("9833 and the direct call read the stored table, across a restart", "[
     CHECK(rig.out3(v::kRigidityRotvecX) == direct.value() * kArcsec);
     CHECK(rig.get(v::kRigidityRotvecNorm) == direct.value().norm() * kArcsec);
   }
-  // Outside the measured range: refused, or clamped to the end pose on request.
-  rig.put(v::kArgA, 95.0);
-  CHECK(rig.run(9833) == 3.0);
-  CHECK(rig.get(v::kError) == static_cast<double>(Status::kArgumentOutOfRange));
+  // Exactly at the first and the last pose: inside the range, that pose's own
+  // rotation vector bit for bit, whatever the blend.
+  for (const double blend : {0.0, 1.0, 2.0, 3.0}) {
+    for (const auto& [a, q] : {std::pair{-90.0, 1}, std::pair{90.0, 7}}) {
+      rig.put(v::kArgA, a);
+      rig.put(v::kArgQ, blend);
+      rig.put(v::kArgR, 0.0);
+      REQUIRE(rig.run(9833) == 2.0);
+      const Vec3 at_pose = rig.out3(v::kRigidityRotvecX);
+      CHECK(at_pose == pose(rig, q, true).rotvec_arcsec);
+    }
+  }
+  // Outside the measured range, one ulp or more: refused with its own code,
+  // the outputs of the last query kept; clamped to the end pose on request.
+  rig.put(v::kArgA, 45.0);
+  rig.put(v::kArgQ, 0.0);
+  rig.put(v::kArgR, 0.0);
+  REQUIRE(rig.run(9833) == 2.0);
+  const Vec3 kept = rig.out3(v::kRigidityRotvecX);
+  for (const double a : {std::nextafter(90.0, 100.0), std::nextafter(-90.0, -100.0), 95.0}) {
+    rig.put(v::kArgA, a);
+    rig.put(v::kArgR, 0.0);
+    CHECK(rig.run(9833) == 3.0);
+    CHECK(rig.get(v::kError) == static_cast<double>(Status::kOutsideMeasuredRange));
+    CHECK(rig.out3(v::kRigidityRotvecX) == kept);
+  }
   rig.put(v::kArgA, 95.0);
   rig.put(v::kArgR, 1.0);
   REQUIRE(rig.run(9833) == 2.0);
@@ -229,6 +252,55 @@ TEST_CASE("9833 and the direct call read the stored table, across a restart", "[
   const auto again = m::rigidity::compensation_rad(second.methods().rigidity, 90.0, core::Blend::kLinear, false);
   REQUIRE(again.ok());
   CHECK(again.value() * kArcsec == clamped);
+}
+
+TEST_CASE("a stored table that fails its CRC or does not decode says so, not no_table", "[rigidity][flow]") {
+  const sim::CradleMachine mc = machine(true);
+  Rig rig;
+  REQUIRE(measure_and_build(rig, mc, sim::kDefaultBallSigmaMm, 4, true) == 2.0);
+  std::size_t index = 0;
+  while (m::kRecordSpecs[index].key != m::record_key(m::RecordKey::kRigidityTable)) ++index;
+  // The first save of the table went to slot 0, its only copy.
+  const std::size_t slot = m::KeyedStore::slot_offset(m::kRecordSpecs, index, 0);
+  const auto expect_everywhere = [](Rig& r, Status status) {
+    r.put(v::kArgA, 10.0);
+    CHECK(r.run(9833) == 3.0);
+    CHECK(r.get(v::kError) == static_cast<double>(status));
+    r.put(v::kArgQ, 1.0);
+    r.put(v::kArgR, 1.0);
+    CHECK(r.run(9834) == 3.0);
+    CHECK(r.get(v::kError) == static_cast<double>(status));
+    r.put(v::kArgA, 10.0);
+    CHECK(r.run(9835) == 3.0);
+    CHECK(r.get(v::kError) == static_cast<double>(status));
+    CHECK(m::rigidity::compensation_rad(r.module.methods().rigidity, 10.0, core::Blend::kLinear, false).status() ==
+          status);
+  };
+
+  SECTION("a bit lost in the stored table: table_damaged until a table is stored again") {
+    rig.nv[slot + m::KeyedStore::kHeaderBytes + 100] ^= 0x04;
+    Rig second;
+    second.nv = rig.nv;
+    REQUIRE(second.module.start() == Status::kOk);
+    expect_everywhere(second, Status::kTableDamaged);
+    REQUIRE(measure_and_build(second, mc, sim::kDefaultBallSigmaMm, 4, true) == 2.0);
+    second.put(v::kArgA, 10.0);
+    CHECK(second.run(9833) == 2.0);
+  }
+  SECTION("a record with a good CRC whose table does not decode: table_invalid") {
+    Rig second;
+    std::uint8_t scratch[m::kStoreScratchBytes];
+    m::KeyedStore store(second.storage, m::kRecordSpecs, m::kRecordCount, scratch, sizeof scratch);
+    REQUIRE(store.mount() == Status::kOk);
+    const std::uint8_t garbage[64] = {1, 2, 3};
+    REQUIRE(store.save(m::record_key(m::RecordKey::kRigidityTable), garbage, sizeof garbage) == Status::kOk);
+    REQUIRE(second.module.start() == Status::kOk);
+    expect_everywhere(second, Status::kTableInvalid);
+  }
+  SECTION("never stored: no_table") {
+    Rig second;
+    expect_everywhere(second, Status::kNoTable);
+  }
 }
 
 TEST_CASE("a failed build stores nothing and keeps the live table", "[rigidity][flow]") {

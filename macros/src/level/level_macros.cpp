@@ -45,7 +45,7 @@ MacroStep level_and_report(MacroContext& ctx, const core::Vec3* points, std::siz
   } else if (!ctx.methods().rigidity.live.read([&](const core::RigidityTable& table) {
                r = core::level_on_table(input, read_config(ctx), table, core::Blend::kCubicNotAKnot, false);
              })) {
-    return done(core::Status::kNoTable);
+    return done(ctx.methods().rigidity.missing);
   }
   if (!r.ok()) return done(r.status());
   const core::LevelResult& out = r.value();

@@ -45,17 +45,23 @@ void out_vec3(MacroContext& ctx, const core::Vec3& v, double scale) {
 }  // namespace
 
 core::Result<core::Vec3> compensation_rad(const State& state, double a_deg, core::Blend blend, bool clamp) {
-  core::Result<core::Vec3> r = core::Status::kNoTable;
+  core::Result<core::Vec3> r = state.missing;
   if (!state.live.read([&](const core::RigidityTable& t) { r = core::rigidity_rotvec_rad(t, a_deg, blend, clamp); })) {
-    return core::Status::kNoTable;
+    return state.missing;
   }
   return r;
 }
 
 void on_record(State& state, const std::uint8_t* bytes, std::size_t length) {
-  if (length == 0 || core::decode_rigidity_table(bytes, length, state.decoded) != core::Status::kOk) return;
+  if (length == 0) return;
+  if (core::decode_rigidity_table(bytes, length, state.decoded) != core::Status::kOk) {
+    state.missing = core::Status::kTableInvalid;
+    return;
+  }
   state.live.publish(state.decoded);
 }
+
+void on_damaged(State& state) { state.missing = core::Status::kTableDamaged; }
 
 void on_committed(State& state) {
   if (!state.staged) return;  // a record 9832 did not stage (an integrator's macro)
@@ -167,9 +173,9 @@ MacroStep run_pose(MacroContext& ctx) {
   bool stored = false;
   if (!flag_of(ctx.in<var::kArgR>(), stored)) return done(core::Status::kArgumentOutOfRange);
   if (!stored) return state.built ? report_pose(ctx, state.builder.table()) : done(core::Status::kNoTable);
-  MacroStep result = done(core::Status::kNoTable);
+  MacroStep result = done(state.missing);
   if (!state.live.read([&](const core::RigidityTable& t) { result = report_pose(ctx, t); })) {
-    return done(core::Status::kNoTable);
+    return done(state.missing);
   }
   return result;
 }
@@ -182,11 +188,12 @@ MacroStep run_convert(MacroContext& ctx) {
   }
   const core::Vec3 direction(ctx.in<var::kArgI>(), ctx.in<var::kArgJ>(), ctx.in<var::kArgK>());
   const core::Vec3 point(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
-  core::Result<core::RigidTransform> r = core::Status::kNoTable;
-  if (!ctx.methods().rigidity.live.read([&](const core::RigidityTable& t) {
+  const State& state = ctx.methods().rigidity;
+  core::Result<core::RigidTransform> r = state.missing;
+  if (!state.live.read([&](const core::RigidityTable& t) {
         r = core::rigidity_correction(t, ctx.in<var::kArgA>(), ctx.in<var::kArgC>(), blend, false);
       })) {
-    return done(core::Status::kNoTable);
+    return done(state.missing);
   }
   if (!r.ok()) return done(r.status());
   const core::RigidTransform actual_T_theory = inverse ? r.value().inverse() : r.value();

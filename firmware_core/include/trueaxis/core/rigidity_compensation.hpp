@@ -7,7 +7,7 @@
 //     angles in degrees, rotation vectors in radians in machine coordinates.
 //  2. Range. A query at commanded A inside [A_1, A_m] (the table's first and
 //     last poses, both included) interpolates between the bracketing poses k,
-//     k + 1. Outside it the query is refused (kArgumentOutOfRange) unless
+//     k + 1. Outside it the query is refused (kOutsideMeasuredRange) unless
 //     `clamp`, which takes the nearest end pose's values. At a pose's own A
 //     every blend returns that pose's values exactly (bit for bit).
 //  3. Blends of the rotation vector rv, w = (A - A_k) / (A_{k+1} - A_k):
@@ -47,8 +47,8 @@
 //     inverse() maps back.
 //
 // Status codes: kNoTable (pose_count below 2 or above kMaxAPoses), kNotFinite
-// (A or C), kArgumentOutOfRange (A outside the range without clamp; an unknown
-// blend).
+// (A or C), kOutsideMeasuredRange (A outside the range without clamp),
+// kArgumentOutOfRange (an unknown blend).
 #pragma once
 
 #include <cstdint>

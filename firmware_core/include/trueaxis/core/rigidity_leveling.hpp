@@ -31,11 +31,11 @@
 //  6. Range: the iterations use the table clamped; a solution whose A lies
 //     outside the table's A range is unreachable unless `clamp` (then the end
 //     poses' corrections hold there). The probe pose is subject to the same rule
-//     (kArgumentOutOfRange).
+//     (kOutsideMeasuredRange).
 //
 // Status codes: those of level_face (kConfigInvalid, kNotFinite, the plane fit's,
 // kPointsTooClose, kOrientationAmbiguous), of rigidity_frames (kNoTable,
-// kArgumentOutOfRange), kNoConvergence (Newton did not reach the tolerance in
+// kOutsideMeasuredRange), kNoConvergence (Newton did not reach the tolerance in
 // kCalibratedLevelMaxIterations), kUnreachable (neither solution reachable).
 #pragma once
 

@@ -28,6 +28,7 @@ enum class Status : std::uint16_t {
   kArgumentOutOfRange = 103,  // a macro argument is outside its documented range
   kTooFewSamples = 104,    // a compute macro ran on a session with fewer samples than it needs
   kMissingGroup = 105,     // a group of points the method needs was not given
+  kOutsideMeasuredRange = 106,  // a query outside the range a table was measured over, not clamped
 
   kPointsCoincident = 200,  // the points do not span a line
   kPointsCollinear = 201,   // the points do not span a plane
@@ -58,6 +59,7 @@ enum class Status : std::uint16_t {
   kSessionFull = 402,       // a sample was added to a session at its capacity
   kTableLocked = 403,       // a macro would store a table while configuration is locked
   kNoTable = 404,           // a query needs a stored table and there is none
+  kTableDamaged = 405,      // the stored table failed its CRC at start and was not loaded
 };
 
 struct StatusInfo {
@@ -79,6 +81,9 @@ inline constexpr StatusInfo kStatusTable[] = {
      "The session holds fewer samples than the computation needs: add more, then compute again."},
     {Status::kMissingGroup, "missing_group",
      "A group of points the method needs (a plane, a pass or a circle) was not measured."},
+    {Status::kOutsideMeasuredRange, "outside_measured_range",
+     "The query is outside the range the table was measured over: query inside it, or ask to "
+     "clamp to the nearest measured pose (R = 1)."},
     {Status::kPointsCoincident, "points_coincident",
      "The probed points coincide: they do not span a line."},
     {Status::kPointsCollinear, "points_collinear",
@@ -143,6 +148,9 @@ inline constexpr StatusInfo kStatusTable[] = {
     {Status::kTableLocked, "table_locked",
      "Calibration tables are stored only after the unlock code is written to #9004; nothing was stored."},
     {Status::kNoTable, "no_table", "There is no stored calibration table for this query."},
+    {Status::kTableDamaged, "table_damaged",
+     "The stored calibration table failed its integrity check (CRC) at start and was not loaded: "
+     "calibrate and store it again."},
 };
 
 constexpr bool status_table_is_sorted() {

@@ -140,9 +140,17 @@ class KeyedStore {
   // The sequence of the key's newest valid slot; 0 for a key without one or unknown.
   std::uint32_t sequence(std::uint8_t key) const;
 
+  // True when the last mount found no valid slot of the key but a slot whose
+  // header names it (magic, key, layout version and length right) and whose CRC
+  // fails: a record was written there and is damaged (a bit lost, or its save cut
+  // before any record of the key was complete). load() treats the key as empty
+  // and save() replaces it as usual; this only lets the owner tell "damaged"
+  // from "never stored". False for an unknown or unmounted key.
+  bool damaged(std::uint8_t key) const;
+
  private:
-  enum class KeyState : std::uint8_t { kUnmounted, kEmpty, kValid };
-  enum class SlotState : std::uint8_t { kValid, kInvalid, kUnreadable };
+  enum class KeyState : std::uint8_t { kUnmounted, kEmpty, kDamaged, kValid };
+  enum class SlotState : std::uint8_t { kValid, kInvalid, kCrcFailed, kUnreadable };
   struct KeyInfo {
     KeyState state = KeyState::kUnmounted;
     std::uint8_t newest_slot = 1;  // so the first save of a key goes to slot 0

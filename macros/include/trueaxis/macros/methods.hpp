@@ -68,6 +68,12 @@ inline void on_table_loaded(Methods& methods, RecordKey key, const std::uint8_t*
   if (key == RecordKey::kRigidityTable) rigidity::on_record(methods.rigidity, bytes, length);
 }
 
+// A method's table record failed its CRC at start() (KeyedStore::damaged): its
+// owner has no live table and says kTableDamaged, not kNoTable, to a query.
+inline void on_table_damaged(Methods& methods, RecordKey key) {
+  if (key == RecordKey::kRigidityTable) rigidity::on_damaged(methods.rigidity);
+}
+
 // A table a macro staged has just been committed: its owner makes the table it
 // encoded the live one (bit for bit what decoding the record gives, without
 // the cost of decoding it inside the commit's step).

@@ -19,8 +19,10 @@
 //  spline with not-a-knot ends: more exact near the ends of the range for a
 //  smooth law; rigidity_compensation.hpp), R = #18 (1 clamps an A
 //  outside the measured range to the nearest pose, 0 refuses it). Out: #100..#102
-//  (arcsec, machine frame), #103 norm. kNoTable without a stored table;
-//  kArgumentOutOfRange for a blend or R not in its set, or A outside the range.
+//  (arcsec, machine frame), #103 norm. Without a stored table kNoTable (none
+//  stored), kTableDamaged (its record failed the CRC at start) or kTableInvalid
+//  (it did not decode); kArgumentOutOfRange for a blend or R not in its set;
+//  kOutsideMeasuredRange for A outside the measured range with R = 0.
 // Macro 9834: pose Q = #17 (1..n, in A order) of the table: R = #18 0 the last
 //  table built since start, 1 the stored one. Out: #100..#117 (kPoseOutputs).
 // Macro 9835: convert a point X, Y, Z (#24..#26) and a direction I, J, K
@@ -48,19 +50,27 @@ struct State {
   bool built = false;   // builder.table() holds the table of the last 9832 that succeeded
   bool staged = false;  // 9832 staged builder.table() for the commit now under way
   LiveTable<core::RigidityTable> live;   // the stored table the controller queries
+  // Why `live` holds no table: kNoTable (none stored), kTableDamaged (the stored
+  // record failed its CRC at start) or kTableInvalid (it did not decode).
+  core::Status missing = core::Status::kNoTable;
   core::RigidityTable decoded;           // where a stored record is decoded before it goes live
 };
 
 // The direct call for the controller's real-time task: the rotation vector
 // (rad, machine frame) at commanded A from the live table; const, no
-// allocation, no lock (live_table.hpp). kNoTable when none is stored; the
-// statuses of core::rigidity_rotvec_rad otherwise.
+// allocation, no lock (live_table.hpp). Without a live table State::missing
+// (kNoTable, kTableDamaged or kTableInvalid); the statuses of
+// core::rigidity_rotvec_rad otherwise.
 [[nodiscard]] core::Result<core::Vec3> compensation_rad(const State& state, double a_deg, core::Blend blend,
                                                         bool clamp);
 
 // A stored rigidity record (at start) becomes the live table; a malformed one
-// is ignored (the controller then has no table).
+// does not (the controller then has no table, and its queries say kTableInvalid).
 void on_record(State& state, const std::uint8_t* bytes, std::size_t length);
+
+// The stored rigidity record failed its CRC at start: no live table, and the
+// queries say kTableDamaged until a table is stored again.
+void on_damaged(State& state);
 
 // The table 9832 built and staged has been committed: the macro succeeds, its
 // table becomes the last built one and the live one.
