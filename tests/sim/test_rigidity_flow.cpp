@@ -390,3 +390,27 @@ TEST_CASE("9834 R = 0 reports only a table whose 9832 succeeded", "[rigidity][fl
   CHECK(rig.run(9834) == 3.0);
   CHECK(rig.get(v::kError) == static_cast<double>(Status::kNoTable));
 }
+
+TEST_CASE("the rigidity session takes exactly its capacity and refuses the next sample", "[rigidity][flow]") {
+  Rig rig;
+  REQUIRE(rig.run(9830) == 2.0);
+  CHECK(rig.get(v::kRigiditySessionCount) == 0.0);
+  CHECK(rig.get(v::kRigiditySessionCapacity) == static_cast<double>(m::rigidity::kSessionCapacity));
+  const auto add = [&](std::size_t k) {
+    const double ac[3] = {static_cast<double>(k / 32), 0.0, 10.0 * static_cast<double>(k % 32)};
+    const double xyz[3] = {200.0, static_cast<double>(k), 50.0};
+    REQUIRE(rig.module.write(v::kArgA, 3, ac) == F::kNone);
+    REQUIRE(rig.module.write(v::kArgX, 3, xyz) == F::kNone);
+    return rig.run(9831);
+  };
+  for (std::size_t k = 0; k < m::rigidity::kSessionCapacity; ++k) REQUIRE(add(k) == 2.0);
+  CHECK(rig.get(v::kRigiditySessionCount) == 512.0);
+  CHECK(add(512) == 3.0);
+  CHECK(rig.get(v::kError) == static_cast<double>(Status::kSessionFull));
+  CHECK(rig.get(v::kRigiditySessionCount) == 512.0);  // the outputs of the last success
+  CHECK(rig.module.methods().rigidity.samples.size() == m::rigidity::kSessionCapacity);
+  REQUIRE(rig.run(9830) == 2.0);
+  CHECK(rig.get(v::kRigiditySessionCount) == 0.0);
+  CHECK(add(0) == 2.0);
+  CHECK(rig.get(v::kRigiditySessionCount) == 1.0);
+}
