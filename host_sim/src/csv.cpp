@@ -88,7 +88,11 @@ CsvResult parse_csv(const std::string& name, const std::string& text, const std:
 
 CsvResult read_csv(const std::string& path, const std::vector<CsvColumn>& columns) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) return fail(path, 0, "cannot be read");
+  if (!file) {  // no line to name: "FILE: what"
+    CsvResult r;
+    r.error = path + ": cannot be read";
+    return r;
+  }
   std::ostringstream text;
   text << file.rdbuf();
   return parse_csv(path, text.str(), columns);

@@ -41,6 +41,11 @@ TEST_CASE("names the physical line of a bad sample", "[csv]") {
     const auto r = parse_csv("f.csv", "#x\na_deg,x_mm\n0,1\n", kCols);
     CHECK(r.error == "f.csv:2: the header has no column 'c_deg'");
   }
+  SECTION("a file that cannot be read is named without a line") {
+    const auto r = trueaxis::sim::read_csv("/nonexistent/dir/samples.csv", kCols);
+    CHECK_FALSE(r.ok);
+    CHECK(r.error == "/nonexistent/dir/samples.csv: cannot be read");
+  }
   SECTION("no header at all") {
     CHECK(parse_csv("f.csv", "# only a comment\n", kCols).error == "f.csv:1: no header row");
     CHECK(parse_csv("f.csv", "", kCols).error == "f.csv:1: no header row");

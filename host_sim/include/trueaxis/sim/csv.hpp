@@ -10,8 +10,8 @@
 //  2. Blank lines (only spaces, tabs, CR) are skipped like comments.
 //  3. A field is a number when strtod consumes all of it but surrounding spaces
 //     and the value is finite; "nan", "inf", "", "1.5x" are errors.
-//  4. Errors are one line, "FILE:LINE: what", ready for stderr: a missing file,
-//     no header, a required column absent (named at the header's line), a row
+//  4. Errors are one line, "FILE:LINE: what", ready for stderr (a file that
+//     cannot be read has no line: "FILE: cannot be read"): no header, a required column absent (named at the header's line), a row
 //     with too few fields, a bad number (with the column's name).
 #pragma once
 
