@@ -77,21 +77,10 @@ Status check_ids(const GantryInput& in) {
   return Status::kOk;
 }
 
-Status compute_global(const GantryInput& in, const GantryOptions& opt, GlobalFrame& out) {
-  PlaneEstimate bed;
-  PlaneEstimate side_1;
-  PlaneEstimate side_2;
-  AxisEstimate gantry;
-  Status status = take(fit_plane_group(in.bed, opt.noise), bed);
-  if (status != Status::kOk) return status;
-  bed = orient_plane(bed, Vec3::UnitZ());
-  if ((status = take(fit_plane_group(in.side_1, opt.noise), side_1)) != Status::kOk) return status;
-  if ((status = take(fit_plane_group(in.side_2, opt.noise), side_2)) != Status::kOk) return status;
-  if (in.gantry_pass_count > kMaxPasses) return Status::kTooManyPoints;
-  if ((status = take(fit_axis_passes(in.gantry_passes, in.gantry_pass_count, opt.noise), gantry)) != Status::kOk) {
-    return status;
-  }
-
+// S1 from the four fits, with its uncertainty (convention 5).
+Status global_from_fits(const PlaneEstimate& bed, const PlaneEstimate& side_1, const PlaneEstimate& side_2,
+                        const AxisEstimate& gantry, GlobalFrame& out) {
+  Status status = Status::kOk;
   const Vec3 zero = Vec3::Zero();
   const Plane3 p_bed = perturbed_plane(bed, zero);
   const Plane3 p_1 = perturbed_plane(side_1, zero);
@@ -145,23 +134,12 @@ CircleSummary summarise_circle(const CircleFit& fit, const Vec3& oriented_normal
   return s;
 }
 
-Status compute_sub(const SubMachineInput& in, const GantryOptions& opt, const GlobalFrame& global,
-                   SubMachineFrame& out) {
-  AxisEstimate axes[3];
+// S2-S4 of one sub-machine from its five fits, with its uncertainty
+// (convention 5) and diagnostics.
+Status sub_from_fits(const SubMachineInput& in, const GantryOptions& opt, const GlobalFrame& global,
+                     const AxisEstimate axes[3], const CircleFit& c_fit, const CircleFit& a_fit,
+                     SubMachineFrame& out) {
   Status status = Status::kOk;
-  for (int k = 0; k < 3; ++k) {
-    const std::size_t count = in.pass_count[k];
-    if (count > kMaxPasses) return Status::kTooManyPoints;
-    if ((status = take(fit_axis_passes(in.passes[k], count, opt.noise), axes[k])) != Status::kOk) return status;
-  }
-  CircleFit c_fit;
-  CircleFit a_fit;
-  if ((status = take(fit_circle_group(in.c_circle, opt.noise, opt.min_arc_deg), c_fit)) != Status::kOk) {
-    return status;
-  }
-  if ((status = take(fit_circle_group(in.a_circle, opt.noise, opt.min_arc_deg), a_fit)) != Status::kOk) {
-    return status;
-  }
   const Axis master = longest_stroke(axes);
   const Vec3 gantry_x = global.tracker_T_global.R.col(0);
   Vec3 dirs[3] = {axes[0].direction, axes[1].direction, axes[2].direction};
@@ -235,25 +213,113 @@ Status compute_sub(const SubMachineInput& in, const GantryOptions& opt, const Gl
   return Status::kOk;
 }
 
-Status compute_all(const GantryInput& input, const GantryOptions& options, GantryFrames& out) {
-  Status status = check_options(options);
-  if (status != Status::kOk) return status;
-  if ((status = check_ids(input)) != Status::kOk) return status;
-  if ((status = compute_global(input, options, out.global)) != Status::kOk) return status;
-  for (std::size_t i = 0; i < input.sub_machine_count; ++i) {
-    status = compute_sub(input.sub_machines[i], options, out.global, out.sub_machines[i]);
-    if (status != Status::kOk) return status;
-  }
-  out.sub_machine_count = input.sub_machine_count;
-  return Status::kOk;
-}
-
 }  // namespace
 
+void GantryBuilder::start(const GantryInput& input, const GantryOptions& options, GantryFrames& out) {
+  in_ = &input;
+  options_ = options;
+  out_ = &out;
+  out.sub_machine_count = 0;
+  phase_ = Phase::kCheck;
+  sub_ = 0;
+  steps_ = 0;
+  failed_id_ = 0;
+}
+
+GantryStep GantryBuilder::fail(Status status) {
+  phase_ = Phase::kFailed;
+  out_->sub_machine_count = 0;
+  return {status, false};
+}
+
+GantryStep GantryBuilder::step() {
+  if (phase_ == Phase::kIdle || phase_ == Phase::kDone || phase_ == Phase::kFailed) {
+    return {phase_ == Phase::kDone ? Status::kOk : Status::kArgumentOutOfRange, false};
+  }
+  ++steps_;
+  const GantryInput& in = *in_;
+  const SubMachineInput& sub = in.sub_machines[sub_];
+  Status status = Status::kOk;
+  switch (phase_) {
+    case Phase::kCheck:
+      if ((status = check_options(options_)) != Status::kOk) return fail(status);
+      if ((status = check_ids(in)) != Status::kOk) return fail(status);
+      if (in.gantry_pass_count > kMaxPasses) return fail(Status::kTooManyPoints);
+      phase_ = Phase::kBed;
+      return {Status::kOk, true};
+    case Phase::kBed:
+      if ((status = take(fit_plane_group(in.bed, options_.noise), bed_)) != Status::kOk) return fail(status);
+      bed_ = orient_plane(bed_, Vec3::UnitZ());
+      phase_ = Phase::kSide1;
+      return {Status::kOk, true};
+    case Phase::kSide1:
+      if ((status = take(fit_plane_group(in.side_1, options_.noise), side_1_)) != Status::kOk) return fail(status);
+      phase_ = Phase::kSide2;
+      return {Status::kOk, true};
+    case Phase::kSide2:
+      if ((status = take(fit_plane_group(in.side_2, options_.noise), side_2_)) != Status::kOk) return fail(status);
+      phase_ = Phase::kGantry;
+      return {Status::kOk, true};
+    case Phase::kGantry:
+      status = take(fit_axis_passes(in.gantry_passes, in.gantry_pass_count, options_.noise), gantry_);
+      if (status != Status::kOk) return fail(status);
+      phase_ = Phase::kGlobal;
+      return {Status::kOk, true};
+    case Phase::kGlobal:
+      if ((status = global_from_fits(bed_, side_1_, side_2_, gantry_, out_->global)) != Status::kOk) {
+        return fail(status);
+      }
+      phase_ = Phase::kAxisX;
+      return {Status::kOk, true};
+    case Phase::kAxisX:
+    case Phase::kAxisY:
+    case Phase::kAxisZ: {
+      const int k = static_cast<int>(phase_) - static_cast<int>(Phase::kAxisX);
+      failed_id_ = sub.id;
+      if (sub.pass_count[k] > kMaxPasses) return fail(Status::kTooManyPoints);
+      status = take(fit_axis_passes(sub.passes[k], sub.pass_count[k], options_.noise), axes_[k]);
+      if (status != Status::kOk) return fail(status);
+      phase_ = static_cast<Phase>(static_cast<int>(phase_) + 1);
+      return {Status::kOk, true};
+    }
+    case Phase::kCircleC:
+      failed_id_ = sub.id;
+      status = take(fit_circle_group(sub.c_circle, options_.noise, options_.min_arc_deg), c_fit_);
+      if (status != Status::kOk) return fail(status);
+      phase_ = Phase::kCircleA;
+      return {Status::kOk, true};
+    case Phase::kCircleA:
+      failed_id_ = sub.id;
+      status = take(fit_circle_group(sub.a_circle, options_.noise, options_.min_arc_deg), a_fit_);
+      if (status != Status::kOk) return fail(status);
+      phase_ = Phase::kSub;
+      return {Status::kOk, true};
+    case Phase::kSub:
+      failed_id_ = sub.id;
+      status = sub_from_fits(sub, options_, out_->global, axes_, c_fit_, a_fit_, out_->sub_machines[sub_]);
+      if (status != Status::kOk) return fail(status);
+      failed_id_ = 0;
+      if (++sub_ < in.sub_machine_count) {
+        phase_ = Phase::kAxisX;
+        return {Status::kOk, true};
+      }
+      out_->sub_machine_count = in.sub_machine_count;
+      phase_ = Phase::kDone;
+      return {Status::kOk, false};
+    default:
+      return fail(Status::kArgumentOutOfRange);
+  }
+}
+
 Status compute_gantry_frames(const GantryInput& input, const GantryOptions& options, GantryFrames& out) {
-  const Status status = compute_all(input, options, out);
-  if (status != Status::kOk) out = GantryFrames();
-  return status;
+  GantryBuilder builder;
+  builder.start(input, options, out);
+  GantryStep s;
+  do {
+    s = builder.step();
+  } while (s.more);
+  if (s.status != Status::kOk) out = GantryFrames();
+  return s.status;
 }
 
 }  // namespace trueaxis::core

@@ -43,28 +43,6 @@ void pose_fields(Io& io, RigidityPose& p, double& count) {
   io(count);
 }
 
-struct Writer {
-  std::uint8_t* p;
-  void operator()(double v) {
-    put_f64(p, v);
-    p += 8;
-  }
-  void operator()(const Vec3& v) {
-    for (int i = 0; i < 3; ++i) (*this)(v(i));
-  }
-};
-
-struct Reader {
-  const std::uint8_t* p;
-  void operator()(double& v) {
-    v = get_f64(p);
-    p += 8;
-  }
-  void operator()(Vec3& v) {
-    for (int i = 0; i < 3; ++i) (*this)(v(i));
-  }
-};
-
 bool unit(const Vec3& v) { return std::abs(v.norm() - 1.0) <= kCodecUnitTolerance; }
 
 bool nonnegative(const Vec3& v) { return v.minCoeff() >= 0.0; }
@@ -80,7 +58,7 @@ std::size_t encode_rigidity_table(const RigidityTable& t, std::uint8_t* out, std
   put_u16(out + 2, static_cast<std::uint16_t>(m));
   put_u16(out + 4, static_cast<std::uint16_t>(t.reference));
   put_u16(out + 6, 0);
-  Writer w{out + 8};
+  F64Writer w{out + 8};
   Vec3 a_point = t.a_axis_point_mm;
   Vec3 a_dir = t.a_axis_direction;
   double offset = t.c_to_a_offset_mm;
@@ -109,7 +87,7 @@ Status decode_rigidity_table(const std::uint8_t* bytes, std::size_t size, Rigidi
   }
 
   // Check every value before `out` is touched.
-  Reader r{bytes + 8};
+  F64Reader r{bytes + 8};
   Vec3 a_point;
   Vec3 a_dir;
   double offset = 0.0;
@@ -144,7 +122,7 @@ Status decode_rigidity_table(const std::uint8_t* bytes, std::size_t size, Rigidi
   for (std::size_t i = m; i < kMaxAPoses; ++i) out.poses[i] = RigidityPose{};
   out.pose_count = m;
   out.reference = reference;
-  Reader fill{bytes + 8};
+  F64Reader fill{bytes + 8};
   header_fields(fill, out.a_axis_point_mm, out.a_axis_direction, out.c_to_a_offset_mm, out.c_to_a_offset_sigma_mm,
                 out.c_to_a_squareness_rad, out.c_to_a_squareness_sigma_rad);
   for (std::size_t i = 0; i < m; ++i) {

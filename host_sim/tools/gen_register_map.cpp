@@ -58,6 +58,23 @@ struct SessionDoc {
 };
 const SessionDoc kSessions[] = {
     {"level", m::level::kSessionCapacity, "X, Y, Z (#24..#26, mm, machine frame)", 9812, 9813, 9814},
+    {"rigidity", m::rigidity::kSessionCapacity, "A, C (#1, #3, deg), ball centre X, Y, Z (#24..#26, mm)", 9830, 9831,
+     9832},
+    {"gantry", m::gantry::kSessionCapacity, "group T, Q, D (#20, #17, #7), point X, Y, Z (#24..#26, mm, tracker frame)",
+     9820, 9821, 9823},
+};
+
+// The gantry's group capacities (INTERFACE.md: "limited by capacities that the map states").
+struct GroupCapacity {
+  const char* group;
+  std::size_t points;
+};
+const GroupCapacity kGantryGroups[] = {
+    {"bed", m::gantry::kMaxPlanePoints},      {"side_1", m::gantry::kMaxPlanePoints},
+    {"side_2", m::gantry::kMaxPlanePoints},   {"gantry_K", m::gantry::kMaxPassPoints},
+    {"spN_x_K", m::gantry::kMaxPassPoints},   {"spN_y_K", m::gantry::kMaxPassPoints},
+    {"spN_z_K", m::gantry::kMaxPassPoints},   {"spN_c", m::gantry::kMaxCirclePoints},
+    {"spN_a", m::gantry::kMaxCirclePoints},
 };
 
 const char* var_name(std::uint16_t number) {
@@ -136,6 +153,14 @@ void print_json() {
                     "\"compute\": %u}",
                     sd.capacity, sd.sample, sd.clear, sd.add, sd.compute);
       }
+    }
+    if (std::strcmp(b.method, "gantry") == 0) {
+      std::printf(",\n     \"group_capacity\": {");
+      for (std::size_t i = 0; i < sizeof kGantryGroups / sizeof kGantryGroups[0]; ++i) {
+        std::printf("%s\"%s\": %zu", i == 0 ? "" : ", ", kGantryGroups[i].group, kGantryGroups[i].points);
+      }
+      std::printf("}, \"passes\": %zu, \"sub_machines\": %zu", static_cast<std::size_t>(m::gantry::kMaxPasses),
+                  trueaxis::core::kMaxSubMachines);
     }
     std::printf("}");
     first = false;
@@ -221,6 +246,15 @@ void print_markdown() {
                       sd.clear, sd.add, sd.compute);
         session = buf;
       }
+    }
+    if (std::strcmp(b.method, "gantry") == 0) {
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "; at most %zu points per plane, %zu per pass, %zu per circle, %zu passes per axis",
+                    static_cast<std::size_t>(m::gantry::kMaxPlanePoints),
+                    static_cast<std::size_t>(m::gantry::kMaxPassPoints),
+                    static_cast<std::size_t>(m::gantry::kMaxCirclePoints),
+                    static_cast<std::size_t>(m::gantry::kMaxPasses));
+      session += buf;
     }
     std::printf("| %s | #%u..#%u | #%u..#%u | %s | %s |\n", b.method, b.config_first, b.config_last, b.data_first,
                 b.data_last, method_built(b.method) ? "yes" : "reserved", session.c_str());

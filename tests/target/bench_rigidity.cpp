@@ -17,7 +17,7 @@
 
 #include <Eigen/Geometry>
 
-#include "bench_support.hpp"
+#include "bench_module.hpp"
 #include "trueaxis/hal/mps2/board_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
 
@@ -28,7 +28,9 @@ namespace core = trueaxis::core;
 namespace mps2 = trueaxis::hal::mps2;
 namespace var = trueaxis::macros::var;
 using trueaxis::bench::print;
+using trueaxis::bench::run;
 using trueaxis::bench::ticks_to_instructions;
+using trueaxis::bench::write_n;
 
 constexpr std::uint32_t kQueryBound = 1500;
 constexpr int kMaxPoses = static_cast<int>(core::kMaxAPoses);
@@ -40,25 +42,6 @@ core::Vec3 ball(double a_deg, double c_deg) {
   const Eigen::AngleAxisd rd(droop, core::Vec3::UnitX());
   const Eigen::AngleAxisd rc(core::deg_to_rad(c_deg), core::Vec3::UnitZ());
   return ra * (rd * (rc * core::Vec3(200.0, 0.0, 50.0)));
-}
-
-bool write_n(m::Module& mod, std::uint16_t first, std::uint16_t n, const double* v) {
-  return mod.write(first, n, v) == m::AccessFault::kNone;
-}
-
-// Runs a macro to its end; the longest step (instructions) and the step count.
-bool run(m::Module& mod, const mps2::SysTickClock& clock, std::uint64_t overhead, double macro,
-         std::uint64_t& longest, std::uint64_t& steps) {
-  if (!write_n(mod, var::kCmd, 1, &macro)) return false;
-  longest = steps = 0;
-  while (mod.busy()) {
-    const std::uint64_t t0 = clock.ticks();
-    mod.step();
-    const std::uint64_t n = ticks_to_instructions(clock.ticks() - t0 - overhead);
-    longest = n > longest ? n : longest;
-    ++steps;
-  }
-  return mod.value(var::kStatus) == static_cast<double>(m::MacroState::kDone);
 }
 
 }  // namespace

@@ -39,4 +39,31 @@ inline double get_f64(const std::uint8_t* p) {
   return value;
 }
 
+// Cursors over a record's reals, for codecs that list their fields once and run
+// the list in both directions: `io(x)` puts or gets a double, or each
+// coefficient of a fixed-size vector in index order.
+struct F64Writer {
+  std::uint8_t* p;
+  void operator()(double v) {
+    put_f64(p, v);
+    p += 8;
+  }
+  template <typename V>
+  void operator()(const V& v) {
+    for (int i = 0; i < static_cast<int>(v.size()); ++i) (*this)(static_cast<double>(v(i)));
+  }
+};
+
+struct F64Reader {
+  const std::uint8_t* p;
+  void operator()(double& v) {
+    v = get_f64(p);
+    p += 8;
+  }
+  template <typename V>
+  void operator()(V& v) {
+    for (int i = 0; i < static_cast<int>(v.size()); ++i) (*this)(v(i));
+  }
+};
+
 }  // namespace trueaxis::core

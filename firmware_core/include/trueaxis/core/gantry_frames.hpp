@@ -68,7 +68,8 @@
 // repeated, a negative swing length, a zero tool direction, a bad option);
 // kNotFinite; kBedNotLevel, kPlanesDegenerate, kAxesParallel,
 // kToolDirectionAmbiguous, kAxisOppositeGantry (conventions 1-3). On failure
-// `out` is reset to an empty GantryFrames (sub_machine_count 0), never a half result.
+// compute_gantry_frames resets `out` to an empty GantryFrames and GantryBuilder
+// leaves out.sub_machine_count at 0: never a half result.
 #pragma once
 
 #include <cstddef>
@@ -185,9 +186,55 @@ struct SubGeometry {
                                                  const Vec3& tool_direction, const Line3& a_axis, double swing_mm,
                                                  const Vec3& gantry_x, double min_ac_sin);
 
-// The whole of M2: fits, frames, diagnostics, uncertainties.
+// The whole of M2: fits, frames, diagnostics, uncertainties (a GantryBuilder
+// run to its end).
 [[nodiscard]] Status compute_gantry_frames(const GantryInput& input, const GantryOptions& options,
                                            GantryFrames& out);
+
+struct GantryStep {
+  Status status = Status::kOk;
+  bool more = false;  // true: call step() again; status is kOk then
+};
+
+// M2 in bounded steps, for a controller's background task: one fit, or one
+// frame with its uncertainty, per step(). The order of the work, and so which
+// failure wins, is compute_gantry_frames's: the checks, the bed, side_1,
+// side_2 and gantry fits, the global frame, then per sub-machine in input order
+// its x, y, z passes, its C and A circles and its frame. No heap; about 2 kB
+// besides the frames it writes.
+class GantryBuilder {
+ public:
+  // Begins a build into `out`. `input`, the points its spans name and `out`
+  // must outlive the build; restarting discards a build under way.
+  // out.sub_machine_count is 0 until the last step succeeds.
+  void start(const GantryInput& input, const GantryOptions& options, GantryFrames& out);
+
+  // {kOk, true} while more remains, {kOk, false} when `out` is complete,
+  // {error, false} on failure (out.sub_machine_count stays 0).
+  GantryStep step();
+
+  // The sub-machine (its id) a failure refers to; 0 for the global groups.
+  int failed_sub_machine() const { return failed_id_; }
+
+  std::size_t steps() const { return steps_; }
+
+ private:
+  enum class Phase : std::uint8_t { kIdle, kCheck, kBed, kSide1, kSide2, kGantry, kGlobal,
+                                    kAxisX, kAxisY, kAxisZ, kCircleC, kCircleA, kSub, kDone, kFailed };
+  GantryStep fail(Status status);
+
+  const GantryInput* in_ = nullptr;
+  GantryOptions options_;
+  GantryFrames* out_ = nullptr;
+  Phase phase_ = Phase::kIdle;
+  std::size_t sub_ = 0;
+  std::size_t steps_ = 0;
+  int failed_id_ = 0;
+  PlaneEstimate bed_, side_1_, side_2_;
+  AxisEstimate gantry_;
+  AxisEstimate axes_[3];
+  CircleFit c_fit_, a_fit_;
+};
 
 // A point in the global frame written in sub-machine `frame`'s coordinates.
 inline Vec3 global_to_sub_mm(const SubMachineFrame& frame, const Vec3& p_global_mm) {

@@ -29,6 +29,7 @@ enum class Status : std::uint16_t {
   kTooFewSamples = 104,    // a compute macro ran on a session with fewer samples than it needs
   kMissingGroup = 105,     // a group of points the method needs was not given
   kOutsideMeasuredRange = 106,  // a query outside the range a table was measured over, not clamped
+  kGroupNotContiguous = 107,    // a point for a group that other groups' points have followed
 
   kPointsCoincident = 200,  // the points do not span a line
   kPointsCollinear = 201,   // the points do not span a plane
@@ -84,6 +85,9 @@ inline constexpr StatusInfo kStatusTable[] = {
     {Status::kOutsideMeasuredRange, "outside_measured_range",
      "The query is outside the range the table was measured over: query inside it, or ask to "
      "clamp to the nearest measured pose (R = 1)."},
+    {Status::kGroupNotContiguous, "group_not_contiguous",
+     "A point was added to a group after other groups' points: send each group's points "
+     "together, in measuring order (clear the session and send them again)."},
     {Status::kPointsCoincident, "points_coincident",
      "The probed points coincide: they do not span a line."},
     {Status::kPointsCollinear, "points_collinear",
@@ -118,7 +122,7 @@ inline constexpr StatusInfo kStatusTable[] = {
     {Status::kCPhaseInconsistent, "c_phase_inconsistent",
      "The ball's measured positions around a C circle disagree with the commanded C angles."},
     {Status::kTableInvalid, "table_invalid",
-     "The stored rigidity table is malformed (layout version, counts, values or A order)."},
+     "A stored calibration table is malformed (layout version, counts or values)."},
     {Status::kAxesParallel, "axes_parallel",
      "Two axes that must cross at an angle are parallel or nearly so (A and C of a head, two "
      "linear axes, or the gantry and the bed normal): their common perpendicular is undefined."},

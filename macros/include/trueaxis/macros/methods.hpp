@@ -17,6 +17,8 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "trueaxis/macros/gantry/gantry_macros.hpp"
+#include "trueaxis/macros/gantry/gantry_map.hpp"
 #include "trueaxis/macros/level/level_macros.hpp"
 #include "trueaxis/macros/level/level_map.hpp"
 #include "trueaxis/macros/macro_info.hpp"
@@ -32,7 +34,7 @@ namespace trueaxis::macros {
 inline constexpr MethodBlock kMethodBlocks[] = {
     level::kBlock,
     rigidity::kBlock,
-    {"gantry", 700, 799, 3000, 3999},
+    gantry::kBlock,
     {"spindle", 800, 899, 4000, 4999},
 };
 
@@ -55,23 +57,27 @@ constexpr RowSource row_source(const VarInfo (&t)[N], const MethodBlock* block) 
 inline constexpr RowSource kMethodRowSources[] = {
     row_source(level::kRows, &level::kBlock),
     row_source(rigidity::kRows, &rigidity::kBlock),
+    row_source(gantry::kRows, &gantry::kBlock),
 };
 
 struct Methods {
   level::State level;
   rigidity::State rigidity;
+  gantry::State gantry;
 };
 
 // A method's table record loaded at start(): its owner decodes it and makes
 // it the live table. Keys without a table do nothing.
 inline void on_table_loaded(Methods& methods, RecordKey key, const std::uint8_t* bytes, std::size_t length) {
   if (key == RecordKey::kRigidityTable) rigidity::on_record(methods.rigidity, bytes, length);
+  if (key == RecordKey::kGantryFrames) gantry::on_record(methods.gantry, bytes, length);
 }
 
 // A method's table record failed its CRC at start() (KeyedStore::damaged): its
 // owner has no live table and says kTableDamaged, not kNoTable, to a query.
 inline void on_table_damaged(Methods& methods, RecordKey key) {
   if (key == RecordKey::kRigidityTable) rigidity::on_damaged(methods.rigidity);
+  if (key == RecordKey::kGantryFrames) gantry::on_damaged(methods.gantry);
 }
 
 // A table a macro staged has just been committed: its owner makes the table it
@@ -79,10 +85,11 @@ inline void on_table_damaged(Methods& methods, RecordKey key) {
 // the cost of decoding it inside the commit's step).
 inline void on_table_committed(Methods& methods, RecordKey key) {
   if (key == RecordKey::kRigidityTable) rigidity::on_committed(methods.rigidity);
+  if (key == RecordKey::kGantryFrames) gantry::on_committed(methods.gantry);
 }
 
 // The table records, in the order start() loads them.
-inline constexpr RecordKey kTableRecords[] = {RecordKey::kRigidityTable};
+inline constexpr RecordKey kTableRecords[] = {RecordKey::kRigidityTable, RecordKey::kGantryFrames};
 
 struct MacroSource {
   const MacroInfo* macros;
@@ -98,6 +105,7 @@ constexpr MacroSource macro_source(const MacroInfo (&t)[N], const char* method) 
 inline constexpr MacroSource kMacroSources[] = {
     macro_source(level::kMacros, "level"),
     macro_source(rigidity::kMacros, "rigidity"),
+    macro_source(gantry::kMacros, "gantry"),
 };
 
 constexpr const MacroInfo* find_macro(std::uint16_t number) {

@@ -1,0 +1,341 @@
+#include "trueaxis/macros/gantry/gantry_macros.hpp"
+
+#include <cmath>
+
+#include "trueaxis/macros/macro_context.hpp"
+#include "trueaxis/macros/methods.hpp"
+
+namespace trueaxis::macros::gantry {
+
+static_assert(core::kGantryTableBytes <= record_capacity(RecordKey::kGantryFrames), "the frames must fit their record");
+
+namespace {
+
+// A whole number in [lo, hi]; false otherwise (NaN included).
+bool whole_in(double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); }
+
+bool flag_of(double r, bool& flag) {
+  if (r != 0.0 && r != 1.0) return false;
+  flag = r == 1.0;
+  return true;
+}
+
+bool finite(const core::Vec3& v) { return v.allFinite(); }
+
+template <std::uint16_t X>
+void out_vec3(MacroContext& ctx, const core::Vec3& v) {
+  ctx.out<X>(v.x());
+  ctx.out<X + 1>(v.y());
+  ctx.out<X + 2>(v.z());
+}
+
+MacroStep report_session(MacroContext& ctx, const PointSession& s) {
+  ctx.out<var::kGantrySessionCount>(static_cast<double>(s.size()));
+  ctx.out<var::kGantrySessionCapacity>(static_cast<double>(kSessionCapacity));
+  ctx.out<var::kGantryGroupCount>(static_cast<double>(s.groups()));
+  return done(core::Status::kOk);
+}
+
+std::size_t capacity_of(std::size_t group) {
+  if (group < 3) return kMaxPlanePoints;
+  if (group < kGlobalGroups) return kMaxPassPoints;
+  return (group - kGlobalGroups) % kSubGroups < 3 * kMaxPasses ? kMaxPassPoints : kMaxCirclePoints;
+}
+
+// Spans of the session's groups for the sub-machines it mentions (id order).
+void gather(const PointSession& s, core::GantryInput& in) {
+  in = core::GantryInput();
+  in.bed = s.span(0);
+  in.side_1 = s.span(1);
+  in.side_2 = s.span(2);
+  for (std::size_t k = 0; k < kMaxPasses; ++k) {
+    in.gantry_passes[k] = s.span(3 + k);
+    if (in.gantry_passes[k].count > 0) in.gantry_pass_count = k + 1;
+  }
+  for (std::size_t id = 1; id <= core::kMaxSubMachines; ++id) {
+    if (!s.mentions(id)) continue;
+    core::SubMachineInput& sub = in.sub_machines[in.sub_machine_count++];
+    sub.id = static_cast<int>(id);
+    const std::size_t base = kGlobalGroups + (id - 1) * kSubGroups;
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      for (std::size_t k = 0; k < kMaxPasses; ++k) {
+        sub.passes[axis][k] = s.span(base + axis * kMaxPasses + k);
+        if (sub.passes[axis][k].count > 0) sub.pass_count[axis] = k + 1;
+      }
+    }
+    sub.c_circle = s.span(base + 3 * kMaxPasses);
+    sub.a_circle = s.span(base + 3 * kMaxPasses + 1);
+    sub.swing_mm = s.parameters(id).swing_mm;
+    sub.tool_direction = s.parameters(id).tool_direction;
+  }
+}
+
+MacroStep report_global(MacroContext& ctx, const core::StoredGlobal& g, std::size_t count, std::uint16_t mask) {
+  out_vec3<var::kGlobalOriginX>(ctx, g.tracker_T_global.t);
+  out_vec3<var::kGlobalXX>(ctx, g.tracker_T_global.R.col(0));
+  out_vec3<var::kGlobalYX>(ctx, g.tracker_T_global.R.col(1));
+  out_vec3<var::kGlobalZX>(ctx, g.tracker_T_global.R.col(2));
+  ctx.out<var::kGlobalBedFlatness>(g.bed_flatness_mm);
+  ctx.out<var::kGlobalGantryStraightness>(g.gantry_straightness_mm);
+  ctx.out<var::kGlobalOriginSigma>(g.origin_sigma_mm);
+  out_vec3<var::kGlobalAngleSigmaX>(ctx, g.angle_sigma_arcsec);
+  ctx.out<var::kGlobalSubMachines>(static_cast<double>(count));
+  ctx.out<var::kGlobalIdMask>(static_cast<double>(mask));
+  return done(core::Status::kOk);
+}
+
+MacroStep report_sub(MacroContext& ctx, const core::StoredSubMachine& s) {
+  out_vec3<var::kSubOriginX>(ctx, s.global_T_sub.t);
+  ctx.out<var::kSubOriginSigma>(s.origin_sigma_mm);
+  out_vec3<var::kSubXX>(ctx, s.global_T_sub.R.col(0));
+  out_vec3<var::kSubYX>(ctx, s.global_T_sub.R.col(1));
+  out_vec3<var::kSubZX>(ctx, s.global_T_sub.R.col(2));
+  ctx.out<var::kSubMasterAxis>(static_cast<double>(s.master_axis));
+  out_vec3<var::kSubSquarenessXY>(ctx, s.squareness_arcsec);
+  ctx.out<var::kSubACOffset>(s.a_c_offset_mm);
+  ctx.out<var::kSubACAngle>(s.a_c_angle_deg);
+  out_vec3<var::kSubAngleSigmaX>(ctx, s.angle_sigma_arcsec);
+  out_vec3<var::kSubStraightnessX>(ctx, s.straightness_mm);
+  ctx.out<var::kSubCCircleRms>(s.c_circle_rms_mm);
+  ctx.out<var::kSubACircleRms>(s.a_circle_rms_mm);
+  return done(core::Status::kOk);
+}
+
+}  // namespace
+
+void PointSession::clear() {
+  count_ = 0;
+  last_group_ = kGroupCount;
+  for (std::size_t g = 0; g < kGroupCount; ++g) first_[g] = count_in_[g] = 0;
+  for (SubMachineParameters& p : parameters_) p = SubMachineParameters();
+}
+
+core::Result<std::size_t> PointSession::group_of(double t, double q, double d) {
+  if (!whole_in(t, 0.0, core::kMaxSubMachines) || !whole_in(q, 1.0, 9.0)) return core::Status::kArgumentOutOfRange;
+  const auto kind = static_cast<GroupKind>(static_cast<int>(q));
+  const bool global_kind = kind <= GroupKind::kGantryPass;
+  if (global_kind != (t == 0.0)) return core::Status::kArgumentOutOfRange;
+  const bool pass = kind == GroupKind::kGantryPass || kind == GroupKind::kXPass || kind == GroupKind::kYPass ||
+                    kind == GroupKind::kZPass;
+  if (pass && !whole_in(d, 1.0, kMaxPasses)) return core::Status::kArgumentOutOfRange;
+  const std::size_t k = pass ? static_cast<std::size_t>(d) - 1 : 0;
+  switch (kind) {
+    case GroupKind::kBed: return std::size_t{0};
+    case GroupKind::kSide1: return std::size_t{1};
+    case GroupKind::kSide2: return std::size_t{2};
+    case GroupKind::kGantryPass: return 3 + k;
+    default: break;
+  }
+  const std::size_t base = kGlobalGroups + (static_cast<std::size_t>(t) - 1) * kSubGroups;
+  switch (kind) {
+    case GroupKind::kXPass: return base + k;
+    case GroupKind::kYPass: return base + kMaxPasses + k;
+    case GroupKind::kZPass: return base + 2 * kMaxPasses + k;
+    case GroupKind::kCCircle: return base + 3 * kMaxPasses;
+    default: return base + 3 * kMaxPasses + 1;  // kACircle
+  }
+}
+
+core::Status PointSession::add(std::size_t group, const core::Vec3& p_mm) {
+  if (group != last_group_ && count_in_[group] > 0) return core::Status::kGroupNotContiguous;
+  if (count_in_[group] == capacity_of(group)) return core::Status::kTooManyPoints;
+  if (count_ == kSessionCapacity) return core::Status::kSessionFull;
+  if (count_in_[group] == 0) first_[group] = static_cast<std::uint16_t>(count_);
+  points_[count_++] = p_mm;
+  ++count_in_[group];
+  last_group_ = group;
+  return core::Status::kOk;
+}
+
+core::Status PointSession::set_parameters(double t, double swing_mm, const core::Vec3& tool) {
+  if (!whole_in(t, 1.0, core::kMaxSubMachines)) return core::Status::kArgumentOutOfRange;
+  if (!std::isfinite(swing_mm) || !finite(tool)) return core::Status::kNotFinite;
+  if (!(swing_mm >= 0.0 && swing_mm <= rows::kBig) || tool.norm() == 0.0) return core::Status::kArgumentOutOfRange;
+  parameters_[static_cast<std::size_t>(t) - 1] = {true, swing_mm, tool};
+  return core::Status::kOk;
+}
+
+std::size_t PointSession::groups() const {
+  std::size_t n = 0;
+  for (std::size_t g = 0; g < kGroupCount; ++g) n += count_in_[g] > 0 ? 1 : 0;
+  return n;
+}
+
+bool PointSession::mentions(std::size_t id) const {
+  if (parameters_[id - 1].given) return true;
+  const std::size_t base = kGlobalGroups + (id - 1) * kSubGroups;
+  for (std::size_t g = base; g < base + kSubGroups; ++g) {
+    if (count_in_[g] > 0) return true;
+  }
+  return false;
+}
+
+core::Result<core::Vec3> sub_point_mm(const State& state, int id, const core::Vec3& p_global_mm) {
+  if (id < 1 || id > static_cast<int>(core::kMaxSubMachines)) return core::Status::kArgumentOutOfRange;
+  core::Result<core::Vec3> r = state.missing;
+  if (!state.live.read([&](const core::GantryTable& t) {
+        const core::StoredSubMachine& s = t.sub_machines[id - 1];
+        r = s.present ? core::Result<core::Vec3>(core::global_to_sub_mm(s, p_global_mm))
+                      : core::Result<core::Vec3>(core::Status::kNoTable);
+      })) {
+    return state.missing;
+  }
+  return r;
+}
+
+void on_record(State& state, const std::uint8_t* bytes, std::size_t length) {
+  if (length == 0) return;
+  if (core::decode_gantry_table(bytes, length, state.decoded) != core::Status::kOk) {
+    state.missing = core::Status::kTableInvalid;
+    return;
+  }
+  state.live.publish(state.decoded);
+}
+
+void on_damaged(State& state) { state.missing = core::Status::kTableDamaged; }
+
+void on_committed(State& state) {
+  if (!state.staged) return;
+  state.staged = false;
+  state.built = true;
+  state.live.publish(state.merged);
+}
+
+MacroStep run_session_clear(MacroContext& ctx) {
+  PointSession& s = ctx.methods().gantry.session;
+  s.clear();
+  return report_session(ctx, s);
+}
+
+MacroStep run_session_add(MacroContext& ctx) {
+  const core::Result<std::size_t> group =
+      PointSession::group_of(ctx.in<var::kArgT>(), ctx.in<var::kArgQ>(), ctx.in<var::kArgD>());
+  if (!group.ok()) return done(group.status());
+  const core::Vec3 p(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
+  if (!finite(p)) return done(core::Status::kNotFinite);
+  if (p.cwiseAbs().maxCoeff() > rows::kBig) return done(core::Status::kArgumentOutOfRange);
+  PointSession& s = ctx.methods().gantry.session;
+  const core::Status status = s.add(group.value(), p);
+  if (status != core::Status::kOk) return done(status);
+  return report_session(ctx, s);
+}
+
+MacroStep run_parameters(MacroContext& ctx) {
+  PointSession& s = ctx.methods().gantry.session;
+  const core::Vec3 tool(ctx.in<var::kArgI>(), ctx.in<var::kArgJ>(), ctx.in<var::kArgK>());
+  const core::Status status = s.set_parameters(ctx.in<var::kArgT>(), ctx.in<var::kArgD>(), tool);
+  if (status != core::Status::kOk) return done(status);
+  return report_session(ctx, s);
+}
+
+MacroStep run_build(MacroContext& ctx) {
+  State& state = ctx.methods().gantry;
+  bool store = false;
+  if (!flag_of(ctx.in<var::kArgR>(), store)) return done(core::Status::kArgumentOutOfRange);
+  if (ctx.first_step()) {
+    state.built = false;
+    state.staged = false;
+    state.computed = false;
+    gather(state.session, state.input);
+    for (std::size_t i = 0; i < state.input.sub_machine_count; ++i) {
+      if (!state.session.parameters(static_cast<std::size_t>(state.input.sub_machines[i].id)).given) {
+        return done(core::Status::kMissingGroup);
+      }
+    }
+    core::GantryOptions options;
+    options.min_arc_deg = ctx.in<var::kGantryMinArc>();
+    state.builder.start(state.input, options, state.frames);
+    return more();
+  }
+  if (!state.computed) {
+    const core::GantryStep step = state.builder.step();
+    if (step.status != core::Status::kOk) return done(step.status);
+    // The outputs, the merge and the record take a step of their own, so the
+    // last sub-machine's frame and the record's encoding never share one.
+    state.computed = !step.more;
+    return more();
+  }
+
+  const core::GantryFrames& f = state.frames;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < f.sub_machine_count; ++i) {
+    worst = std::fmax(worst, f.sub_machines[i].uncertainty.origin_sigma_mm);
+  }
+  ctx.out<var::kGantryBuilt>(static_cast<double>(f.sub_machine_count));
+  ctx.out<var::kGantryWorstOriginSigma>(worst);
+  ctx.out<var::kGantryBuildFlatness>(f.global.bed_flatness_mm);
+  ctx.out<var::kGantryBuildStraightness>(f.global.gantry_straightness_mm);
+  if (!store) {
+    state.built = true;
+    return done(core::Status::kOk);
+  }
+  // The stored frames (if any) with this computation merged in (gantry_table.hpp).
+  state.merged = core::GantryTable();
+  state.live.read([&](const core::GantryTable& t) { state.merged = t; });
+  core::merge_frames(state.merged, f);
+  std::uint8_t* bytes = ctx.stage_record(RecordKey::kGantryFrames, core::kGantryTableBytes);
+  if (bytes == nullptr || core::encode_gantry_table(state.merged, bytes, core::kGantryTableBytes) == 0) {
+    return done(core::Status::kTableInvalid);
+  }
+  state.staged = true;
+  return done(core::Status::kOk);  // the module commits the record, then on_committed makes it live
+}
+
+MacroStep run_global(MacroContext& ctx) {
+  const State& state = ctx.methods().gantry;
+  bool stored = false;
+  if (!flag_of(ctx.in<var::kArgR>(), stored)) return done(core::Status::kArgumentOutOfRange);
+  if (!stored) {
+    if (!state.built) return done(core::Status::kNoTable);
+    std::uint16_t mask = 0;
+    for (std::size_t i = 0; i < state.frames.sub_machine_count; ++i) {
+      mask = static_cast<std::uint16_t>(mask | (1u << (state.frames.sub_machines[i].id - 1)));
+    }
+    return report_global(ctx, core::stored_global(state.frames.global), state.frames.sub_machine_count, mask);
+  }
+  MacroStep result = done(state.missing);
+  if (!state.live.read([&](const core::GantryTable& t) { result = report_global(ctx, t.global, t.count(), t.id_mask()); })) {
+    return done(state.missing);
+  }
+  return result;
+}
+
+MacroStep run_convert(MacroContext& ctx) {
+  const double t = ctx.in<var::kArgT>();
+  if (!whole_in(t, 1.0, core::kMaxSubMachines)) return done(core::Status::kArgumentOutOfRange);
+  const core::Vec3 p(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
+  if (!finite(p)) return done(core::Status::kNotFinite);
+  const core::Result<core::Vec3> r = sub_point_mm(ctx.methods().gantry, static_cast<int>(t), p);
+  if (!r.ok()) return done(r.status());
+  out_vec3<var::kGantryPointX>(ctx, r.value());
+  return done(core::Status::kOk);
+}
+
+MacroStep run_sub(MacroContext& ctx) {
+  const State& state = ctx.methods().gantry;
+  bool stored = false;
+  const double t = ctx.in<var::kArgT>();
+  if (!flag_of(ctx.in<var::kArgR>(), stored) || !whole_in(t, 1.0, core::kMaxSubMachines)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
+  const int id = static_cast<int>(t);
+  if (!stored) {
+    if (!state.built) return done(core::Status::kNoTable);
+    for (std::size_t i = 0; i < state.frames.sub_machine_count; ++i) {
+      if (state.frames.sub_machines[i].id == id) {
+        return report_sub(ctx, core::stored_sub_machine(state.frames.sub_machines[i]));
+      }
+    }
+    return done(core::Status::kNoTable);
+  }
+  MacroStep result = done(state.missing);
+  if (!state.live.read([&](const core::GantryTable& table) {
+        const core::StoredSubMachine& s = table.sub_machines[id - 1];
+        result = s.present ? report_sub(ctx, s) : done(core::Status::kNoTable);
+      })) {
+    return done(state.missing);
+  }
+  return result;
+}
+
+}  // namespace trueaxis::macros::gantry
