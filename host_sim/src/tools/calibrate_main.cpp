@@ -98,13 +98,14 @@ int main(int argc, char** argv) {
   if (o.method != "rigidity" && o.method != "gantry" && o.method != "spindle") {
     return usage(("unknown METHOD '" + o.method + "'").c_str());
   }
-  if (o.method != "rigidity") return fail("method '" + o.method + "' is not built yet (M2 and M4 come next)");
+  if (o.method == "spindle") return fail("method 'spindle' is not built yet (M4 comes next)");
+  const bool gantry = o.method == "gantry";
 
   trueaxis::sim::VariableClient client;
   if (!client.connect(o.host, o.port)) {
     return fail("cannot connect to " + o.host + ":" + std::to_string(o.port) + ": " + client.error_text());
   }
-  FlowResult r = trueaxis::sim::calibrate_rigidity(client, o);
+  FlowResult r = gantry ? trueaxis::sim::calibrate_gantry(client, o) : trueaxis::sim::calibrate_rigidity(client, o);
   if (!r.ok) return fail(r.error);
 
   // OUT.json goes to a temporary file first and into place last, after the
@@ -123,7 +124,9 @@ int main(int argc, char** argv) {
       return fail_clean(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
     }
   }
-  if (o.store && !trueaxis::sim::store_rigidity(client, r)) return fail_clean(r.error);
+  if (o.store && !(gantry ? trueaxis::sim::store_gantry(client, r) : trueaxis::sim::store_rigidity(client, r))) {
+    return fail_clean(r.error);
+  }
   client.close();
   if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
   return 0;

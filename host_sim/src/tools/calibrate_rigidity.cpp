@@ -83,15 +83,6 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
   return r;
 }
 
-bool store_rigidity(VariableClient& client, FlowResult& fail) {
-  if (!transport(client, client.write_one(var::kUnlock, macros::kUnlockCode), fail)) return false;
-  // The same session built again, now stored: the build is deterministic, so
-  // the stored table is the one OUT.json describes.
-  const bool stored = transport(client, client.write_one(var::kArgR, 1.0), fail) &&
-                      run_or_fail(client, kBuild, "", fail);
-  const bool locked = client.write_one(var::kUnlock, 0.0);  // lock again, whatever happened
-  if (stored && !locked) fail.error = "Modbus: the controller could not be locked again: " + client.error_text();
-  return stored && locked;
-}
+bool store_rigidity(VariableClient& client, FlowResult& fail) { return store_built(client, kBuild, fail); }
 
 }  // namespace trueaxis::sim

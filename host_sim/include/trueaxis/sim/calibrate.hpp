@@ -51,6 +51,11 @@ bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string&
 std::string json_number(double v);
 std::string json_vec3(const double* v);
 
+// Unlocks, runs `build_macro` with R = 1 on the session already in the module
+// (the method stores what it computes), and locks again whatever happened;
+// false with fail.error set when anything failed.
+bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail);
+
 // Streams the samples and builds the table WITHOUT storing it; reads back
 // what the module computed.
 FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& options);
@@ -58,5 +63,14 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
 // Stores the table of the samples already in the module's session (unlock,
 // build with R = 1, lock again); false with fail.error set otherwise.
 bool store_rigidity(VariableClient& client, FlowResult& fail);
+
+// Streams the tracker points (grouped by name, measuring order kept) and the
+// MACHINE rows, computes the frames WITHOUT storing them; reads back what the
+// module computed (9824, 9826).
+FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& options);
+
+// Stores the frames of the session already in the module (unlock, 9823 with
+// R = 1, lock again).
+bool store_gantry(VariableClient& client, FlowResult& fail);
 
 }  // namespace trueaxis::sim
