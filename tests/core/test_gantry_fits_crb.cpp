@@ -1,0 +1,146 @@
+// M2's plane and axis fits against the Cramer-Rao bound, on 5,000 Monte-Carlo
+// runs each (the circle fit's bound is tested in test_circle_fit_stats.cpp).
+//
+// The bounds, for points p_i = q_i + e_i with e_i ~ N(0, sigma^2 I), i = 1..n:
+//  - Plane through the true points q_i, written h = d + alpha x + beta y in the
+//    true frame (centroid c, in-plane principal axes u, v, normal w), x_i =
+//    (q_i - c).u, y_i = (q_i - c).v with sum x_i y_i = 0. Only the heights'
+//    noise carries information on (d, alpha, beta) to first order, and that
+//    model is linear in them, so the Fisher information is diagonal:
+//        CRB(d) = sigma^2 / n,  CRB(alpha) = sigma^2 / Sxx,  CRB(beta) = sigma^2 / Syy,
+//    Sxx = sum x_i^2, Syy = sum y_i^2. The fitted normal's error along u is
+//    -alpha, along v -beta; the fitted plane's offset at c is d.
+//  - Axis from K passes, each of n points at positions t_i along the true unit
+//    direction a (sum t_i = 0 per pass): each perpendicular slope of one pass
+//    has CRB sigma^2 / Stt, Stt = sum t_i^2; the K passes are independent and
+//    share a, so for the averaged direction
+//        CRB(each perpendicular component) = sigma^2 / (K Stt).
+// The test: the RMS error of each parameter over the runs is within 10 % of the
+// square root of its bound, and the fit's reported covariance (the module's own
+// 1-sigma figure, from a known point noise) is within 10 % of the bound too.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <vector>
+
+#include "reference.hpp"
+#include "trueaxis/core/gantry_fits.hpp"
+
+namespace core = trueaxis::core;
+namespace t = trueaxis::test;
+using core::Vec3;
+
+namespace {
+
+constexpr int kRuns = 5000;
+
+Vec3 noisy(const Vec3& q, double sigma, t::Rng& rng) {
+  return q + sigma * Vec3(rng.normal(), rng.normal(), rng.normal());
+}
+
+}  // namespace
+
+TEST_CASE("the plane fit reaches the Cramer-Rao bound on 5,000 runs", "[gantry][crb]") {
+  t::Rng rng(5001);
+  const double sigma = 0.0075;  // an AT960's distance term read as 1 sigma
+  // Four pads of a bed, 5 x 5 points each, tilted and far from the origin.
+  const Vec3 w = Vec3(0.02, -0.01, 1.0).normalized();
+  const Vec3 u0 = w.unitOrthogonal();
+  const Vec3 v0 = w.cross(u0);
+  const Vec3 origin(2500, -1800, -600);
+  std::vector<Vec3> q;
+  const double pads[4][2] = {{60, 60}, {5860, 60}, {5860, 2860}, {60, 2860}};
+  for (const auto& pad : pads) {
+    for (int i = 0; i < 5; ++i) {
+      for (int j = 0; j < 5; ++j) q.push_back(origin + (pad[0] + 20 * i) * u0 + (pad[1] + 20 * j) * v0);
+    }
+  }
+  // The true frame: centroid and in-plane principal axes.
+  Vec3 c = Vec3::Zero();
+  for (const Vec3& p : q) c += p;
+  c /= static_cast<double>(q.size());
+  core::Mat2 s2 = core::Mat2::Zero();
+  for (const Vec3& p : q) {
+    const core::Vec2 xy((p - c).dot(u0), (p - c).dot(v0));
+    s2 += xy * xy.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<core::Mat2> es(s2);
+  const Vec3 u = es.eigenvectors()(0, 1) * u0 + es.eigenvectors()(1, 1) * v0;  // the larger spread
+  const Vec3 v = w.cross(u);
+  double sxx = 0, syy = 0;
+  for (const Vec3& p : q) {
+    sxx += std::pow((p - c).dot(u), 2);
+    syy += std::pow((p - c).dot(v), 2);
+  }
+  const double n = static_cast<double>(q.size());
+  const double crb[3] = {sigma * sigma / n, sigma * sigma / sxx, sigma * sigma / syy};
+
+  core::PointNoise noise;
+  noise.distance_sigma_mm = sigma;
+  std::vector<Vec3> p(q.size());
+  double sq[3] = {0, 0, 0};
+  double reported[3] = {0, 0, 0};
+  for (int run = 0; run < kRuns; ++run) {
+    for (std::size_t i = 0; i < q.size(); ++i) p[i] = noisy(q[i], sigma, rng);
+    const auto fit = core::fit_plane_group({p.data(), p.size()}, noise);
+    REQUIRE(fit.ok());
+    const core::PlaneEstimate e = core::orient_plane(fit.value(), w);
+    const Vec3 dn = e.normal - w;
+    const double err[3] = {(e.centroid_mm - c).dot(w), -dn.dot(u), -dn.dot(v)};
+    for (int k = 0; k < 3; ++k) sq[k] += err[k] * err[k];
+    for (int k = 0; k < 3; ++k) reported[k] += e.covariance(k, k) / kRuns;
+  }
+  const char* names[3] = {"offset d", "tilt alpha", "tilt beta"};
+  for (int k = 0; k < 3; ++k) {
+    const double rms_over_bound = std::sqrt(sq[k] / kRuns / crb[k]);
+    const double reported_over_bound = std::sqrt(reported[k] / crb[k]);
+    INFO(names[k] << ": RMS / sqrt(CRB) = " << rms_over_bound << ", reported / sqrt(CRB) = " << reported_over_bound);
+    CHECK(rms_over_bound == Approx(1.0).margin(0.1));
+    CHECK(reported_over_bound == Approx(1.0).margin(0.1));
+  }
+}
+
+TEST_CASE("the axis fit from 3 passes reaches the Cramer-Rao bound on 5,000 runs", "[gantry][crb]") {
+  t::Rng rng(5002);
+  const double sigma = 0.0075;
+  const Vec3 a = Vec3(0.999, 0.03, -0.02).normalized();
+  const Vec3 start(1200, 3400, 2100);
+  constexpr std::size_t k_passes = 3;
+  const int n = 15;
+  const double stroke = 2800.0;
+  std::vector<Vec3> q;
+  for (int i = 0; i < n; ++i) q.push_back(start + (stroke * i / (n - 1)) * a);
+  double stt = 0;
+  for (int i = 0; i < n; ++i) stt += std::pow(stroke * i / (n - 1) - stroke / 2, 2);
+  const double crb = sigma * sigma / (static_cast<double>(k_passes) * stt);
+  const Vec3 e1 = a.unitOrthogonal();
+  const Vec3 e2 = a.cross(e1);
+
+  core::PointNoise noise;
+  noise.distance_sigma_mm = sigma;
+  std::vector<std::vector<Vec3>> passes(k_passes, std::vector<Vec3>(q.size()));
+  double sq[2] = {0, 0};
+  double reported[2] = {0, 0};
+  for (int run = 0; run < kRuns; ++run) {
+    core::PointSpan spans[k_passes];
+    for (std::size_t k = 0; k < k_passes; ++k) {
+      for (std::size_t i = 0; i < q.size(); ++i) passes[k][i] = noisy(q[i], sigma, rng);
+      spans[k] = {passes[k].data(), passes[k].size()};
+    }
+    const auto fit = core::fit_axis_passes(spans, k_passes, noise);
+    REQUIRE(fit.ok());
+    const Vec3 d = fit.value().direction - a;
+    sq[0] += std::pow(d.dot(e1), 2);
+    sq[1] += std::pow(d.dot(e2), 2);
+    reported[0] += e1.dot(fit.value().covariance * e1) / kRuns;
+    reported[1] += e2.dot(fit.value().covariance * e2) / kRuns;
+  }
+  for (int k = 0; k < 2; ++k) {
+    const double rms_over_bound = std::sqrt(sq[k] / kRuns / crb);
+    const double reported_over_bound = std::sqrt(reported[k] / crb);
+    INFO("perpendicular component " << k + 1 << ": RMS / sqrt(CRB) = " << rms_over_bound
+                                    << ", reported / sqrt(CRB) = " << reported_over_bound);
+    CHECK(rms_over_bound == Approx(1.0).margin(0.1));
+    CHECK(reported_over_bound == Approx(1.0).margin(0.1));
+  }
+}
