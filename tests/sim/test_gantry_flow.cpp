@@ -12,9 +12,8 @@
 #include <memory>
 #include <vector>
 
-#include "fakes.hpp"
+#include "flow_rig.hpp"
 #include "gantry_truth.hpp"
-#include "trueaxis/hal/ram_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
 
 namespace {
@@ -31,28 +30,12 @@ using F = m::AccessFault;
 constexpr double kDone = 2.0;
 constexpr double kError = 3.0;
 
-struct Rig {
-  std::vector<std::uint8_t> nv = std::vector<std::uint8_t>(m::kRequiredStorageBytes);
-  trueaxis::hal::RamNvStorage storage{nv.data(), nv.size()};
-  trueaxis::test::FakeClock clock;
-  m::Module module{storage, clock};
-  Rig() { REQUIRE(module.start() == Status::kOk); }
-
-  void put(std::uint16_t n, double value) { REQUIRE(module.write(n, 1, &value) == F::kNone); }
-  double get(std::uint16_t n) const { return module.value(n); }
-  double run(double macro) {
-    put(v::kCmd, macro);
-    for (int i = 0; i < 10000 && module.busy(); ++i) module.step();
-    REQUIRE_FALSE(module.busy());
-    return get(v::kStatus);
-  }
+struct Rig : trueaxis::test::FlowRig {
   // Runs a macro that must fail; its code.
   Status refuse(double macro) {
     REQUIRE(run(macro) == kError);
     return static_cast<Status>(static_cast<int>(get(v::kError)));
   }
-  Vec3 out3(std::uint16_t first) const { return Vec3(get(first), get(first + 1), get(first + 2)); }
-
   double add(int sub, g::GroupKind kind, int pass, const Vec3& p) {
     put(v::kArgT, sub);
     put(v::kArgQ, static_cast<double>(kind));

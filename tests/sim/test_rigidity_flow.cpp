@@ -11,10 +11,9 @@
 #include <utility>
 #include <vector>
 
-#include "fakes.hpp"
+#include "flow_rig.hpp"
 #include "trueaxis/core/rigidity_compensation.hpp"
 #include "trueaxis/core/so3.hpp"
-#include "trueaxis/hal/ram_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/sim/cradle_machine.hpp"
 
@@ -31,24 +30,7 @@ using F = m::AccessFault;
 constexpr double kArcsec = sim::kArcsecPerRad;
 const std::vector<double> kPosesDeg = {-90, -60, -30, 0, 30, 60, 90};
 
-struct Rig {
-  std::vector<std::uint8_t> nv = std::vector<std::uint8_t>(m::kRequiredStorageBytes);
-  trueaxis::hal::RamNvStorage storage{nv.data(), nv.size()};
-  trueaxis::test::FakeClock clock;
-  m::Module module{storage, clock};
-  Rig() { REQUIRE(module.start() == Status::kOk); }
-
-  void put(std::uint16_t n, double value) { REQUIRE(module.write(n, 1, &value) == F::kNone); }
-  double get(std::uint16_t n) const { return module.value(n); }
-  // Runs a macro to its end (any number of steps): its #9001 status.
-  double run(double macro) {
-    put(v::kCmd, macro);
-    for (int i = 0; i < 10000 && module.busy(); ++i) module.step();
-    REQUIRE_FALSE(module.busy());
-    return get(v::kStatus);
-  }
-  Vec3 out3(std::uint16_t first) const { return Vec3(get(first), get(first + 1), get(first + 2)); }
-};
+using Rig = trueaxis::test::FlowRig;
 
 // The realistic machine, with or without its stiffness term (see the note in
 // "recovered rotation vectors").

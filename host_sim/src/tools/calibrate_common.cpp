@@ -24,17 +24,18 @@ bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string&
   return false;
 }
 
+bool transport(VariableClient& client, bool ok, FlowResult& fail) {
+  if (!ok) fail.error = "Modbus: " + client.error_text();
+  return ok;
+}
+
 bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail) {
   namespace var = macros::var;
-  if (!client.write_one(var::kUnlock, macros::kUnlockCode)) {
-    fail.error = "Modbus: " + client.error_text();
-    return false;
-  }
+  if (!transport(client, client.write_one(var::kUnlock, macros::kUnlockCode), fail)) return false;
   // The same session computed again, now stored: the computation is
   // deterministic, so what is stored is what OUT.json describes.
-  bool stored = client.write_one(var::kArgR, 1.0);
-  if (!stored) fail.error = "Modbus: " + client.error_text();
-  stored = stored && run_or_fail(client, build_macro, "", fail);
+  const bool stored = transport(client, client.write_one(var::kArgR, 1.0), fail) &&
+                      run_or_fail(client, build_macro, "", fail);
   const bool locked = client.write_one(var::kUnlock, 0.0);  // lock again, whatever happened
   if (stored && !locked) fail.error = "Modbus: the controller could not be locked again: " + client.error_text();
   return stored && locked;

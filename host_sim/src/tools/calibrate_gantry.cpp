@@ -25,11 +25,6 @@ constexpr std::uint16_t kBuild = 9823;
 constexpr std::uint16_t kGlobal = 9824;
 constexpr std::uint16_t kSub = 9826;
 
-bool transport(VariableClient& client, bool ok, FlowResult& fail) {
-  if (!ok) fail.error = "Modbus: " + client.error_text();
-  return ok;
-}
-
 // A group's name as (T, Q, D) (gantry_map.hpp convention 3) and its order in
 // the stream: the machine's groups first, then each sub-machine's.
 struct Group {

@@ -21,11 +21,6 @@ constexpr std::uint16_t kAdd = 9831;
 constexpr std::uint16_t kBuild = 9832;
 constexpr std::uint16_t kPose = 9834;
 
-bool transport(VariableClient& client, bool ok, FlowResult& fail) {
-  if (!ok) fail.error = "Modbus: " + client.error_text();
-  return ok;
-}
-
 }  // namespace
 
 FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& options) {

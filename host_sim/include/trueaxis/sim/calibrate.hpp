@@ -47,6 +47,9 @@ std::string module_error_text(int code);
 // (e.g. "samples.csv:12") is prefixed when not empty.
 bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail);
 
+// `ok` as it is; when false, fail.error names the transport problem ("Modbus: ...").
+bool transport(VariableClient& client, bool ok, FlowResult& fail);
+
 // JSON pieces, numbers with 17 significant digits.
 std::string json_number(double v);
 std::string json_vec3(const double* v);
