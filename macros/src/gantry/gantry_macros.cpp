@@ -184,12 +184,7 @@ core::Result<core::Vec3> sub_point_mm(const State& state, int id, const core::Ve
 }
 
 void on_record(State& state, const std::uint8_t* bytes, std::size_t length) {
-  if (length == 0) return;
-  if (core::decode_gantry_table(bytes, length, state.decoded) != core::Status::kOk) {
-    state.missing = core::Status::kTableInvalid;
-    return;
-  }
-  state.live.publish(state.decoded);
+  load_stored(state.live, state.decoded, state.missing, bytes, length, core::decode_gantry_table);
 }
 
 void on_damaged(State& state) { state.missing = core::Status::kTableDamaged; }

@@ -53,12 +53,7 @@ core::Result<core::Vec3> compensation_rad(const State& state, double a_deg, core
 }
 
 void on_record(State& state, const std::uint8_t* bytes, std::size_t length) {
-  if (length == 0) return;
-  if (core::decode_rigidity_table(bytes, length, state.decoded) != core::Status::kOk) {
-    state.missing = core::Status::kTableInvalid;
-    return;
-  }
-  state.live.publish(state.decoded);
+  load_stored(state.live, state.decoded, state.missing, bytes, length, core::decode_rigidity_table);
 }
 
 void on_damaged(State& state) { state.missing = core::Status::kTableDamaged; }

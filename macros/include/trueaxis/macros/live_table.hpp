@@ -18,7 +18,10 @@
 #pragma once
 
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
+
+#include "trueaxis/core/status.hpp"
 
 namespace trueaxis::macros {
 
@@ -67,5 +70,20 @@ class LiveTable {
   std::atomic<std::uint32_t> sequence_[2] = {};
   std::atomic<std::uint8_t> live_{kNone};
 };
+
+// A method's stored record at start(): decode(bytes, length, scratch) into
+// `scratch`, then publish it; a record that does not decode publishes nothing
+// and sets `missing` to kTableInvalid (the queries then say so, not kNoTable).
+// An empty record (length 0: none stored) changes nothing.
+template <typename T, typename Decode>
+void load_stored(LiveTable<T>& live, T& scratch, core::Status& missing, const std::uint8_t* bytes,
+                 std::size_t length, Decode decode) {
+  if (length == 0) return;
+  if (decode(bytes, length, scratch) != core::Status::kOk) {
+    missing = core::Status::kTableInvalid;
+    return;
+  }
+  live.publish(scratch);
+}
 
 }  // namespace trueaxis::macros
