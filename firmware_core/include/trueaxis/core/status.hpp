@@ -52,6 +52,7 @@ enum class Status : std::uint16_t {
   kPassesDisagree = 218,    // the passes of one axis point in opposite directions
   kToolDirectionAmbiguous = 219,  // the nominal tool direction is perpendicular to the C axis
   kBedNotLevel = 220,       // the bed plane's normal is far from the data's +Z (not levelled)
+  kNotIdentifiable = 221,   // the data do not determine every parameter of the model
 
   kConfigInvalid = 300,     // the stored configuration is inconsistent
 
@@ -141,6 +142,10 @@ inline constexpr StatusInfo kStatusTable[] = {
     {Status::kBedNotLevel, "bed_not_level",
      "The bed plane's normal is far from the measurement's +Z: the tracker data must be "
      "levelled (+Z up)."},
+    {Status::kNotIdentifiable, "not_identifiable",
+     "The data do not determine every parameter of the model: a combination of them leaves "
+     "the measurements unchanged. Measure more (for the spindle: the ball at two heights, over "
+     "a whole revolution)."},
     {Status::kConfigInvalid, "config_invalid",
      "The stored configuration is inconsistent (for example a lower limit above the "
      "upper one)."},
