@@ -34,9 +34,9 @@ struct Group {
   int order() const { return (t * 16 + static_cast<int>(q)) * 16 + d; }
 };
 
-// A whole number in lo..hi written in decimal digits only.
+// A whole number in lo..hi written in decimal digits only, without a leading zero.
 bool whole(const std::string& s, int lo, int hi, int& out) {
-  if (s.empty() || s.size() > 3 || !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+  if (s.empty() || s.size() > 3 || s[0] == '0' || !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; })) {
     return false;
   }
   out = std::atoi(s.c_str());
@@ -148,7 +148,11 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
     }
     if (!run_or_fail(client, kAdd, where, r)) return r;
   }
+  // Only the sub-machines the samples measure: a MACHINE file may describe the
+  // whole machine while one sub-machine is measured again (the module computes
+  // every sub-machine given a 9822, and one without points is missing_group).
   for (const auto& [n, row] : parameters) {
+    if (!mentioned[n]) continue;
     const std::string where = options.machine_path + ":" + std::to_string(row->line);
     const double tool[3] = {row->numbers[2], row->numbers[3], row->numbers[4]};
     if (!client.write_one(var::kArgT, n) || !client.write_one(var::kArgD, row->numbers[1]) ||
@@ -208,8 +212,11 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
            ", \"gantry_straightness_mm\": " + json_number(global[13]) + " },\n  \"sub_machines\": [" + subs +
            "\n  ]\n}\n";
   // What the module computed beyond INTERFACE.md's OUT.json, for the report only.
+  // A key of its own ("sub_machine_figures"): the report merges this file into
+  // OUT.json's keys, and must not lose OUT.json's "sub_machines".
   r.report_extras = "{ \"global_origin_sigma_mm\": " + json_number(global[14]) +
-                    ", \"global_angle_sigma_arcsec\": " + json_vec3(global + 15) + ",\n  \"sub_machines\": [" +
+                    ", \"global_angle_sigma_arcsec\": " + json_vec3(global + 15) +
+                    ",\n  \"sub_machine_figures\": [" +
                     extras + "\n  ] }\n";
   r.ok = true;
   return r;

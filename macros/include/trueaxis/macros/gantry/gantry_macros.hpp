@@ -24,8 +24,9 @@
 //  stored frames, the others stay, committed whole through the keyed store and
 //  then made live; 0 computes only (9824, 9826 with R = 0 report it). Out:
 //  #100..#103 (kBuildOutputs). Status: those of core::compute_gantry_frames
-//  (gantry_frames.hpp, gantry_fits.hpp); a sub-machine with points but no 9822
-//  is kMissingGroup. The session is kept either way.
+//  (gantry_frames.hpp, gantry_fits.hpp); a sub-machine with points but no 9822,
+//  or with a 9822 but no points, is kMissingGroup (give 9822 only for the
+//  sub-machines measured). The session is kept either way.
 // Macro 9824: the global frame and the set of sub-machines: R = #18 0 of the
 //  last computation since start, 1 of the stored frames. Out: #100..#119.
 // Macro 9825: point conversion (INTERFACE.md): T = #20 sub-machine, X, Y, Z =

@@ -9,7 +9,7 @@
 //     tracker's frame, a sub-machine's in the global frame (INTERFACE.md).
 //  3. A group is named by three arguments of 9821: T = #20 the sub-machine
 //     (0 for the machine's own groups), Q = #17 the kind (kGroupKind below) and
-//     D = #7 the pass number K (1..8, for the passes only). INTERFACE.md's CSV
+//     D = #7 the pass number K (1..kMaxPasses = 4, for the passes only). INTERFACE.md's CSV
 //     names map one to one: bed = (0, 1), side_1 = (0, 2), side_2 = (0, 3),
 //     gantry_K = (0, 4, K), spN_x_K = (N, 5, K), spN_y_K = (N, 6, K),
 //     spN_z_K = (N, 7, K), spN_c = (N, 8), spN_a = (N, 9).
