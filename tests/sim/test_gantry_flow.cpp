@@ -329,6 +329,14 @@ TEST_CASE("a failed computation stores nothing and keeps the stored frames", "[g
     f.samples.subs[1].a.clear();
     expected = Status::kMissingGroup;
   }
+  SECTION("a bed of 3 points: too_few_points") {
+    f.samples.bed.resize(core::kMinPlanePoints - 1);
+    expected = Status::kTooFewPoints;
+  }
+  SECTION("a C circle of 4 points: too_few_points") {
+    f.samples.subs[2].c.resize(core::kMinCirclePoints - 1);
+    expected = Status::kTooFewPoints;
+  }
   SECTION("a sub-machine without 9822: missing_group") {
     stream(rig, f, {0});
     rig.add_all(s2.id, g::GroupKind::kCCircle, 0, f.samples.subs[1].c);
