@@ -7,29 +7,18 @@
 // fails falls back to the older copy, then to no table.
 #include <catch2/catch.hpp>
 
-#include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <utility>
 #include <vector>
 
-#include <dirent.h>
-#include <fcntl.h>
-#include <ftw.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
+#include "calibrate_support.hpp"
 #include "sim_fixture.hpp"
 #include "trueaxis/core/status.hpp"
 #include "trueaxis/macros/records.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/macros/rigidity/rigidity_map.hpp"
-
-extern char** environ;
 
 namespace {
 
@@ -39,59 +28,9 @@ using trueaxis::core::Status;
 using trueaxis::sim::SimProcess;
 using trueaxis::sim::VariableClient;
 using trueaxis::sim::test::SimFixture;
+using namespace trueaxis::test;
 
-// ---- processes and files -------------------------------------------------------------
-
-struct Run {
-  int exit_code = -1;
-  std::string err;  // all of stderr
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-bool exists(const std::string& path) { return ::access(path.c_str(), F_OK) == 0; }
-
-Run run(const std::vector<std::string>& argv, const std::string& err_path) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  std::vector<char*> args;
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  pid_t pid = 0;
-  Run r;
-  const int rc = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  REQUIRE(rc == 0);
-  int status = 0;
-  REQUIRE(::waitpid(pid, &status, 0) == pid);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-  r.err = slurp(err_path);
-  return r;
-}
-
-int remove_entry(const char* path, const struct stat*, int, struct FTW*) { return std::remove(path); }
-
-struct Workspace {
-  std::string dir;
-  Workspace() {
-    char path[] = "/tmp/trueaxis-calibrate-cli-XXXXXX";
-    REQUIRE(::mkdtemp(path) != nullptr);
-    dir = path;
-  }
-  ~Workspace() { ::nftw(dir.c_str(), remove_entry, 16, FTW_DEPTH | FTW_PHYS); }
-  std::string file(const std::string& name) const { return dir + "/" + name; }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(file(name), std::ios::binary) << text;
-    return file(name);
-  }
-};
+// ---- the tools ------------------------------------------------------------------------
 
 std::string measure(int port, const Workspace& w, const std::string& name, std::vector<std::string> extra = {}) {
   std::vector<std::string> argv = {TRUEAXIS_MEASURE_BINARY, "--port", std::to_string(port), "--out", w.file(name)};
@@ -110,94 +49,6 @@ Run calibrate(int port, const Workspace& w, const std::string& in, const std::st
   if (!report.empty()) argv.insert(argv.end(), {"--report", report});
   return run(argv, w.file("calibrate.err"));
 }
-
-// ---- a small strict JSON reader --------------------------------------------------------
-
-struct Json {
-  enum Kind { kNull, kBool, kNumber, kString, kArray, kObject } kind = kNull;
-  double number = 0.0;
-  std::string text;
-  std::vector<Json> items;
-  std::vector<std::pair<std::string, Json>> members;
-
-  const Json& operator[](const std::string& key) const {
-    static const Json missing;
-    for (const auto& kv : members) {
-      if (kv.first == key) return kv.second;
-    }
-    return missing;
-  }
-};
-
-class JsonReader {
- public:
-  explicit JsonReader(const std::string& s) : s_(s) {}
-  bool parse(Json& out) {
-    const bool ok = value(out);
-    space();
-    return ok && at_ == s_.size();
-  }
-
- private:
-  void space() {
-    while (at_ < s_.size() && (s_[at_] == ' ' || s_[at_] == '\n' || s_[at_] == '\r' || s_[at_] == '\t')) ++at_;
-  }
-  bool eat(char c) {
-    space();
-    if (at_ >= s_.size() || s_[at_] != c) return false;
-    ++at_;
-    return true;
-  }
-  bool string(std::string& out) {
-    if (!eat('"')) return false;
-    while (at_ < s_.size() && s_[at_] != '"') {
-      if (s_[at_] == '\\') ++at_;
-      if (at_ < s_.size()) out += s_[at_++];
-    }
-    return eat('"');
-  }
-  bool value(Json& out) {
-    space();
-    if (at_ >= s_.size()) return false;
-    const char c = s_[at_];
-    if (c == '{') {
-      out.kind = Json::kObject;
-      ++at_;
-      if (eat('}')) return true;
-      do {
-        std::pair<std::string, Json> kv;
-        if (!string(kv.first) || !eat(':') || !value(kv.second)) return false;
-        out.members.push_back(std::move(kv));
-      } while (eat(','));
-      return eat('}');
-    }
-    if (c == '[') {
-      out.kind = Json::kArray;
-      ++at_;
-      if (eat(']')) return true;
-      do {
-        out.items.emplace_back();
-        if (!value(out.items.back())) return false;
-      } while (eat(','));
-      return eat(']');
-    }
-    if (c == '"') {
-      out.kind = Json::kString;
-      return string(out.text);
-    }
-    const std::size_t end = s_.find_first_not_of("+-0123456789.eE", at_);
-    const std::string token = s_.substr(at_, end - at_);
-    char* stop = nullptr;
-    out.number = std::strtod(token.c_str(), &stop);
-    if (token.empty() || *stop != '\0' || token[0] == '+' || token[0] == '.') return false;
-    out.kind = Json::kNumber;
-    at_ = end;
-    return true;
-  }
-
-  const std::string& s_;
-  std::size_t at_ = 0;
-};
 
 // The pose's 17 figures in 9834's order (#100..#116), -1e300 for a missing or ill-typed key.
 std::vector<double> pose_figures(const Json& pose) {
@@ -313,7 +164,7 @@ TEST_CASE("calibrate rigidity: OUT.json holds exactly what the module computed, 
           "[calibrate]") {
   SimFixture sim({"--errors", "realistic"});
   VariableClient& client = sim.client();
-  Workspace w;
+  Workspace w("trueaxis-calibrate-cli");
   const std::string samples = measure(sim.port(), w, "samples.csv");
   REQUIRE(rows_of(samples).size() == 252);
   REQUIRE(read_var(client, v::kUnlock) == 0.0);  // locked
@@ -405,22 +256,9 @@ TEST_CASE("calibrate rigidity: OUT.json holds exactly what the module computed, 
   {  // The report is a page and four PNG figures.
     const std::string page = slurp(w.file("report/index.html"));
     CHECK(page.find("<html") != std::string::npos);
-    std::vector<std::string> pngs;
-    DIR* dir = ::opendir(w.file("report").c_str());
-    REQUIRE(dir != nullptr);
-    while (const dirent* e = ::readdir(dir)) {
-      const std::string name = e->d_name;
-      if (name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0) pngs.push_back(name);
-    }
-    ::closedir(dir);
+    const std::vector<std::string> pngs = pngs_in(w.file("report"));
     CHECK(pngs.size() == 4);
-    for (const std::string& name : pngs) {
-      CAPTURE(name);
-      CHECK(page.find(name) != std::string::npos);  // the page shows it
-      const std::string png = slurp(w.file("report/" + name));
-      CHECK(png.size() > 1000);
-      CHECK(png.compare(0, 8, std::string("\x89PNG\r\n\x1a\n", 8)) == 0);
-    }
+    for (const std::string& name : pngs) check_figure(page, w.file("report"), name);
   }
 }
 
@@ -428,7 +266,7 @@ TEST_CASE("calibrate rigidity: a bad sample is named by its line or the module's
           "[calibrate]") {
   SimFixture sim({"--errors", "realistic"});
   VariableClient& client = sim.client();
-  Workspace w;
+  Workspace w("trueaxis-calibrate-cli");
   const std::vector<Row> good = rows_of(measure(sim.port(), w, "samples.csv"));
   const std::vector<Row> fine = rows_of(measure(sim.port(), w, "fine.csv", {"--a-from", "30", "--a-to", "30",
                                                                            "--c-step", "5"}));
@@ -553,7 +391,7 @@ TEST_CASE("calibrate rigidity: a bad sample is named by its line or the module's
 
 TEST_CASE("calibrate rigidity: a stored table whose CRC fails is not used after a restart, and says so",
           "[calibrate]") {
-  Workspace w;
+  Workspace w("trueaxis-calibrate-cli");
   const std::string nv = w.file("sim.nv");
   SimProcess sim;
   VariableClient client;
@@ -616,7 +454,7 @@ TEST_CASE("calibrate rigidity: a stored table whose CRC fails is not used after 
 TEST_CASE("calibrate rigidity: a report that cannot be made leaves no OUT.json and nothing stored",
           "[calibrate]") {
   SimFixture sim({"--errors", "realistic"});
-  Workspace w;
+  Workspace w("trueaxis-calibrate-cli");
   measure(sim.port(), w, "samples.csv");
   w.write("a_file", "not a directory");
   const Run r = calibrate(sim.port(), w, w.file("samples.csv"), w.file("out.json"), true, w.file("a_file/report"));

@@ -1,0 +1,223 @@
+// The trueaxis-calibrate gantry tests' own support: trueaxis-sim's parts served
+// in this process, the virtual gantry measured, samples rows, the module's 9825
+// conversions, and the command's flow run without its files.
+#pragma once
+
+#include <cmath>
+#include <csignal>
+#include <cstdint>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <pthread.h>
+
+#include <catch2/catch.hpp>
+
+#include "calibrate_support.hpp"
+#include "trueaxis/core/status.hpp"
+#include "trueaxis/hal/posix/steady_clock.hpp"
+#include "trueaxis/hal/ram_nv_storage.hpp"
+#include "trueaxis/macros/module.hpp"
+#include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/sim/calibrate.hpp"
+#include "trueaxis/sim/client.hpp"
+#include "trueaxis/sim/gantry_measure.hpp"
+#include "trueaxis/sim/modbus_server.hpp"
+#include "trueaxis/sim/request_handler.hpp"
+#include "trueaxis/sim/simulator.hpp"
+#include "trueaxis/sim/variable_router.hpp"
+
+namespace trueaxis::test {
+
+// ---- the simulator, in this process ---------------------------------------------------
+
+inline volatile std::sig_atomic_t g_stop = 0;
+extern "C" inline void on_wake(int) {}
+
+// trueaxis-sim's parts (sim_main.cpp) on RAM storage, served by a thread until
+// the destructor: it sets the stop flag and wakes the thread's ppoll with
+// SIGUSR1 (blocked in that thread but while it waits, so it cannot be lost).
+class InProcessSim {
+ public:
+  InProcessSim()
+      : nv_(trueaxis::macros::kRequiredStorageBytes),
+        storage_(nv_.data(), nv_.size()),
+        module_(std::make_unique<trueaxis::macros::Module>(storage_, clock_)) {
+    REQUIRE(module_->start() == core::Status::kOk);
+    simulator_ = std::make_unique<sim::Simulator>(*module_, sim::FaceConfig{}, 1);
+    router_ = std::make_unique<sim::VariableRouter>(*module_, *simulator_);
+    handler_ = std::make_unique<sim::RequestHandler>(*router_);
+    server_ = std::make_unique<sim::ModbusTcpServer>(*handler_, *simulator_);
+    REQUIRE(server_->listen("127.0.0.1", 0));
+    struct sigaction wake {};
+    wake.sa_handler = on_wake;
+    sigemptyset(&wake.sa_mask);
+    sigaction(SIGUSR1, &wake, nullptr);
+    std::signal(SIGPIPE, SIG_IGN);
+    g_stop = 0;
+    thread_ = std::thread([this] {
+      sigset_t usr1, wait_mask;
+      sigemptyset(&usr1);
+      sigaddset(&usr1, SIGUSR1);
+      pthread_sigmask(SIG_BLOCK, &usr1, &wait_mask);
+      sigdelset(&wait_mask, SIGUSR1);
+      server_->serve(g_stop, wait_mask);
+    });
+    REQUIRE(client_.connect("127.0.0.1", server_->port()));
+  }
+  ~InProcessSim() {
+    client_.close();
+    g_stop = 1;
+    pthread_kill(thread_.native_handle(), SIGUSR1);
+    thread_.join();
+  }
+  InProcessSim(const InProcessSim&) = delete;
+  InProcessSim& operator=(const InProcessSim&) = delete;
+
+  int port() const { return server_->port(); }
+  sim::VariableClient& client() { return client_; }
+
+ private:
+  std::vector<std::uint8_t> nv_;
+  trueaxis::hal::RamNvStorage storage_;
+  trueaxis::hal::SteadyClock clock_;
+  std::unique_ptr<trueaxis::macros::Module> module_;
+  std::unique_ptr<sim::Simulator> simulator_;
+  std::unique_ptr<sim::VariableRouter> router_;
+  std::unique_ptr<sim::RequestHandler> handler_;
+  std::unique_ptr<sim::ModbusTcpServer> server_;
+  std::thread thread_;
+  sim::VariableClient client_;
+};
+
+// ---- the virtual gantry's files ------------------------------------------------------
+
+// The virtual gantry measured by the virtual tracker: the three files' texts.
+struct Measured {
+  std::string samples, machine, truth;
+};
+
+inline Measured measure(const sim::GantryPlan& plan, std::uint64_t seed) {
+  const sim::GantryMachine machine(sim::realistic_gantry());
+  const sim::LaserTracker tracker = sim::place_tracker(machine, sim::TrackerPlacement{});
+  sim::SimRng rng(seed);
+  return {sim::samples_csv_text(sim::measure_gantry(machine, tracker, plan, rng), {"measured"}),
+          sim::machine_csv_text(machine, tracker), sim::truth_json_text(machine, tracker, plan)};
+}
+
+// A plan of fewer points: the bad inputs need a whole stream, not its precision.
+inline sim::GantryPlan small_plan() {
+  sim::GantryPlan p;
+  p.pad_grid = 3;
+  p.side_rows = 3;
+  p.side_cols = 3;
+  p.passes = 2;
+  p.pass_points = 8;
+  p.circle_points = 12;
+  return p;
+}
+
+// A samples file as its data rows (group, the whole line); comments and the header dropped.
+struct Row {
+  std::string group, text;
+};
+inline const std::string kHeader = "group,x_mm,y_mm,z_mm\n";
+
+inline std::vector<Row> rows_of(const std::string& csv) {
+  std::vector<Row> rows;
+  std::istringstream in(csv);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || line.rfind("group,", 0) == 0) continue;
+    rows.push_back({line.substr(0, line.find(',')), line});
+  }
+  return rows;
+}
+
+inline std::string text_of(const std::vector<Row>& rows) {
+  std::string out = kHeader;
+  for (const Row& r : rows) out += r.text + "\n";
+  return out;
+}
+
+// ---- OUT.json ----------------------------------------------------------------------------
+
+inline const Json& sub_of(const Json& doc, int id) {
+  for (const Json& s : doc["sub_machines"].items) {
+    if (s["id"].number == id) return s;
+  }
+  FAIL("no sub-machine " << id);
+  return doc;
+}
+
+inline double distance(const std::vector<double>& a, const std::vector<double>& b) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < 3; ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
+  return std::sqrt(sum);
+}
+
+// A global point into sub-machine coordinates through global_T_sub (row-major).
+inline std::vector<double> to_sub(const std::vector<double>& t, const std::vector<double>& p) {
+  std::vector<double> q(3, 0.0);
+  for (std::size_t j = 0; j < 3; ++j) {
+    for (std::size_t i = 0; i < 3; ++i) q[j] += t[4 * i + j] * (p[i] - t[4 * i + 3]);
+  }
+  return q;
+}
+
+// ---- the module ------------------------------------------------------------------------------
+
+inline const std::vector<double> kPoint = {400.0, 1100.0, 150.0};  // a workpiece point, global frame
+
+// 9825 for sub-machines 1..4 at kPoint: each #100..#102 or {error code}.
+inline std::vector<std::vector<double>> conversions(sim::VariableClient& client) {
+  std::vector<std::vector<double>> out;
+  for (int n = 1; n <= 4; ++n) {
+    REQUIRE(client.write_one(macros::var::kArgT, n));
+    REQUIRE(client.write(macros::var::kArgX, 3, kPoint.data()));
+    const sim::MacroOutcome o = client.run_macro(9825);
+    REQUIRE(o.status >= 2);
+    if (o.status == 3) {
+      out.push_back({static_cast<double>(o.error)});
+      continue;
+    }
+    std::vector<double> p(3);
+    REQUIRE(client.read(macros::var::kGantryPointX, 3, p.data()));
+    out.push_back(p);
+  }
+  return out;
+}
+
+inline double read_var(sim::VariableClient& client, std::uint16_t number) {
+  double x = 0.0;
+  REQUIRE(client.read_one(number, x));
+  return x;
+}
+
+inline std::string module_error(core::Status s) {
+  return "module error " + std::to_string(static_cast<int>(s)) + " " + trueaxis::core::status_name(s) + ": " +
+         trueaxis::core::status_message(s);
+}
+
+// The command's flow as calibrate_main.cpp runs it, without the files: the
+// flow, then (on success, with store) the store.
+inline sim::FlowResult flow(sim::VariableClient& client, const std::string& in, const std::string& machine,
+                            bool store) {
+  sim::CalibrateOptions o;
+  o.method = "gantry";
+  o.in_path = in;
+  o.machine_path = machine;
+  o.json_path = "unused.json";
+  o.store = store;
+  sim::FlowResult r = sim::calibrate_gantry(client, o);
+  if (r.ok && store) {
+    sim::FlowResult s;
+    if (!sim::store_gantry(client, s)) return s;
+  }
+  return r;
+}
+
+}  // namespace trueaxis::test
