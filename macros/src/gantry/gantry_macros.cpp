@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "trueaxis/macros/arguments.hpp"
 #include "trueaxis/macros/macro_context.hpp"
 #include "trueaxis/macros/methods.hpp"
 
@@ -11,23 +12,7 @@ static_assert(core::kGantryTableBytes <= record_capacity(RecordKey::kGantryFrame
 
 namespace {
 
-// A whole number in [lo, hi]; false otherwise (NaN included).
-bool whole_in(double v, double lo, double hi) { return v >= lo && v <= hi && v == std::floor(v); }
-
-bool flag_of(double r, bool& flag) {
-  if (r != 0.0 && r != 1.0) return false;
-  flag = r == 1.0;
-  return true;
-}
-
 bool finite(const core::Vec3& v) { return v.allFinite(); }
-
-template <std::uint16_t X>
-void out_vec3(MacroContext& ctx, const core::Vec3& v) {
-  ctx.out<X>(v.x());
-  ctx.out<X + 1>(v.y());
-  ctx.out<X + 2>(v.z());
-}
 
 MacroStep report_session(MacroContext& ctx, const PointSession& s) {
   ctx.out<var::kGantrySessionCount>(static_cast<double>(s.size()));
@@ -71,34 +56,45 @@ void gather(const PointSession& s, core::GantryInput& in) {
 }
 
 MacroStep report_global(MacroContext& ctx, const core::StoredGlobal& g, std::size_t count, std::uint16_t mask) {
-  out_vec3<var::kGlobalOriginX>(ctx, g.tracker_T_global.t);
-  out_vec3<var::kGlobalXX>(ctx, g.tracker_T_global.R.col(0));
-  out_vec3<var::kGlobalYX>(ctx, g.tracker_T_global.R.col(1));
-  out_vec3<var::kGlobalZX>(ctx, g.tracker_T_global.R.col(2));
+  ctx.out3<var::kGlobalOriginX>(g.tracker_T_global.t);
+  ctx.out3<var::kGlobalXX>(g.tracker_T_global.R.col(0));
+  ctx.out3<var::kGlobalYX>(g.tracker_T_global.R.col(1));
+  ctx.out3<var::kGlobalZX>(g.tracker_T_global.R.col(2));
   ctx.out<var::kGlobalBedFlatness>(g.bed_flatness_mm);
   ctx.out<var::kGlobalGantryStraightness>(g.gantry_straightness_mm);
   ctx.out<var::kGlobalOriginSigma>(g.origin_sigma_mm);
-  out_vec3<var::kGlobalAngleSigmaX>(ctx, g.angle_sigma_arcsec);
+  ctx.out3<var::kGlobalAngleSigmaX>(g.angle_sigma_arcsec);
   ctx.out<var::kGlobalSubMachines>(static_cast<double>(count));
   ctx.out<var::kGlobalIdMask>(static_cast<double>(mask));
   return done(core::Status::kOk);
 }
 
 MacroStep report_sub(MacroContext& ctx, const core::StoredSubMachine& s) {
-  out_vec3<var::kSubOriginX>(ctx, s.global_T_sub.t);
+  ctx.out3<var::kSubOriginX>(s.global_T_sub.t);
   ctx.out<var::kSubOriginSigma>(s.origin_sigma_mm);
-  out_vec3<var::kSubXX>(ctx, s.global_T_sub.R.col(0));
-  out_vec3<var::kSubYX>(ctx, s.global_T_sub.R.col(1));
-  out_vec3<var::kSubZX>(ctx, s.global_T_sub.R.col(2));
+  ctx.out3<var::kSubXX>(s.global_T_sub.R.col(0));
+  ctx.out3<var::kSubYX>(s.global_T_sub.R.col(1));
+  ctx.out3<var::kSubZX>(s.global_T_sub.R.col(2));
   ctx.out<var::kSubMasterAxis>(static_cast<double>(s.master_axis));
-  out_vec3<var::kSubSquarenessXY>(ctx, s.squareness_arcsec);
+  ctx.out3<var::kSubSquarenessXY>(s.squareness_arcsec);
   ctx.out<var::kSubACOffset>(s.a_c_offset_mm);
   ctx.out<var::kSubACAngle>(s.a_c_angle_deg);
-  out_vec3<var::kSubAngleSigmaX>(ctx, s.angle_sigma_arcsec);
-  out_vec3<var::kSubStraightnessX>(ctx, s.straightness_mm);
+  ctx.out3<var::kSubAngleSigmaX>(s.angle_sigma_arcsec);
+  ctx.out3<var::kSubStraightnessX>(s.straightness_mm);
   ctx.out<var::kSubCCircleRms>(s.c_circle_rms_mm);
   ctx.out<var::kSubACircleRms>(s.a_circle_rms_mm);
   return done(core::Status::kOk);
+}
+
+// The frames a report reads: R = 1 the stored ones, R = 0 the last computation
+// (as a table of its own: one report for both).
+template <typename Report>
+MacroStep with_frames(const State& state, bool stored, Report report) {
+  if (stored) return read_or(state.live, state.missing, report);
+  if (!state.built) return done(core::Status::kNoTable);
+  core::GantryTable computed;
+  core::merge_frames(computed, state.frames);
+  return report(static_cast<const core::GantryTable&>(computed));
 }
 
 }  // namespace
@@ -172,15 +168,11 @@ bool PointSession::mentions(std::size_t id) const {
 
 core::Result<core::Vec3> sub_point_mm(const State& state, int id, const core::Vec3& p_global_mm) {
   if (id < 1 || id > static_cast<int>(core::kMaxSubMachines)) return core::Status::kArgumentOutOfRange;
-  core::Result<core::Vec3> r = state.missing;
-  if (!state.live.read([&](const core::GantryTable& t) {
-        const core::StoredSubMachine& s = t.sub_machines[id - 1];
-        r = s.present ? core::Result<core::Vec3>(core::global_to_sub_mm(s, p_global_mm))
-                      : core::Result<core::Vec3>(core::Status::kNoTable);
-      })) {
-    return state.missing;
-  }
-  return r;
+  return read_or(state.live, state.missing, [&](const core::GantryTable& t) {
+    const core::StoredSubMachine& s = t.sub_machines[id - 1];
+    return s.present ? core::Result<core::Vec3>(core::global_to_sub_mm(s, p_global_mm))
+                     : core::Result<core::Vec3>(core::Status::kNoTable);
+  });
 }
 
 void on_record(State& state, const std::uint8_t* bytes, std::size_t length) {
@@ -277,22 +269,11 @@ MacroStep run_build(MacroContext& ctx) {
 }
 
 MacroStep run_global(MacroContext& ctx) {
-  const State& state = ctx.methods().gantry;
   bool stored = false;
   if (!flag_of(ctx.in<var::kArgR>(), stored)) return done(core::Status::kArgumentOutOfRange);
-  if (!stored) {
-    if (!state.built) return done(core::Status::kNoTable);
-    std::uint16_t mask = 0;
-    for (std::size_t i = 0; i < state.frames.sub_machine_count; ++i) {
-      mask = static_cast<std::uint16_t>(mask | (1u << (state.frames.sub_machines[i].id - 1)));
-    }
-    return report_global(ctx, core::stored_global(state.frames.global), state.frames.sub_machine_count, mask);
-  }
-  MacroStep result = done(state.missing);
-  if (!state.live.read([&](const core::GantryTable& t) { result = report_global(ctx, t.global, t.count(), t.id_mask()); })) {
-    return done(state.missing);
-  }
-  return result;
+  return with_frames(ctx.methods().gantry, stored, [&](const core::GantryTable& t) {
+    return report_global(ctx, t.global, t.count(), t.id_mask());
+  });
 }
 
 MacroStep run_convert(MacroContext& ctx) {
@@ -302,35 +283,21 @@ MacroStep run_convert(MacroContext& ctx) {
   if (!finite(p)) return done(core::Status::kNotFinite);
   const core::Result<core::Vec3> r = sub_point_mm(ctx.methods().gantry, static_cast<int>(t), p);
   if (!r.ok()) return done(r.status());
-  out_vec3<var::kGantryPointX>(ctx, r.value());
+  ctx.out3<var::kGantryPointX>(r.value());
   return done(core::Status::kOk);
 }
 
 MacroStep run_sub(MacroContext& ctx) {
-  const State& state = ctx.methods().gantry;
   bool stored = false;
   const double t = ctx.in<var::kArgT>();
   if (!flag_of(ctx.in<var::kArgR>(), stored) || !whole_in(t, 1.0, core::kMaxSubMachines)) {
     return done(core::Status::kArgumentOutOfRange);
   }
-  const int id = static_cast<int>(t);
-  if (!stored) {
-    if (!state.built) return done(core::Status::kNoTable);
-    for (std::size_t i = 0; i < state.frames.sub_machine_count; ++i) {
-      if (state.frames.sub_machines[i].id == id) {
-        return report_sub(ctx, core::stored_sub_machine(state.frames.sub_machines[i]));
-      }
-    }
-    return done(core::Status::kNoTable);
-  }
-  MacroStep result = done(state.missing);
-  if (!state.live.read([&](const core::GantryTable& table) {
-        const core::StoredSubMachine& s = table.sub_machines[id - 1];
-        result = s.present ? report_sub(ctx, s) : done(core::Status::kNoTable);
-      })) {
-    return done(state.missing);
-  }
-  return result;
+  const auto id = static_cast<std::size_t>(t);
+  return with_frames(ctx.methods().gantry, stored, [&](const core::GantryTable& table) {
+    const core::StoredSubMachine& s = table.sub_machines[id - 1];
+    return s.present ? report_sub(ctx, s) : done(core::Status::kNoTable);
+  });
 }
 
 }  // namespace trueaxis::macros::gantry

@@ -39,14 +39,12 @@ MacroStep level_and_report(MacroContext& ctx, const core::Vec3* points, std::siz
   input.outward_hint_machine = read_point<var::kArgI>(ctx);
 
   const bool calibrated = ctx.in<var::kLevelAxes>() == 1.0;
-  core::Result<core::LevelResult> r = core::Status::kNoTable;
-  if (!calibrated) {
-    r = core::level_face(input, read_config(ctx));
-  } else if (!ctx.methods().rigidity.live.read([&](const core::RigidityTable& table) {
-               r = core::level_on_table(input, read_config(ctx), table, core::Blend::kCubicNotAKnot, false);
-             })) {
-    return done(ctx.methods().rigidity.missing);
-  }
+  const rigidity::State& table = ctx.methods().rigidity;
+  const core::Result<core::LevelResult> r =
+      !calibrated ? core::level_face(input, read_config(ctx))
+                  : read_or(table.live, table.missing, [&](const core::RigidityTable& t) {
+                      return core::level_on_table(input, read_config(ctx), t, core::Blend::kCubicNotAKnot, false);
+                    });
   if (!r.ok()) return done(r.status());
   const core::LevelResult& out = r.value();
   ctx.out<var::kLevelC>(out.chosen.c_deg);

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "trueaxis/core/rigidity_codec.hpp"
+#include "trueaxis/macros/arguments.hpp"
 #include "trueaxis/macros/macro_context.hpp"
 #include "trueaxis/macros/methods.hpp"
 
@@ -28,28 +29,11 @@ bool blend_of(double q, core::Blend& blend) {
   return true;
 }
 
-// R (#18) as a flag; false when it is not 0 or 1.
-bool flag_of(double r, bool& flag) {
-  if (r != 0.0 && r != 1.0) return false;
-  flag = r == 1.0;
-  return true;
-}
-
-template <std::uint16_t X>
-void out_vec3(MacroContext& ctx, const core::Vec3& v, double scale) {
-  ctx.out<X>(v.x() * scale);
-  ctx.out<X + 1>(v.y() * scale);
-  ctx.out<X + 2>(v.z() * scale);
-}
-
 }  // namespace
 
 core::Result<core::Vec3> compensation_rad(const State& state, double a_deg, core::Blend blend, bool clamp) {
-  core::Result<core::Vec3> r = state.missing;
-  if (!state.live.read([&](const core::RigidityTable& t) { r = core::rigidity_rotvec_rad(t, a_deg, blend, clamp); })) {
-    return state.missing;
-  }
-  return r;
+  return read_or(state.live, state.missing,
+                 [&](const core::RigidityTable& t) { return core::rigidity_rotvec_rad(t, a_deg, blend, clamp); });
 }
 
 void on_record(State& state, const std::uint8_t* bytes, std::size_t length) {
@@ -108,8 +92,8 @@ MacroStep run_build(MacroContext& ctx) {
   ctx.out<var::kRigidityPoses>(static_cast<double>(t.pose_count));
   ctx.out<var::kRigidityWorst>(t.poses[worst].rigidity_rad * kArcsecPerRad);
   ctx.out<var::kRigidityWorstSigma>(t.poses[worst].rigidity_sigma_rad * kArcsecPerRad);
-  out_vec3<var::kRigidityAPointX>(ctx, t.a_axis_point_mm, 1.0);
-  out_vec3<var::kRigidityADirectionX>(ctx, t.a_axis_direction, 1.0);
+  ctx.out3<var::kRigidityAPointX>(t.a_axis_point_mm);
+  ctx.out3<var::kRigidityADirectionX>(t.a_axis_direction);
   ctx.out<var::kRigidityCToAOffset>(t.c_to_a_offset_mm);
   ctx.out<var::kRigidityCToASquareness>(t.c_to_a_squareness_rad * kArcsecPerRad);
   ctx.out<var::kRigidityWorstCircleRms>(worst_rms);
@@ -135,7 +119,7 @@ MacroStep run_query(MacroContext& ctx) {
   }
   const core::Result<core::Vec3> r = compensation_rad(ctx.methods().rigidity, ctx.in<var::kArgA>(), blend, clamp);
   if (!r.ok()) return done(r.status());
-  out_vec3<var::kRigidityRotvecX>(ctx, r.value(), kArcsecPerRad);
+  ctx.out3<var::kRigidityRotvecX>(r.value(), kArcsecPerRad);
   ctx.out<var::kRigidityRotvecNorm>(r.value().norm() * kArcsecPerRad);
   return done(core::Status::kOk);
 }
@@ -144,18 +128,16 @@ namespace {
 
 MacroStep report_pose(MacroContext& ctx, const core::RigidityTable& t) {
   const double q = ctx.in<var::kArgQ>();
-  if (!(q >= 1.0 && q <= static_cast<double>(t.pose_count)) || q != std::floor(q)) {
-    return done(core::Status::kArgumentOutOfRange);
-  }
+  if (!whole_in(q, 1.0, static_cast<double>(t.pose_count))) return done(core::Status::kArgumentOutOfRange);
   const core::RigidityPose& p = t.poses[static_cast<std::size_t>(q) - 1];
   ctx.out<var::kPoseA>(p.a_deg);
-  out_vec3<var::kPoseRotvecX>(ctx, p.rotvec_rad, kArcsecPerRad);
-  out_vec3<var::kPoseRotvecSigmaX>(ctx, p.rotvec_sigma_rad, kArcsecPerRad);
+  ctx.out3<var::kPoseRotvecX>(p.rotvec_rad, kArcsecPerRad);
+  ctx.out3<var::kPoseRotvecSigmaX>(p.rotvec_sigma_rad, kArcsecPerRad);
   ctx.out<var::kPoseRigidity>(p.rigidity_rad * kArcsecPerRad);
   ctx.out<var::kPoseRigiditySigma>(p.rigidity_sigma_rad * kArcsecPerRad);
   ctx.out<var::kPoseAError>(p.a_error_rad * kArcsecPerRad);
-  out_vec3<var::kPoseCCentreX>(ctx, p.c_centre_mm, 1.0);
-  out_vec3<var::kPoseCDirectionX>(ctx, p.c_direction, 1.0);
+  ctx.out3<var::kPoseCCentreX>(p.c_centre_mm);
+  ctx.out3<var::kPoseCDirectionX>(p.c_direction);
   ctx.out<var::kPoseCCircleRms>(p.c_circle_rms_mm);
   ctx.out<var::kPoseCount>(static_cast<double>(t.pose_count));
   return done(core::Status::kOk);
@@ -168,11 +150,7 @@ MacroStep run_pose(MacroContext& ctx) {
   bool stored = false;
   if (!flag_of(ctx.in<var::kArgR>(), stored)) return done(core::Status::kArgumentOutOfRange);
   if (!stored) return state.built ? report_pose(ctx, state.builder.table()) : done(core::Status::kNoTable);
-  MacroStep result = done(state.missing);
-  if (!state.live.read([&](const core::RigidityTable& t) { result = report_pose(ctx, t); })) {
-    return done(state.missing);
-  }
-  return result;
+  return read_or(state.live, state.missing, [&](const core::RigidityTable& t) { return report_pose(ctx, t); });
 }
 
 MacroStep run_convert(MacroContext& ctx) {
@@ -184,16 +162,14 @@ MacroStep run_convert(MacroContext& ctx) {
   const core::Vec3 direction(ctx.in<var::kArgI>(), ctx.in<var::kArgJ>(), ctx.in<var::kArgK>());
   const core::Vec3 point(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
   const State& state = ctx.methods().rigidity;
-  core::Result<core::RigidTransform> r = state.missing;
-  if (!state.live.read([&](const core::RigidityTable& t) {
-        r = core::rigidity_correction(t, ctx.in<var::kArgA>(), ctx.in<var::kArgC>(), blend, false);
-      })) {
-    return done(state.missing);
-  }
+  const core::Result<core::RigidTransform> r =
+      read_or(state.live, state.missing, [&](const core::RigidityTable& t) {
+        return core::rigidity_correction(t, ctx.in<var::kArgA>(), ctx.in<var::kArgC>(), blend, false);
+      });
   if (!r.ok()) return done(r.status());
   const core::RigidTransform actual_T_theory = inverse ? r.value().inverse() : r.value();
-  out_vec3<var::kConvertPointX>(ctx, actual_T_theory.point(point), 1.0);
-  out_vec3<var::kConvertDirectionX>(ctx, actual_T_theory.direction(direction), 1.0);
+  ctx.out3<var::kConvertPointX>(actual_T_theory.point(point));
+  ctx.out3<var::kConvertDirectionX>(actual_T_theory.direction(direction));
   return done(core::Status::kOk);
 }
 

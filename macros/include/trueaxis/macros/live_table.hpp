@@ -20,6 +20,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 #include "trueaxis/core/status.hpp"
 
@@ -70,6 +71,16 @@ class LiveTable {
   std::atomic<std::uint32_t> sequence_[2] = {};
   std::atomic<std::uint8_t> live_{kNone};
 };
+
+// f(table) on the live table, or `missing` when there is none: the one shape of
+// a query on a method's stored table. f returns a type built from a status too
+// (core::Result<V>, MacroStep); it may run more than once (convention 3).
+template <typename T, typename F>
+auto read_or(const LiveTable<T>& live, core::Status missing, F f) -> decltype(f(std::declval<const T&>())) {
+  decltype(f(std::declval<const T&>())) result = missing;
+  if (!live.read([&](const T& t) { result = f(t); })) return missing;
+  return result;
+}
 
 // A method's stored record at start(): decode(bytes, length, scratch) into
 // `scratch`, then publish it; a record that does not decode publishes nothing

@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "trueaxis/core/types.hpp"
 #include "trueaxis/macros/keyed_store.hpp"
 #include "trueaxis/macros/macro_info.hpp"
 #include "trueaxis/macros/records.hpp"
@@ -59,6 +60,14 @@ class MacroContext {
   void out(double value) {
     static_assert(N >= var::kResultFirst && N <= var::kResultLast, "results are #100..#199");
     staged_[N - var::kResultFirst] = value;
+  }
+
+  // Results #X..#X+2 from a vector, each times `scale` (a unit conversion).
+  template <std::uint16_t X>
+  void out3(const core::Vec3& v, double scale = 1.0) {
+    out<X>(v.x() * scale);
+    out<X + 1>(v.y() * scale);
+    out<X + 2>(v.z() * scale);
   }
 
   Methods& methods() { return methods_; }

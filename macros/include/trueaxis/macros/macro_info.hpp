@@ -28,6 +28,8 @@ namespace trueaxis::macros {
 class MacroContext;
 
 struct MacroStep {
+  // A status alone is a finished step: done(status).
+  constexpr MacroStep(core::Status s, bool m = false) : status(s), more(m) {}  // NOLINT: implicit by design
   core::Status status;
   bool more;
 };
