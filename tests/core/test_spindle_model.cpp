@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "reference.hpp"
@@ -52,13 +53,21 @@ std::vector<core::SpindleSample> samples(const core::SpindleParams& p, double si
   return s;
 }
 
+std::unique_ptr<core::SpindleBins> bins_of(const std::vector<core::SpindleSample>& s) {
+  auto bins = std::make_unique<core::SpindleBins>();
+  bins->clear();
+  for (const auto& x : s) REQUIRE(bins->add(x) == Status::kOk);
+  return bins;
+}
+
 }  // namespace
 
 TEST_CASE("noise-free data give the parameters back", "[spindle]") {
   t::Rng rng(71);
   const core::SpindleParams p = truth();
   const auto s = samples(p, 0.0, rng);
-  const auto start = core::spindle_start(s.data(), s.size(), kGeometry);
+  const auto bins = bins_of(s);
+  const auto start = core::spindle_start(*bins, kGeometry);
   REQUIRE(start.ok());
   CHECK((start.value() - p).cwiseAbs().maxCoeff() < 1e-9);  // whole revolution at even steps: the start is exact
   core::SpindleFit fit;
@@ -150,4 +159,217 @@ TEST_CASE("what the data cannot support is refused", "[spindle]") {
     s[3].p_mm.y() = NAN;
     CHECK(core::fit_spindle(s.data(), s.size(), kGeometry, fit) == Status::kNotFinite);
   }
+}
+
+TEST_CASE("the analytic Jacobian agrees with central differences", "[spindle]") {
+  t::Rng rng(74);
+  for (int trial = 0; trial < 200; ++trial) {
+    core::SpindleParams p = truth();
+    // Far from the study's sizes too: tilts up to 0.3 rad, offsets up to 1 mm.
+    const double scale = trial < 100 ? 1.0 : 1000.0;
+    p(3) *= scale * rng.uniform(-1, 1);
+    p(4) *= scale * rng.uniform(-1, 1);
+    for (int k = 5; k < 9; ++k) p(k) *= scale * rng.uniform(-1, 1);
+    const int which = 1 + trial % 2;
+    const double depth = kGeometry.ball_mm[which - 1];
+    const double phi = rng.uniform(-7, 7);
+    core::SpindleJacobian j;
+    const Vec3 m = core::spindle_ball_jacobian(p, kGeometry, which, phi, j);
+    CHECK((m - core::spindle_ball_mm(p, kGeometry, which, phi)).norm() < 1e-12);
+    for (int k = 0; k < 9; ++k) {
+      const double h = k < 3 ? 1e-4 : 1e-7;
+      core::SpindleParams plus = p, minus = p;
+      plus(k) += h;
+      minus(k) -= h;
+      const Vec3 numeric = (ball(plus, depth, phi) - ball(minus, depth, phi)) / (2 * h);
+      INFO("trial " << trial << " parameter " << k);
+      CHECK((j.col(k) - numeric).norm() <= 2e-6 * (1.0 + numeric.norm()));
+    }
+  }
+}
+
+TEST_CASE("angle bins: repeats merge, every angle once, capacity and coverage at their limits", "[spindle]") {
+  auto bins = std::make_unique<core::SpindleBins>();
+  bins->clear();
+  SECTION("repeats of an angle (mod 360, within 1e-6 deg) share a bin with the right mean and scatter") {
+    const Vec3 p1(1, 2, 3), p2(1.5, 2, 3), p3(1, 2.5, 3);
+    REQUIRE(bins->add({10.0, 1, p1}) == Status::kOk);
+    REQUIRE(bins->add({370.0 + 0.9e-6, 1, p2}) == Status::kOk);
+    REQUIRE(bins->add({-350.0 - 0.9e-6, 1, p3}) == Status::kOk);
+    REQUIRE(bins->add({10.0 + 1.1e-6, 1, p3}) == Status::kOk);  // just outside: its own bin
+    CHECK(bins->angles(1) == 2);
+    CHECK(bins->samples(1) == 4);
+    const core::SpindleBin& b = bins->bin(1, 0);
+    CHECK(b.count == 3);
+    const Vec3 mean = (p1 + p2 + p3) / 3;
+    CHECK((b.mean_mm - mean).norm() < 1e-15);
+    const double scatter = (p1 - mean).squaredNorm() + (p2 - mean).squaredNorm() + (p3 - mean).squaredNorm();
+    CHECK(b.scatter_mm2 == Approx(scatter).epsilon(1e-14));
+  }
+  SECTION("0 and 360 - 0.5e-6 are one angle; the bins stay sorted") {
+    REQUIRE(bins->add({359.9999995, 2, Vec3::Zero()}) == Status::kOk);
+    REQUIRE(bins->add({0.0, 2, Vec3::Ones()}) == Status::kOk);
+    REQUIRE(bins->add({180.0, 2, Vec3::Ones()}) == Status::kOk);
+    REQUIRE(bins->add({90.0, 2, Vec3::Ones()}) == Status::kOk);
+    CHECK(bins->angles(2) == 3);
+    CHECK(bins->bin(2, 0).phi_deg == 90.0);
+    CHECK(bins->bin(2, 1).phi_deg == 180.0);
+    CHECK(bins->bin(2, 2).count == 2);
+  }
+  SECTION("360 distinct angles fit, the 361st is session_full and changes nothing") {
+    for (int i = 0; i < 360; ++i) REQUIRE(bins->add({i * 1.0, 1, Vec3::Zero()}) == Status::kOk);
+    CHECK(bins->add({0.5, 1, Vec3::Zero()}) == Status::kSessionFull);
+    CHECK(bins->angles(1) == 360);
+    CHECK(bins->samples(1) == 360);
+    CHECK(bins->add({7.0, 1, Vec3::Zero()}) == Status::kOk);  // a repeat still fits
+    CHECK(bins->largest_gap_deg(1) == 1.0);
+  }
+  SECTION("bad samples change nothing") {
+    CHECK(bins->add({NAN, 1, Vec3::Zero()}) == Status::kNotFinite);
+    CHECK(bins->add({0.0, 0, Vec3::Zero()}) == Status::kArgumentOutOfRange);
+    CHECK(bins->add({0.0, 1, Vec3(0, 1e5 * 1.0000001, 0)}) == Status::kArgumentOutOfRange);
+    CHECK(bins->add({1e6 * 1.0000001, 1, Vec3::Zero()}) == Status::kArgumentOutOfRange);
+    CHECK(bins->samples() == 0);
+  }
+  SECTION("coverage: a 45 deg gap is a revolution, 45 deg plus a hair is not") {
+    const core::SpindleParams p = truth();
+    auto at = [&](double phi, int k) {
+      return core::SpindleSample{phi, k, ball(p, kGeometry.ball_mm[k - 1], core::deg_to_rad(phi))};
+    };
+    core::SpindleBins& b = *bins;
+    for (int k = 1; k <= 2; ++k) {
+      for (int i = 0; i < 8; ++i) REQUIRE(b.add(at(45.0 * i, k)) == Status::kOk);
+    }
+    core::SpindleBuilder builder;
+    core::SpindleStep step;
+    builder.start(b, kGeometry);
+    do step = builder.step(); while (step.more);
+    CHECK(step.status == Status::kOk);
+    auto shifted = std::make_unique<core::SpindleBins>();
+    shifted->clear();
+    // 9 angles per ball: 0, 40, ..., 280 and then 325 + 1e-9: the gap 280 -> 325 is
+    // 45 + 1e-9 > 45 (ball 2 only).
+    for (int k = 1; k <= 2; ++k) {
+      for (int i = 0; i <= 7; ++i) REQUIRE(shifted->add(at(40.0 * i, k)) == Status::kOk);
+      REQUIRE(shifted->add(at(k == 1 ? 320.0 : 325.0 + 1e-9, k)) == Status::kOk);
+    }
+    CHECK(shifted->largest_gap_deg(1) == 40.0);
+    CHECK(shifted->largest_gap_deg(2) > 45.0);
+    builder.start(*shifted, kGeometry);
+    step = builder.step();
+    CHECK(step.status == Status::kRevolutionIncomplete);
+    CHECK_FALSE(step.more);
+  }
+}
+
+// A ball's form error (harmonics 2..15 of phi, the same every revolution) plus
+// white probe noise, 4 revolutions: the covariance from the repeats stays
+// honest while the residuals' RMS is several times the noise; with one
+// revolution the figures are conservative and say so.
+TEST_CASE("noise from the repeats: a synchronous form error does not inflate the intervals", "[spindle][mc]") {
+  t::Rng rng(76);
+  const core::SpindleParams p = truth();
+  const double sigma = 15e-6;
+  const double form = 50e-6;
+  constexpr int kRuns = 200;
+  Eigen::Matrix<double, 9, 1> sq = Eigen::Matrix<double, 9, 1>::Zero();
+  Eigen::Matrix<double, 9, 1> reported = Eigen::Matrix<double, 9, 1>::Zero();
+  double noise = 0, sync = 0;
+  for (int run = 0; run < kRuns; ++run) {
+    // Form error per ball: radial and axial harmonics 2..15 with random phases.
+    double amp[2][16][3], phase[2][16][3];
+    for (auto& b : amp) for (auto& h : b) for (double& x : h) x = rng.normal();
+    for (auto& b : phase) for (auto& h : b) for (double& x : h) x = rng.uniform(0, 2 * core::kPi);
+    double norm = 0;
+    for (int h = 2; h <= 15; ++h) for (int c = 0; c < 3; ++c) norm += amp[0][h][c] * amp[0][h][c] / 2;
+    const double scale = form / std::sqrt(norm);
+    std::vector<core::SpindleSample> s;
+    for (int rev = 0; rev < 4; ++rev) {
+      for (int k = 1; k <= 2; ++k) {
+        for (int i = 0; i < 72; ++i) {
+          const double phi = core::deg_to_rad(5.0 * i);
+          Vec3 f = Vec3::Zero();
+          for (int h = 2; h <= 15; ++h) {
+            for (int c = 0; c < 3; ++c) f(c) += scale * amp[k - 1][h][c] * std::cos(h * phi + phase[k - 1][h][c]);
+          }
+          const Vec3 n(rng.normal(), rng.normal(), rng.normal());
+          s.push_back({360.0 * rev + 5.0 * i, k, ball(p, kGeometry.ball_mm[k - 1], phi) + f + sigma * n});
+        }
+      }
+    }
+    core::SpindleFit fit;
+    REQUIRE(core::fit_spindle(s.data(), s.size(), kGeometry, fit) == Status::kOk);
+    REQUIRE(fit.noise_from_repeats);
+    REQUIRE(fit.samples == 576);
+    noise += fit.noise_sigma_mm / kRuns;
+    sync += fit.synchronous_rms_mm / kRuns;
+    for (int k = 0; k < 9; ++k) {
+      const double e = fit.params(k) - p(k);
+      sq(k) += e * e / kRuns;
+      reported(k) += fit.covariance(k, k) / kRuns;
+    }
+  }
+  INFO("mean noise sigma " << noise * 1e6 << " nm, synchronous RMS " << sync * 1e6 << " nm");
+  CHECK(noise == Approx(sigma).epsilon(0.05));
+  CHECK(sync > 2 * sigma * std::sqrt(3.0));  // the form error is there, in the means
+  for (int k = 0; k < 9; ++k) {
+    const double ratio = std::sqrt(reported(k) / sq(k));
+    INFO("parameter " << k << ": reported sigma / MC RMS " << ratio);
+    CHECK(ratio > 1 / 1.5);
+    CHECK(ratio < 1.5);
+  }
+}
+
+TEST_CASE("one revolution: the noise comes from every residual", "[spindle]") {
+  t::Rng rng(77);
+  const auto s = samples(truth(), 15e-6, rng);
+  core::SpindleFit fit;
+  REQUIRE(core::fit_spindle(s.data(), s.size(), kGeometry, fit) == Status::kOk);
+  CHECK_FALSE(fit.noise_from_repeats);
+  // (2F + 0) / (3 n - 9) against the 3-D RMS: s^2 = rms^2 n / (3 n - 9).
+  CHECK(fit.noise_sigma_mm == Approx(fit.rms_mm * std::sqrt(144.0 / (3 * 144.0 - 9))).epsilon(1e-12));
+  CHECK(fit.synchronous_rms_mm == Approx(fit.rms_mm).epsilon(1e-12));
+  // 8 repeats are not enough to use (kMinNoiseRepeats = 9); 9 are.
+  auto more = s;
+  for (std::size_t i = 0; i < 8; ++i) more.push_back(s[i]);
+  REQUIRE(core::fit_spindle(more.data(), more.size(), kGeometry, fit) == Status::kOk);
+  CHECK_FALSE(fit.noise_from_repeats);
+  more.push_back(s[8]);
+  REQUIRE(core::fit_spindle(more.data(), more.size(), kGeometry, fit) == Status::kOk);
+  CHECK(fit.noise_from_repeats);
+  CHECK(fit.noise_sigma_mm == 0.0);  // exact repeats: no scatter
+}
+
+TEST_CASE("the builder's steps are bounded and give fit_spindle's result bit for bit", "[spindle]") {
+  t::Rng rng(78);
+  std::vector<core::SpindleSample> s;
+  for (int k = 1; k <= 2; ++k) {
+    for (int i = 0; i < 360; ++i) {
+      const Vec3 n(rng.normal(), rng.normal(), rng.normal());
+      s.push_back({i * 1.0, k, ball(truth(), kGeometry.ball_mm[k - 1], core::deg_to_rad(i)) + 15e-6 * n});
+    }
+  }
+  const auto bins = bins_of(s);
+  core::SpindleBuilder builder;
+  builder.start(*bins, kGeometry);
+  core::SpindleStep step;
+  int steps = 0;
+  do {
+    step = builder.step();
+    ++steps;
+  } while (step.more);
+  REQUIRE(step.status == Status::kOk);
+  core::SpindleFit direct;
+  REQUIRE(core::fit_spindle(s.data(), s.size(), kGeometry, direct) == Status::kOk);
+  CHECK(bool(builder.fit().params == direct.params));
+  CHECK(bool(builder.fit().covariance == direct.covariance));
+  const int evaluations = builder.fit().evaluations;
+  // start + per evaluation (720 bins / 48 per step + its decision) + the finish
+  CHECK(steps == 1 + evaluations * (720 / 48 + 1) + 1);
+  // The builder runs again from start() with the same result; a step after the end repeats it.
+  builder.start(*bins, kGeometry);
+  do step = builder.step(); while (step.more);
+  CHECK(bool(builder.fit().params == direct.params));
+  CHECK(builder.step().status == Status::kOk);
+  CHECK_FALSE(builder.step().more);
 }

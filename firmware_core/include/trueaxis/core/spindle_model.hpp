@@ -21,17 +21,43 @@
 //     steps; otherwise only a start), then a = (m_2 - m_1) / |m_2 - m_1|,
 //     o = m_1 - (G + b_1) a, w = (v_2 - v_1) / (b_2 - b_1), e = v_1 - b_1 w, each
 //     v_k first made normal to a.
-//  4. Fit (fit_spindle): residuals measured minus predicted, 3 per sample,
-//     equally weighted; the Jacobian analytic in o and by central differences
-//     (steps 1e-7 rad, 1e-7 mm) in the rest; covariance from the residuals.
+//  4. Angle bins (SpindleBins): an analyser repeats its angles revolution after
+//     revolution, so samples are kept per ball and per distinct angle (phi
+//     modulo 360 within kSameAngleDeg): the count, the mean and the scatter
+//     sum |p - mean|^2 (Welford's update). The least-squares fit to the samples
+//     equals the fit to the bin means weighted by their counts (the scatter is
+//     a constant of it), so the session costs memory per angle, not per
+//     sample, and any number of revolutions. Bins are kept sorted by angle.
+//  5. Fit (SpindleBuilder, fit_spindle): residuals predicted minus bin mean, 3 per
+//     bin, weighted by the bin's count; the Jacobian analytic
+//     (spindle_ball_jacobian; checked against central differences in the
+//     tests); Levenberg-Marquardt from the start of convention 3, with the
+//     identifiability check of levenberg_marquardt.hpp convention 5.
+//  6. Noise and covariance: the repeats of an angle differ only by what does
+//     not repeat each revolution (asynchronous error: probe noise), while a
+//     ball's form error and any error motion that repeats (synchronous) stays
+//     in the bin means. With at least kMinNoiseRepeats repeats (samples minus
+//     bins, both balls) the noise variance per axis is the pooled
+//     s^2 = scatter / (3 repeats), and the covariance s^2 (J^T W J)^-1: the
+//     harmonics 2 and up of a form error are orthogonal to the model's 0th
+//     and 1st at evenly spaced angles and move no parameter, so they must not
+//     widen the intervals either. With fewer repeats (one revolution) s^2 =
+//     (2F + scatter) / (3 n - 9) from every residual, form error included: the
+//     intervals are then conservative (noise_from_repeats = false says so).
+//  7. Coverage: a ball's angles must leave no gap (circularly) wider than
+//     kMaxSpindleGapDeg, else kRevolutionIncomplete: a part of a revolution
+//     cannot separate the run-out circle from its centre.
 //
-// Status codes: kTooFewSamples (fewer than kMinSpindleSamples per ball),
-// kMissingGroup (a ball with no samples: one height cannot separate e from w),
-// kNotFinite, kArgumentOutOfRange (a ball index other than 1 or 2, b_2 <= b_1),
-// and those of the solver (kNotIdentifiable, kNoConvergence).
+// Status codes: kTooFewSamples (fewer than kMinSpindleSamples distinct angles per
+// ball), kMissingGroup (a ball with no samples: one height cannot separate e from
+// w), kRevolutionIncomplete (convention 7), kNotFinite, kArgumentOutOfRange (a
+// ball index other than 1 or 2, b_2 <= b_1, a coordinate beyond kSpindleBigMm),
+// kSessionFull (a ball's kMaxSpindleAngles-th + 1 distinct angle), and those of
+// the solver (kNotIdentifiable, kNoConvergence).
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 
 #include "trueaxis/core/levenberg_marquardt.hpp"
 #include "trueaxis/core/status.hpp"
@@ -40,9 +66,17 @@
 namespace trueaxis::core {
 
 inline constexpr int kSpindleParams = 9;
-inline constexpr std::size_t kMinSpindleSamples = 8;  // per ball: a revolution at 45 deg steps
+inline constexpr std::size_t kMinSpindleSamples = 8;      // distinct angles per ball: a revolution at 45 deg
+inline constexpr std::size_t kMaxSpindleAngles = 360;     // distinct angles per ball the bins hold
+inline constexpr double kSameAngleDeg = 1e-6;             // angles closer than this (mod 360) share a bin
+inline constexpr double kMaxSpindleGapDeg = 45.0;         // convention 7
+inline constexpr std::size_t kMinNoiseRepeats = 9;        // convention 6
+inline constexpr double kSpindleBigMm = 1e5;              // a coordinate beyond this is refused
+inline constexpr double kSpindleBigDeg = 1e6;             // an angle beyond this is refused
+inline constexpr std::uint32_t kMaxBinCount = 1u << 24;   // samples one angle bin takes
 using SpindleParams = Eigen::Matrix<double, kSpindleParams, 1>;
 using SpindleCovariance = Eigen::Matrix<double, kSpindleParams, kSpindleParams>;
+using SpindleJacobian = Eigen::Matrix<double, 3, kSpindleParams>;
 
 struct SpindleGeometry {
   double gauge_mm = 0.0;               // G: O1 to the gauge plane along the spindle
@@ -55,21 +89,98 @@ struct SpindleSample {
   Vec3 p_mm = Vec3::Zero();
 };
 
+// The vectors of convention 1.
+struct SpindleAxes {
+  Vec3 a = -Vec3::UnitZ();  // unit spindle axis, towards the tool
+  Vec3 e = Vec3::Zero();    // tool line minus spindle axis at the gauge plane, phi = 0
+  Vec3 w = Vec3::Zero();    // tool direction minus a per unit depth, phi = 0
+};
+SpindleAxes spindle_axes(const SpindleParams& p);
+
 struct SpindleFit {
   SpindleParams params = SpindleParams::Zero();
   SpindleCovariance covariance = SpindleCovariance::Zero();
-  double rms_mm = 0.0;  // RMS of the 3-D residual per sample
-  int evaluations = 0;
+  double rms_mm = 0.0;              // RMS of the 3-D residual per sample, every sample
+  double synchronous_rms_mm = 0.0;  // RMS (weighted by count) of the 3-D residual of the angle means
+  double noise_sigma_mm = 0.0;      // s of convention 6, per axis
+  bool noise_from_repeats = false;  // convention 6: s from the repeats (true) or every residual
+  std::uint32_t samples = 0;
+  std::uint32_t angles[2] = {0, 0};
+  double smallest_eigenvalue_ratio = 0.0;
+  int evaluations = 0;              // residual-and-Jacobian passes of the solver
 };
 
 // Convention 2.
 Vec3 spindle_ball_mm(const SpindleParams& p, const SpindleGeometry& g, int ball, double phi_rad);
 
-// Convention 3.
-[[nodiscard]] Result<SpindleParams> spindle_start(const SpindleSample* samples, std::size_t count,
-                                                  const SpindleGeometry& g);
+// Convention 2 and its Jacobian d M / d p.
+Vec3 spindle_ball_jacobian(const SpindleParams& p, const SpindleGeometry& g, int ball, double phi_rad,
+                           SpindleJacobian& j);
 
-// Conventions 3-4.
+struct SpindleBin {
+  double phi_deg = 0.0;  // [0, 360)
+  std::uint32_t count = 0;
+  Vec3 mean_mm = Vec3::Zero();
+  double scatter_mm2 = 0.0;  // sum of |p - mean|^2 over the bin's samples
+};
+
+// Convention 4. add() checks a sample whole before it changes anything.
+class SpindleBins {
+ public:
+  void clear();
+  [[nodiscard]] Status add(const SpindleSample& s);
+  std::size_t angles(int ball) const { return angles_[index(ball)]; }
+  std::size_t samples(int ball) const { return samples_[index(ball)]; }
+  std::size_t samples() const { return samples_[0] + samples_[1]; }
+  const SpindleBin& bin(int ball, std::size_t i) const { return bins_[index(ball)][i]; }
+  // The widest circular gap between a ball's angles (360 for one angle or none).
+  double largest_gap_deg(int ball) const;
+  double scatter_mm2() const;
+
+ private:
+  static std::size_t index(int ball) { return ball == 2 ? 1 : 0; }
+  SpindleBin bins_[2][kMaxSpindleAngles];
+  std::size_t angles_[2] = {0, 0};
+  std::size_t samples_[2] = {0, 0};
+};
+
+// Convention 3 on the bins (each angle once, whatever its count).
+[[nodiscard]] Result<SpindleParams> spindle_start(const SpindleBins& bins, const SpindleGeometry& g);
+
+struct SpindleStep {
+  Status status = Status::kOk;
+  bool more = false;
+};
+
+// The fit of conventions 5-6 in bounded steps: the checks and the start in the
+// first, then at most kBinsPerStep bins of an evaluation per step, the
+// solver's decision in a step of its own, and the covariance in the last. The
+// bins must not change between start() and the last step.
+class SpindleBuilder {
+ public:
+  static constexpr std::size_t kBinsPerStep = 48;
+
+  void start(const SpindleBins& bins, const SpindleGeometry& g, const LmOptions& options = LmOptions());
+  SpindleStep step();
+  // Complete after a step that returned kOk without more.
+  const SpindleFit& fit() const { return fit_; }
+
+ private:
+  enum class Phase : std::uint8_t { kStart, kEvaluate, kDecide, kFinish, kDone };
+  SpindleStep fail(Status s);
+
+  const SpindleBins* bins_ = nullptr;
+  SpindleGeometry geometry_;
+  LmOptions options_;
+  LevenbergMarquardt<kSpindleParams> lm_;
+  SpindleFit fit_;
+  Phase phase_ = Phase::kDone;
+  Status status_ = Status::kOk;
+  std::size_t cursor_ = 0;  // the next bin of the evaluation under way, both balls in a row
+};
+
+// Conventions 4-6 on a set of samples, the builder run to its end (host and
+// tests: its SpindleBins, 35 KB, live on the stack).
 [[nodiscard]] Status fit_spindle(const SpindleSample* samples, std::size_t count, const SpindleGeometry& g,
                                  SpindleFit& out);
 

@@ -53,6 +53,7 @@ enum class Status : std::uint16_t {
   kToolDirectionAmbiguous = 219,  // the nominal tool direction is perpendicular to the C axis
   kBedNotLevel = 220,       // the bed plane's normal is far from the data's +Z (not levelled)
   kNotIdentifiable = 221,   // the data do not determine every parameter of the model
+  kRevolutionIncomplete = 222,  // the spindle angles leave a gap wider than a revolution allows
 
   kConfigInvalid = 300,     // the stored configuration is inconsistent
 
@@ -146,6 +147,9 @@ inline constexpr StatusInfo kStatusTable[] = {
      "The data do not determine every parameter of the model: a combination of them leaves "
      "the measurements unchanged. Measure more (for the spindle: the ball at two heights, over "
      "a whole revolution)."},
+    {Status::kRevolutionIncomplete, "revolution_incomplete",
+     "The spindle angles of a ball leave a gap wider than 45 degrees: measure the ball over a "
+     "whole revolution."},
     {Status::kConfigInvalid, "config_invalid",
      "The stored configuration is inconsistent (for example a lower limit above the "
      "upper one)."},

@@ -1,0 +1,160 @@
+#include "trueaxis/core/spindle_correction.hpp"
+
+#include <cmath>
+
+#include "trueaxis/core/byte_order.hpp"
+#include "trueaxis/core/screw.hpp"
+
+namespace trueaxis::core {
+
+namespace {
+
+// R(phi) x for x normal to a (convention 2).
+Vec3 turn(const Vec3& a, const Vec3& x, double c, double s) { return c * x + s * a.cross(x); }
+
+template <typename Io, typename Model>
+void model_fields(Io& io, Model& m) {
+  io(m.fit.params);
+  for (int r = 0; r < kSpindleParams; ++r) {
+    for (int c = r; c < kSpindleParams; ++c) io(m.fit.covariance(r, c));
+  }
+  io(m.geometry.gauge_mm);
+  io(m.geometry.ball_mm[0]);
+  io(m.geometry.ball_mm[1]);
+  io(m.fit.rms_mm);
+  io(m.fit.synchronous_rms_mm);
+  io(m.fit.noise_sigma_mm);
+  io(m.fit.smallest_eigenvalue_ratio);
+}
+
+constexpr std::size_t kHeaderBytes = 24;
+constexpr std::size_t kRealCount = 9 + 45 + 3 + 4;
+static_assert(kHeaderBytes + 8 * kRealCount == kSpindleModelBytes, "convention 5's layout");
+
+constexpr double kMaxTilt = 0.5;  // sin 30 deg
+
+}  // namespace
+
+Result<SpindleCorrection> spindle_correction(const SpindleAxes& x, double gauge_mm, double tool_mm,
+                                             double phi_rad) {
+  if (!std::isfinite(gauge_mm) || !std::isfinite(tool_mm) || !std::isfinite(phi_rad)) return Status::kNotFinite;
+  const double c = std::cos(phi_rad);
+  const double s = std::sin(phi_rad);
+  const Vec3 q = gauge_mm * x.a + turn(x.a, x.e, c, s);
+  const Vec3 d = x.a + turn(x.a, x.w, c, s);
+  const Result<PluckerLine> actual = plucker_from_point(q, d);
+  if (!actual.ok()) return actual.status();
+  PluckerLine ideal;
+  ideal.direction = -Vec3::UnitZ();
+  const Result<ScrewError> screw = screw_error(ideal, actual.value());
+  if (!screw.ok()) return screw.status();
+  SpindleCorrection out;
+  out.theta_e_rad = screw.value().theta_rad;
+  out.d_e_mm = screw.value().distance_mm;
+  out.tip_error_mm = (gauge_mm + tool_mm) * (x.a + Vec3::UnitZ()) + turn(x.a, x.e + tool_mm * x.w, c, s);
+  return out;
+}
+
+Vec3 spindle_mean_tip_error_mm(const SpindleAxes& x, double gauge_mm, double tool_mm) {
+  return (gauge_mm + tool_mm) * (x.a + Vec3::UnitZ());
+}
+
+Result<SpindleCorrectionSigma> spindle_correction_sigma(const SpindleParams& p, const SpindleCovariance& cov,
+                                                        double gauge_mm, double tool_mm, double phi_rad) {
+  // Outputs: theta_e, d_e, tip (3), mean tip (3).
+  using Out = Eigen::Matrix<double, 8, 1>;
+  auto outputs = [&](const SpindleParams& q, Out& o) -> Status {
+    const SpindleAxes x = spindle_axes(q);
+    const Result<SpindleCorrection> r = spindle_correction(x, gauge_mm, tool_mm, phi_rad);
+    if (!r.ok()) return r.status();
+    o(0) = r.value().theta_e_rad;
+    o(1) = r.value().d_e_mm;
+    o.segment<3>(2) = r.value().tip_error_mm;
+    o.segment<3>(5) = spindle_mean_tip_error_mm(x, gauge_mm, tool_mm);
+    return Status::kOk;
+  };
+  if (!p.allFinite() || !cov.allFinite()) return Status::kNotFinite;
+  Eigen::Matrix<double, 8, kSpindleParams> j;
+  for (int k = 0; k < kSpindleParams; ++k) {
+    const double h = k < 3 ? 1e-7 : (k == 5 || k == 6) ? 1e-7 : 1e-9;
+    SpindleParams plus = p;
+    SpindleParams minus = p;
+    plus(k) += h;
+    minus(k) -= h;
+    Out op;
+    Out om;
+    const Status a = outputs(plus, op);
+    if (a != Status::kOk) return a;
+    const Status b = outputs(minus, om);
+    if (b != Status::kOk) return b;
+    j.col(k) = (op - om) / (2.0 * h);
+  }
+  const Eigen::Matrix<double, 8, 8> c = j * cov * j.transpose();
+  SpindleCorrectionSigma out;
+  out.theta_e_rad = std::sqrt(std::fmax(0.0, c(0, 0)));
+  out.d_e_mm = std::sqrt(std::fmax(0.0, c(1, 1)));
+  for (int k = 0; k < 3; ++k) {
+    out.tip_error_mm(k) = std::sqrt(std::fmax(0.0, c(2 + k, 2 + k)));
+    out.mean_tip_error_mm(k) = std::sqrt(std::fmax(0.0, c(5 + k, 5 + k)));
+  }
+  return out;
+}
+
+SpindleModel make_spindle_model(const SpindleFit& fit, const SpindleGeometry& geometry) {
+  SpindleModel m;
+  m.fit = fit;
+  m.geometry = geometry;
+  m.axes = spindle_axes(fit.params);
+  return m;
+}
+
+std::size_t encode_spindle_model(const SpindleModel& model, std::uint8_t* out, std::size_t capacity) {
+  if (out == nullptr || capacity < kSpindleModelBytes) return 0;
+  for (std::size_t k = 0; k < kSpindleModelBytes; ++k) out[k] = 0;
+  put_u16(out, kSpindleLayoutVersion);
+  put_u16(out + 2, model.fit.noise_from_repeats ? 1 : 0);
+  put_u32(out + 4, model.fit.samples);
+  put_u32(out + 8, model.fit.angles[0]);
+  put_u32(out + 12, model.fit.angles[1]);
+  put_u32(out + 16, static_cast<std::uint32_t>(model.fit.evaluations));
+  F64Writer w{out + kHeaderBytes};
+  SpindleModel copy = model;
+  model_fields(w, copy);
+  return kSpindleModelBytes;
+}
+
+Status decode_spindle_model(const std::uint8_t* bytes, std::size_t size, SpindleModel& out) {
+  if (bytes == nullptr || size != kSpindleModelBytes) return Status::kTableInvalid;
+  const std::uint16_t flags = get_u16(bytes + 2);
+  if (get_u16(bytes) != kSpindleLayoutVersion || flags > 1 || get_u32(bytes + 20) != 0 || get_u32(bytes + 4) == 0) {
+    return Status::kTableInvalid;
+  }
+  SpindleModel m;
+  m.fit.noise_from_repeats = flags == 1;
+  m.fit.samples = get_u32(bytes + 4);
+  m.fit.angles[0] = get_u32(bytes + 8);
+  m.fit.angles[1] = get_u32(bytes + 12);
+  m.fit.evaluations = static_cast<int>(get_u32(bytes + 16));
+  F64Reader r{bytes + kHeaderBytes};
+  model_fields(r, m);
+  for (int row = 0; row < kSpindleParams; ++row) {
+    for (int c = 0; c < row; ++c) m.fit.covariance(row, c) = m.fit.covariance(c, row);
+  }
+  const SpindleFit& f = m.fit;
+  const bool finite = f.params.allFinite() && f.covariance.allFinite() && std::isfinite(m.geometry.gauge_mm) &&
+                      std::isfinite(m.geometry.ball_mm[0]) && std::isfinite(m.geometry.ball_mm[1]) &&
+                      std::isfinite(f.rms_mm) && std::isfinite(f.synchronous_rms_mm) &&
+                      std::isfinite(f.noise_sigma_mm) && std::isfinite(f.smallest_eigenvalue_ratio);
+  if (!finite) return Status::kTableInvalid;
+  const double tilt = std::hypot(f.params(3), f.params(4));
+  if (!(tilt <= kMaxTilt) || f.covariance.diagonal().minCoeff() < 0.0 || f.rms_mm < 0.0 ||
+      f.synchronous_rms_mm < 0.0 || f.noise_sigma_mm < 0.0 || f.smallest_eigenvalue_ratio < 0.0 ||
+      f.evaluations < 0 || !(m.geometry.ball_mm[1] > m.geometry.ball_mm[0])) {
+    return Status::kTableInvalid;
+  }
+  m.axes = spindle_axes(f.params);
+  out = m;
+  return Status::kOk;
+}
+
+}  // namespace trueaxis::core

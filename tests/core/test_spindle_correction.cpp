@@ -1,0 +1,222 @@
+// M4's outputs (spindle_correction.hpp): the screw error and the tool-tip error
+// against a computation written here a different way (the phi = 0 line turned
+// by Rodrigues' formula, the angle from a chord, the distance from the triple
+// product), at the parallel and the intersecting case exactly, the mean over a
+// revolution against a numerical average, the propagated sigmas against a
+// Monte Carlo of the parameters, and the stored model's codec.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+
+#include "reference.hpp"
+#include "trueaxis/core/byte_order.hpp"
+#include "trueaxis/core/spindle_correction.hpp"
+
+namespace core = trueaxis::core;
+namespace t = trueaxis::test;
+using core::Status;
+using core::Vec3;
+
+namespace {
+
+constexpr double kArcsec = core::kPi / (180.0 * 3600.0);
+
+core::SpindleParams random_params(t::Rng& rng, double tilt) {
+  core::SpindleParams p;
+  p << rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(300, 500), tilt * rng.uniform(-1, 1),
+      tilt * rng.uniform(-1, 1), rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), tilt * rng.uniform(-1, 1),
+      tilt * rng.uniform(-1, 1);
+  return p;
+}
+
+Vec3 rodrigues(const Vec3& axis, double phi, const Vec3& v) {
+  return v * std::cos(phi) + axis.cross(v) * std::sin(phi) + axis * axis.dot(v) * (1 - std::cos(phi));
+}
+
+struct Reference {
+  double theta = 0, distance = 0;
+  Vec3 tip = Vec3::Zero();
+};
+
+// Everything from O1 (the parameters' o does not enter).
+Reference reference(const core::SpindleParams& p, double g, double l, double phi) {
+  const double ax = p(3), ay = p(4), az = -std::sqrt(1 - ax * ax - ay * ay);
+  const Vec3 a(ax, ay, az);
+  const Vec3 e(p(5), p(6), -(ax * p(5) + ay * p(6)) / az);
+  const Vec3 w(p(7), p(8), -(ax * p(7) + ay * p(8)) / az);
+  const Vec3 q = rodrigues(a, phi, g * a + e);
+  const Vec3 d = rodrigues(a, phi, a + w).normalized();
+  const Vec3 ideal(0, 0, -1);
+  Reference r;
+  r.theta = 2 * std::asin((d - ideal).norm() / 2);
+  const Vec3 n = ideal.cross(d);
+  r.distance = std::fabs(q.dot(n)) / n.norm();
+  r.tip = rodrigues(a, phi, g * a + e + l * (a + w)) - (g + l) * ideal;
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("screw and tip error against an independent computation", "[spindle]") {
+  t::Rng rng(81);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const double tilt = trial < 1000 ? 100 * kArcsec : 0.2;
+    const core::SpindleParams p = random_params(rng, tilt);
+    const double g = rng.uniform(100, 500), l = rng.uniform(0, 300), phi = rng.uniform(-10, 10);
+    const auto c = core::spindle_correction(core::spindle_axes(p), g, l, phi);
+    REQUIRE(c.ok());
+    const Reference r = reference(p, g, l, phi);
+    INFO("trial " << trial);
+    CHECK(c.value().theta_e_rad == Approx(r.theta).epsilon(1e-9));
+    CHECK(c.value().d_e_mm == Approx(r.distance).epsilon(1e-6).margin(1e-12));
+    CHECK((c.value().tip_error_mm - r.tip).norm() < 1e-12);
+  }
+}
+
+TEST_CASE("the parallel and the intersecting case", "[spindle]") {
+  core::SpindleParams p = core::SpindleParams::Zero();
+  p(2) = 400;
+  SECTION("a on -Z, tool parallel to it: theta 0, d_e the offset, tip error the offset turned") {
+    p(5) = 0.003;
+    p(6) = -0.004;
+    for (double phi : {0.0, 0.7, 3.0}) {
+      const auto c = core::spindle_correction(core::spindle_axes(p), 350, 100, phi);
+      REQUIRE(c.ok());
+      CHECK(c.value().theta_e_rad == 0.0);
+      CHECK(c.value().d_e_mm == Approx(0.005).epsilon(1e-12));
+      // turning about -Z by phi: right-handed about the tool direction
+      const Vec3 turned = rodrigues(-Vec3::UnitZ(), phi, Vec3(0.003, -0.004, 0));
+      CHECK((c.value().tip_error_mm - turned).norm() < 1e-15);
+    }
+  }
+  SECTION("the tool line through the axis at the gauge plane: the lines meet, d_e 0") {
+    p(7) = 20 * kArcsec;
+    const auto c = core::spindle_correction(core::spindle_axes(p), 350, 100, 1.1);
+    REQUIRE(c.ok());
+    CHECK(c.value().theta_e_rad == Approx(std::atan(20 * kArcsec)).epsilon(1e-12));  // d = a + w, |w| = tan theta
+    CHECK(c.value().d_e_mm < 1e-12);
+  }
+  SECTION("non-finite input") {
+    CHECK(core::spindle_correction(core::spindle_axes(p), 350, NAN, 0).status() == Status::kNotFinite);
+    CHECK(core::spindle_correction(core::spindle_axes(p), 350, 0, INFINITY).status() == Status::kNotFinite);
+  }
+}
+
+TEST_CASE("the mean tip error is the average over a revolution", "[spindle]") {
+  t::Rng rng(82);
+  for (int trial = 0; trial < 20; ++trial) {
+    const core::SpindleParams p = random_params(rng, 100 * kArcsec);
+    const core::SpindleAxes x = core::spindle_axes(p);
+    Vec3 sum = Vec3::Zero();
+    constexpr int kSteps = 360;
+    for (int i = 0; i < kSteps; ++i) {
+      sum += core::spindle_correction(x, 350, 120, 2 * core::kPi * i / kSteps).value().tip_error_mm;
+    }
+    CHECK((sum / kSteps - core::spindle_mean_tip_error_mm(x, 350, 120)).norm() < 1e-13);
+  }
+}
+
+TEST_CASE("propagated sigmas against a Monte Carlo of the parameters", "[spindle][mc]") {
+  t::Rng rng(83);
+  core::SpindleParams p;
+  p << 0.01, -0.01, 400, 30 * kArcsec, -40 * kArcsec, 0.003, 0.002, 15 * kArcsec, 10 * kArcsec;
+  // A covariance of the fit's shape: 15 nm noise, 144 samples (scaled identity
+  // in parameter units plus a correlation between e and w).
+  core::SpindleCovariance c = core::SpindleCovariance::Zero();
+  const double s_mm = 2e-6, s_rad = 2e-8;
+  for (int k = 0; k < 3; ++k) c(k, k) = s_mm * s_mm;
+  c(3, 3) = c(4, 4) = c(7, 7) = c(8, 8) = s_rad * s_rad;
+  c(5, 5) = c(6, 6) = s_mm * s_mm;
+  c(5, 7) = c(7, 5) = -0.8 * s_mm * s_rad;
+  c(6, 8) = c(8, 6) = -0.8 * s_mm * s_rad;
+  const double g = 350, l = 250, phi = 0.9;
+  const auto sigma = core::spindle_correction_sigma(p, c, g, l, phi);
+  REQUIRE(sigma.ok());
+  const Eigen::Matrix<double, 9, 9> chol = c.llt().matrixL();
+  constexpr int kDraws = 4000;
+  double sq_theta = 0, sq_d = 0;
+  Vec3 sq_tip = Vec3::Zero(), sq_mean = Vec3::Zero();
+  const core::SpindleAxes x0 = core::spindle_axes(p);
+  const auto c0 = core::spindle_correction(x0, g, l, phi).value();
+  const Vec3 m0 = core::spindle_mean_tip_error_mm(x0, g, l);
+  for (int i = 0; i < kDraws; ++i) {
+    Eigen::Matrix<double, 9, 1> z;
+    for (int k = 0; k < 9; ++k) z(k) = rng.normal();
+    const core::SpindleParams q = p + chol * z;
+    const core::SpindleAxes x = core::spindle_axes(q);
+    const auto cq = core::spindle_correction(x, g, l, phi).value();
+    sq_theta += std::pow(cq.theta_e_rad - c0.theta_e_rad, 2) / kDraws;
+    sq_d += std::pow(cq.d_e_mm - c0.d_e_mm, 2) / kDraws;
+    sq_tip += (cq.tip_error_mm - c0.tip_error_mm).cwiseAbs2() / kDraws;
+    sq_mean += (core::spindle_mean_tip_error_mm(x, g, l) - m0).cwiseAbs2() / kDraws;
+  }
+  CHECK(sigma.value().theta_e_rad == Approx(std::sqrt(sq_theta)).epsilon(0.06));
+  CHECK(sigma.value().d_e_mm == Approx(std::sqrt(sq_d)).epsilon(0.06));
+  for (int k = 0; k < 3; ++k) {
+    CHECK(sigma.value().tip_error_mm(k) == Approx(std::sqrt(sq_tip(k))).epsilon(0.06));
+    CHECK(sigma.value().mean_tip_error_mm(k) == Approx(std::sqrt(sq_mean(k))).epsilon(0.06));
+  }
+}
+
+namespace {
+
+core::SpindleModel sample_model() {
+  core::SpindleFit f;
+  f.params << 0.01, -0.01, 400, 30 * kArcsec, -40 * kArcsec, 0.003, 0.002, 15 * kArcsec, 10 * kArcsec;
+  for (int r = 0; r < 9; ++r) {
+    for (int c = 0; c < 9; ++c) f.covariance(r, c) = (r == c ? 4e-12 : 1e-13) * (1 + r + c);
+  }
+  f.rms_mm = 5e-5;
+  f.synchronous_rms_mm = 4.8e-5;
+  f.noise_sigma_mm = 1.5e-5;
+  f.noise_from_repeats = true;
+  f.samples = 576;
+  f.angles[0] = f.angles[1] = 72;
+  f.smallest_eigenvalue_ratio = 1e-3;
+  f.evaluations = 5;
+  return core::make_spindle_model(f, core::SpindleGeometry{350.0, {50.0, 150.0}});
+}
+
+}  // namespace
+
+TEST_CASE("the stored model: round trip bit for bit, every refusal leaves the output untouched", "[spindle]") {
+  const core::SpindleModel m = sample_model();
+  std::uint8_t bytes[core::kSpindleModelBytes];
+  REQUIRE(core::encode_spindle_model(m, bytes, sizeof bytes) == core::kSpindleModelBytes);
+  CHECK(core::encode_spindle_model(m, bytes, sizeof bytes - 1) == 0);
+  core::SpindleModel back;
+  REQUIRE(core::decode_spindle_model(bytes, sizeof bytes, back) == Status::kOk);
+  CHECK(bool(back.fit.params == m.fit.params));
+  CHECK(bool(back.fit.covariance == m.fit.covariance));
+  CHECK(back.fit.noise_sigma_mm == m.fit.noise_sigma_mm);
+  CHECK(back.fit.samples == 576);
+  CHECK(back.fit.evaluations == 5);
+  CHECK(back.fit.noise_from_repeats);
+  CHECK(back.geometry.ball_mm[1] == 150.0);
+  CHECK(bool(back.axes.a == m.axes.a));
+  CHECK(bool(back.axes.w == m.axes.w));
+
+  auto refused = [&](auto change) {
+    std::uint8_t copy[core::kSpindleModelBytes];
+    std::memcpy(copy, bytes, sizeof copy);
+    change(copy);
+    core::SpindleModel out = sample_model();
+    out.fit.samples = 12345;
+    const Status s = core::decode_spindle_model(copy, sizeof copy, out);
+    return s == Status::kTableInvalid && out.fit.samples == 12345;
+  };
+  auto put = [](std::uint8_t* b, std::size_t offset, double v) { trueaxis::core::put_f64(b + offset, v); };
+  CHECK(core::decode_spindle_model(bytes, sizeof bytes - 1, back) == Status::kTableInvalid);
+  CHECK(refused([](std::uint8_t* b) { b[0] = 2; }));                       // version
+  CHECK(refused([](std::uint8_t* b) { b[2] = 2; }));                       // flags
+  CHECK(refused([](std::uint8_t* b) { b[23] = 1; }));                      // reserved
+  CHECK(refused([](std::uint8_t* b) { std::memset(b + 4, 0, 4); }));       // no samples
+  CHECK(refused([&](std::uint8_t* b) { put(b, 24 + 8 * 3, 0.6); }));       // a_x beyond sin 30 deg
+  CHECK(refused([&](std::uint8_t* b) { put(b, 24 + 8 * 8, NAN); }));       // a parameter
+  CHECK(refused([&](std::uint8_t* b) { put(b, 96, -1e-12); }));            // a negative variance
+  CHECK(refused([&](std::uint8_t* b) { put(b, 456 + 16, 50.0); }));        // b_2 = b_1
+  CHECK(refused([&](std::uint8_t* b) { put(b, 480 + 16, -1e-9); }));       // noise sigma < 0
+  CHECK(refused([&](std::uint8_t* b) { put(b, 480 + 24, INFINITY); }));    // the last real
+  CHECK_FALSE(refused([&](std::uint8_t* b) { put(b, 24 + 8 * 3, 0.4); })); // a tilt inside the limit is a model
+}
