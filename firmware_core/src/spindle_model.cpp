@@ -33,7 +33,7 @@ Status check_geometry(const SpindleGeometry& g) {
 }
 
 // Conventions 3, 7 and the counts, on complete bins.
-Status check_bins(const SpindleBins& bins, const SpindleGeometry& g) {
+Status check_bins(const SpindleBins& bins, const SpindleGeometry& g, double max_gap_deg) {
   const Status geometry = check_geometry(g);
   if (geometry != Status::kOk) return geometry;
   for (int ball = 1; ball <= 2; ++ball) {
@@ -43,7 +43,7 @@ Status check_bins(const SpindleBins& bins, const SpindleGeometry& g) {
     if (bins.angles(ball) < kMinSpindleSamples) return Status::kTooFewSamples;
   }
   for (int ball = 1; ball <= 2; ++ball) {
-    if (bins.largest_gap_deg(ball) > kMaxSpindleGapDeg) return Status::kRevolutionIncomplete;
+    if (!(bins.largest_gap_deg(ball) <= max_gap_deg)) return Status::kRevolutionIncomplete;
   }
   return Status::kOk;
 }
@@ -172,8 +172,8 @@ double SpindleBins::scatter_mm2() const {
   return sum;
 }
 
-Result<SpindleParams> spindle_start(const SpindleBins& bins, const SpindleGeometry& g) {
-  const Status status = check_bins(bins, g);
+Result<SpindleParams> spindle_start(const SpindleBins& bins, const SpindleGeometry& g, double max_gap_deg) {
+  const Status status = check_bins(bins, g, max_gap_deg);
   if (status != Status::kOk) return status;
   Vec3 mean[2];
   Vec3 v[2];
@@ -208,9 +208,11 @@ Result<SpindleParams> spindle_start(const SpindleBins& bins, const SpindleGeomet
   return p;
 }
 
-void SpindleBuilder::start(const SpindleBins& bins, const SpindleGeometry& g, const LmOptions& options) {
+void SpindleBuilder::start(const SpindleBins& bins, const SpindleGeometry& g, double max_gap_deg,
+                           const LmOptions& options) {
   bins_ = &bins;
   geometry_ = g;
+  max_gap_deg_ = max_gap_deg;
   options_ = options;
   fit_ = SpindleFit();
   phase_ = Phase::kStart;
@@ -227,7 +229,7 @@ SpindleStep SpindleBuilder::fail(Status s) {
 SpindleStep SpindleBuilder::step() {
   switch (phase_) {
     case Phase::kStart: {
-      const Result<SpindleParams> p0 = spindle_start(*bins_, geometry_);
+      const Result<SpindleParams> p0 = spindle_start(*bins_, geometry_, max_gap_deg_);
       if (!p0.ok()) return fail(p0.status());
       lm_.start(p0.value(), options_);
       lm_.begin_evaluation();

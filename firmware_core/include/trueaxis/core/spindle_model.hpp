@@ -45,7 +45,7 @@
 //     (2F + scatter) / (3 n - 9) from every residual, form error included: the
 //     intervals are then conservative (noise_from_repeats = false says so).
 //  7. Coverage: a ball's angles must leave no gap (circularly) wider than
-//     kMaxSpindleGapDeg, else kRevolutionIncomplete: a part of a revolution
+//     kMaxSpindleGapDeg (or the limit given), else kRevolutionIncomplete: a part of a revolution
 //     cannot separate the run-out circle from its centre.
 //
 // Status codes: kTooFewSamples (fewer than kMinSpindleSamples distinct angles per
@@ -144,8 +144,10 @@ class SpindleBins {
   std::size_t samples_[2] = {0, 0};
 };
 
-// Convention 3 on the bins (each angle once, whatever its count).
-[[nodiscard]] Result<SpindleParams> spindle_start(const SpindleBins& bins, const SpindleGeometry& g);
+// Convention 3 on the bins (each angle once, whatever its count), after the
+// checks of conventions 4 and 7.
+[[nodiscard]] Result<SpindleParams> spindle_start(const SpindleBins& bins, const SpindleGeometry& g,
+                                                  double max_gap_deg = kMaxSpindleGapDeg);
 
 struct SpindleStep {
   Status status = Status::kOk;
@@ -160,7 +162,9 @@ class SpindleBuilder {
  public:
   static constexpr std::size_t kBinsPerStep = 48;
 
-  void start(const SpindleBins& bins, const SpindleGeometry& g, const LmOptions& options = LmOptions());
+  // max_gap_deg: convention 7's limit (kMaxSpindleGapDeg unless configured).
+  void start(const SpindleBins& bins, const SpindleGeometry& g, double max_gap_deg = kMaxSpindleGapDeg,
+             const LmOptions& options = LmOptions());
   SpindleStep step();
   // Complete after a step that returned kOk without more.
   const SpindleFit& fit() const { return fit_; }
@@ -171,6 +175,7 @@ class SpindleBuilder {
 
   const SpindleBins* bins_ = nullptr;
   SpindleGeometry geometry_;
+  double max_gap_deg_ = kMaxSpindleGapDeg;
   LmOptions options_;
   LevenbergMarquardt<kSpindleParams> lm_;
   SpindleFit fit_;

@@ -25,6 +25,8 @@
 #include "trueaxis/macros/records.hpp"
 #include "trueaxis/macros/rigidity/rigidity_macros.hpp"
 #include "trueaxis/macros/rigidity/rigidity_map.hpp"
+#include "trueaxis/macros/spindle/spindle_macros.hpp"
+#include "trueaxis/macros/spindle/spindle_map.hpp"
 #include "trueaxis/macros/var_info.hpp"
 
 namespace trueaxis::macros {
@@ -35,7 +37,7 @@ inline constexpr MethodBlock kMethodBlocks[] = {
     level::kBlock,
     rigidity::kBlock,
     gantry::kBlock,
-    {"spindle", 800, 899, 4000, 4999},
+    spindle::kBlock,
 };
 
 // The names interface version 1 gave the result variables #100..#116: M1's
@@ -58,12 +60,14 @@ inline constexpr RowSource kMethodRowSources[] = {
     row_source(level::kRows, &level::kBlock),
     row_source(rigidity::kRows, &rigidity::kBlock),
     row_source(gantry::kRows, &gantry::kBlock),
+    row_source(spindle::kRows, &spindle::kBlock),
 };
 
 struct Methods {
   level::State level;
   rigidity::State rigidity;
   gantry::State gantry;
+  spindle::State spindle;
 };
 
 // A method's table record loaded at start(): its owner decodes it and makes
@@ -71,6 +75,7 @@ struct Methods {
 inline void on_table_loaded(Methods& methods, RecordKey key, const std::uint8_t* bytes, std::size_t length) {
   if (key == RecordKey::kRigidityTable) rigidity::on_record(methods.rigidity, bytes, length);
   if (key == RecordKey::kGantryFrames) gantry::on_record(methods.gantry, bytes, length);
+  if (key == RecordKey::kSpindleModel) spindle::on_record(methods.spindle, bytes, length);
 }
 
 // A method's table record failed its CRC at start() (KeyedStore::damaged): its
@@ -78,6 +83,7 @@ inline void on_table_loaded(Methods& methods, RecordKey key, const std::uint8_t*
 inline void on_table_damaged(Methods& methods, RecordKey key) {
   if (key == RecordKey::kRigidityTable) rigidity::on_damaged(methods.rigidity);
   if (key == RecordKey::kGantryFrames) gantry::on_damaged(methods.gantry);
+  if (key == RecordKey::kSpindleModel) spindle::on_damaged(methods.spindle);
 }
 
 // A table a macro staged has just been committed: its owner makes the table it
@@ -86,10 +92,12 @@ inline void on_table_damaged(Methods& methods, RecordKey key) {
 inline void on_table_committed(Methods& methods, RecordKey key) {
   if (key == RecordKey::kRigidityTable) rigidity::on_committed(methods.rigidity);
   if (key == RecordKey::kGantryFrames) gantry::on_committed(methods.gantry);
+  if (key == RecordKey::kSpindleModel) spindle::on_committed(methods.spindle);
 }
 
 // The table records, in the order start() loads them.
-inline constexpr RecordKey kTableRecords[] = {RecordKey::kRigidityTable, RecordKey::kGantryFrames};
+inline constexpr RecordKey kTableRecords[] = {RecordKey::kRigidityTable, RecordKey::kGantryFrames,
+                                              RecordKey::kSpindleModel};
 
 struct MacroSource {
   const MacroInfo* macros;
@@ -106,6 +114,7 @@ inline constexpr MacroSource kMacroSources[] = {
     macro_source(level::kMacros, "level"),
     macro_source(rigidity::kMacros, "rigidity"),
     macro_source(gantry::kMacros, "gantry"),
+    macro_source(spindle::kMacros, "spindle"),
 };
 
 constexpr const MacroInfo* find_macro(std::uint16_t number) {

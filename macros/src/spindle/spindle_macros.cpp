@@ -1,0 +1,177 @@
+#include "trueaxis/macros/spindle/spindle_macros.hpp"
+
+#include <cmath>
+
+#include "trueaxis/macros/arguments.hpp"
+#include "trueaxis/macros/macro_context.hpp"
+#include "trueaxis/macros/methods.hpp"
+
+namespace trueaxis::macros::spindle {
+
+static_assert(core::kSpindleModelBytes <= record_capacity(RecordKey::kSpindleModel), "the model must fit its record");
+
+namespace {
+
+constexpr double kArcsecPerRad = 180.0 * 3600.0 / core::kPi;
+
+MacroStep report_session(MacroContext& ctx, const core::SpindleBins& b) {
+  ctx.out<var::kSpindleSessionSamples>(static_cast<double>(b.samples()));
+  ctx.out<var::kSpindleSessionAngles1>(static_cast<double>(b.angles(1)));
+  ctx.out<var::kSpindleSessionAngles2>(static_cast<double>(b.angles(2)));
+  ctx.out<var::kSpindleSessionCapacity>(static_cast<double>(core::kMaxSpindleAngles));
+  return done(core::Status::kOk);
+}
+
+// The spindle angle in radians, reduced first so that many revolutions lose nothing.
+double radians(double phi_deg) { return core::deg_to_rad(std::fmod(phi_deg, 360.0)); }
+
+bool tool_in_range(double tool_mm) { return tool_mm >= 0.0 && tool_mm <= rows::kBig; }
+
+// The model a report reads: R = 1 the stored one, R = 0 the last identification.
+template <typename Report>
+MacroStep with_model(const State& state, bool stored, Report report) {
+  if (stored) return read_or(state.live, state.missing, report);
+  if (!state.built) return done(core::Status::kNoTable);
+  return report(static_cast<const core::SpindleModel&>(state.computed));
+}
+
+}  // namespace
+
+core::Result<core::SpindleCorrection> tool_tip_correction(const State& state, double phi_deg, double tool_mm) {
+  if (!std::isfinite(phi_deg) || !std::isfinite(tool_mm)) return core::Status::kNotFinite;
+  if (!tool_in_range(tool_mm)) return core::Status::kArgumentOutOfRange;
+  const double phi = radians(phi_deg);
+  return read_or(state.live, state.missing, [&](const core::SpindleModel& m) {
+    return core::spindle_correction(m.axes, m.geometry.gauge_mm, tool_mm, phi);
+  });
+}
+
+void on_record(State& state, const std::uint8_t* bytes, std::size_t length) {
+  load_stored(state.live, state.decoded, state.missing, bytes, length, core::decode_spindle_model);
+}
+
+void on_damaged(State& state) { state.missing = core::Status::kTableDamaged; }
+
+void on_committed(State& state) {
+  if (!state.staged) return;
+  state.staged = false;
+  state.live.publish(state.computed);
+}
+
+MacroStep run_session_clear(MacroContext& ctx) {
+  core::SpindleBins& b = ctx.methods().spindle.bins;
+  b.clear();
+  return report_session(ctx, b);
+}
+
+MacroStep run_session_add(MacroContext& ctx) {
+  const double t = ctx.in<var::kArgT>();
+  if (!whole_in(t, 1.0, 2.0)) return done(core::Status::kArgumentOutOfRange);
+  const core::SpindleSample s{ctx.in<var::kArgS>(), static_cast<int>(t),
+                              core::Vec3(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>())};
+  core::SpindleBins& b = ctx.methods().spindle.bins;
+  const core::Status status = b.add(s);
+  if (status != core::Status::kOk) return done(status);
+  return report_session(ctx, b);
+}
+
+MacroStep run_build(MacroContext& ctx) {
+  State& state = ctx.methods().spindle;
+  bool store = false;
+  if (!flag_of(ctx.in<var::kArgR>(), store)) return done(core::Status::kArgumentOutOfRange);
+  if (ctx.first_step()) {
+    state.built = false;
+    state.staged = false;
+    core::SpindleGeometry g;
+    g.gauge_mm = ctx.in<var::kArgD>();
+    g.ball_mm[0] = ctx.in<var::kArgU>();
+    g.ball_mm[1] = ctx.in<var::kArgV>();
+    if (!(g.gauge_mm > 0.0) || !(g.ball_mm[0] >= 0.0) || !(g.ball_mm[1] > g.ball_mm[0])) {
+      return done(core::Status::kArgumentOutOfRange);
+    }
+    state.computed.geometry = g;
+    state.builder.start(state.bins, g, ctx.in<var::kSpindleMaxGap>());
+    return more();
+  }
+  const core::SpindleStep step = state.builder.step();
+  if (step.status != core::Status::kOk) return done(step.status);
+  if (step.more) return more();
+
+  state.computed = core::make_spindle_model(state.builder.fit(), state.computed.geometry);
+  const core::SpindleFit& f = state.computed.fit;
+  ctx.out<var::kSpindleEvaluations>(static_cast<double>(f.evaluations));
+  ctx.out<var::kSpindleNoiseSigma>(f.noise_sigma_mm);
+  ctx.out<var::kSpindleSynchronousRms>(f.synchronous_rms_mm);
+  ctx.out<var::kSpindleNoiseFromRepeats>(f.noise_from_repeats ? 1.0 : 0.0);
+  ctx.out<var::kSpindleSamplesUsed>(static_cast<double>(f.samples));
+  state.built = true;
+  if (!store) return done(core::Status::kOk);
+  std::uint8_t* bytes = ctx.stage_record(RecordKey::kSpindleModel, core::kSpindleModelBytes);
+  if (bytes == nullptr || core::encode_spindle_model(state.computed, bytes, core::kSpindleModelBytes) == 0) {
+    return done(core::Status::kTableInvalid);
+  }
+  state.staged = true;
+  return done(core::Status::kOk);  // the module commits the record, then on_committed makes it live
+}
+
+MacroStep run_correction(MacroContext& ctx) {
+  const core::Result<core::SpindleCorrection> c =
+      tool_tip_correction(ctx.methods().spindle, ctx.in<var::kArgS>(), ctx.in<var::kArgZ>());
+  if (!c.ok()) return done(c.status());
+  ctx.out<var::kSpindleThetaE>(c.value().theta_e_rad * kArcsecPerRad);
+  ctx.out<var::kSpindleDE>(c.value().d_e_mm);
+  ctx.out3<var::kSpindleTipX>(c.value().tip_error_mm);
+  return done(core::Status::kOk);
+}
+
+MacroStep run_report(MacroContext& ctx) {
+  bool stored = false;
+  if (!flag_of(ctx.in<var::kArgR>(), stored)) return done(core::Status::kArgumentOutOfRange);
+  const double phi_deg = ctx.in<var::kArgS>();
+  const double tool_mm = ctx.in<var::kArgZ>();
+  if (!tool_in_range(tool_mm)) return done(core::Status::kArgumentOutOfRange);
+  const double phi = radians(phi_deg);
+  return with_model(ctx.methods().spindle, stored, [&](const core::SpindleModel& m) -> MacroStep {
+    const core::Result<core::SpindleCorrection> c = core::spindle_correction(m.axes, m.geometry.gauge_mm, tool_mm, phi);
+    if (!c.ok()) return done(c.status());
+    const core::Result<core::SpindleCorrectionSigma> s =
+        core::spindle_correction_sigma(m.fit.params, m.fit.covariance, m.geometry.gauge_mm, tool_mm, phi);
+    if (!s.ok()) return done(s.status());
+    ctx.out<var::kSpindleThetaE>(c.value().theta_e_rad * kArcsecPerRad);
+    ctx.out<var::kSpindleDE>(c.value().d_e_mm);
+    ctx.out3<var::kSpindleTipX>(c.value().tip_error_mm);
+    ctx.out<var::kSpindleThetaESigma>(s.value().theta_e_rad * kArcsecPerRad);
+    ctx.out<var::kSpindleDESigma>(s.value().d_e_mm);
+    ctx.out3<var::kSpindleTipSigmaX>(s.value().tip_error_mm);
+    ctx.out3<var::kSpindleMeanTipX>(core::spindle_mean_tip_error_mm(m.axes, m.geometry.gauge_mm, tool_mm));
+    ctx.out3<var::kSpindleMeanTipSigmaX>(s.value().mean_tip_error_mm);
+    return done(core::Status::kOk);
+  });
+}
+
+MacroStep run_model(MacroContext& ctx) {
+  bool stored = false;
+  const double q = ctx.in<var::kArgQ>();
+  if (!flag_of(ctx.in<var::kArgR>(), stored) || !whole_in(q, 1.0, core::kSpindleParams)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
+  const int k = static_cast<int>(q) - 1;
+  return with_model(ctx.methods().spindle, stored, [&](const core::SpindleModel& m) -> MacroStep {
+    const core::SpindleFit& f = m.fit;
+    ctx.out<var::kSpindleParamValue>(f.params(k));
+    ctx.out<var::kSpindleParamSigma>(std::sqrt(f.covariance(k, k)));
+    ctx.out<var::kSpindleRms>(f.rms_mm);
+    ctx.out<var::kSpindleModelSynchronousRms>(f.synchronous_rms_mm);
+    ctx.out<var::kSpindleModelNoiseSigma>(f.noise_sigma_mm);
+    ctx.out<var::kSpindleModelNoiseFromRepeats>(f.noise_from_repeats ? 1.0 : 0.0);
+    ctx.out<var::kSpindleModelSamples>(static_cast<double>(f.samples));
+    ctx.out<var::kSpindleModelEvaluations>(static_cast<double>(f.evaluations));
+    ctx.out<var::kSpindleModelGauge>(m.geometry.gauge_mm);
+    ctx.out<var::kSpindleModelBall1>(m.geometry.ball_mm[0]);
+    ctx.out<var::kSpindleModelBall2>(m.geometry.ball_mm[1]);
+    ctx.out<var::kSpindleModelEigenRatio>(f.smallest_eigenvalue_ratio);
+    return done(core::Status::kOk);
+  });
+}
+
+}  // namespace trueaxis::macros::spindle
