@@ -89,7 +89,8 @@ Result<SpindleCorrectionSigma> spindle_correction_sigma(const SpindleParams& p, 
     if (b != Status::kOk) return b;
     j.col(k) = (op - om) / (2.0 * h);
   }
-  const Eigen::Matrix<double, 8, 8> c = j * cov * j.transpose();
+  const Eigen::Matrix<double, 8, kSpindleParams> jc = j.lazyProduct(cov);  // no blocked product (heap on target)
+  const Eigen::Matrix<double, 8, 8> c = jc.lazyProduct(j.transpose());
   SpindleCorrectionSigma out;
   out.theta_e_rad = std::sqrt(std::fmax(0.0, c(0, 0)));
   out.d_e_mm = std::sqrt(std::fmax(0.0, c(1, 1)));

@@ -43,7 +43,9 @@
 //     the data do not determine), kNotIdentifiable. smallest_eigenvalue_ratio()
 //     reports it.
 //  6. Covariance at the solution: s^2 A^-1, with s^2 given (a known residual
-//     noise) or from the residuals, 2 F / (m - N) (needs m > N).
+//     noise) or from the residuals, 2 F / (m - N) (needs m > N); NaN when A is
+//     not positive definite. Solves and eigenvalues by small_linear.hpp (no
+//     blocked kernels: nothing from the heap on the target).
 //  7. A non-finite residual or Jacobian entry: kNotFinite (the caller's model
 //     failed at that point); nothing is accepted from it.
 #pragma once
@@ -51,10 +53,11 @@
 #include <cmath>
 #include <cstddef>
 
-#include <Eigen/Cholesky>
-#include <Eigen/Core>
-#include <Eigen/Eigenvalues>
+#include <limits>
 
+#include <Eigen/Core>
+
+#include "trueaxis/core/small_linear.hpp"
 #include "trueaxis/core/status.hpp"
 
 namespace trueaxis::core {
@@ -109,8 +112,10 @@ class LevenbergMarquardt {
   template <int M>
   void add(const Eigen::Matrix<double, M, 1>& r, const Eigen::Matrix<double, M, N>& j) {
     if (!r.allFinite() || !j.allFinite()) finite_ = false;
-    a_trial_.noalias() += j.transpose() * j;
-    g_trial_.noalias() += j.transpose() * r;
+    // lazyProduct: coefficient-wise, never Eigen's blocked product (whose
+    // workspace would come from the heap on the target at these sizes).
+    a_trial_.noalias() += j.transpose().lazyProduct(j);
+    g_trial_.noalias() += j.transpose().lazyProduct(r);
     cost_trial_ += 0.5 * r.squaredNorm();
     m_trial_ += static_cast<std::size_t>(M);
   }
@@ -166,7 +171,9 @@ class LevenbergMarquardt {
       if (m_ <= static_cast<std::size_t>(N)) return Mat::Zero();
       s2 = 2.0 * cost_ / static_cast<double>(m_ - static_cast<std::size_t>(N));
     }
-    return s2 * a_.ldlt().solve(Mat::Identity());
+    Mat l;
+    if (!cholesky<N>(a_, l)) return Mat::Constant(std::numeric_limits<double>::quiet_NaN());
+    return s2 * cholesky_inverse<N>(l);
   }
 
  private:
@@ -209,17 +216,19 @@ class LevenbergMarquardt {
   static double smallest_ratio(const Mat& a) {
     Vec s = a.diagonal();
     for (int k = 0; k < N; ++k) s(k) = s(k) > 0.0 ? 1.0 / std::sqrt(s(k)) : 0.0;
-    const Mat c = s.asDiagonal() * a * s.asDiagonal();
-    const Eigen::SelfAdjointEigenSolver<Mat> es(c, Eigen::EigenvaluesOnly);
-    const double largest = es.eigenvalues()(N - 1);
-    return largest > 0.0 ? es.eigenvalues()(0) / largest : 0.0;
+    const Mat c = s.asDiagonal() * a * s.asDiagonal();  // diagonal scalings: no blocked product
+    const Vec e = jacobi_eigenvalues<N>(c);
+    const double largest = e(N - 1);
+    return largest > 0.0 ? e(0) / largest : 0.0;
   }
 
   LmStep next_trial() {
     const Vec d = diag();
     Mat lhs = a_;
     for (int k = 0; k < N; ++k) lhs(k, k) += lambda_ * d(k);
-    const Vec dp = -lhs.ldlt().solve(g_);
+    Mat l;
+    if (!cholesky<N>(lhs, l)) return finish(Status::kNotIdentifiable);
+    const Vec dp = -cholesky_solve<N>(l, g_);
     if (!dp.allFinite()) return finish(Status::kNotIdentifiable);
     if (small(dp)) return converge();  // nothing left worth an evaluation
     trial_ = p_ + dp;
