@@ -373,3 +373,29 @@ TEST_CASE("the builder's steps are bounded and give fit_spindle's result bit for
   CHECK(builder.step().status == Status::kOk);
   CHECK_FALSE(builder.step().more);
 }
+
+TEST_CASE("both balls at one place: not_identifiable; a solver cut short: no_convergence", "[spindle]") {
+  t::Rng rng(79);
+  auto s = samples(truth(), 15e-6, rng);
+  SECTION("the balls' centres coincide: no axis direction") {
+    for (auto& x : s) {
+      if (x.ball == 2) x.p_mm = s[static_cast<std::size_t>(x.phi_deg / 5.0)].p_mm;
+    }
+    core::SpindleFit fit;
+    CHECK(core::fit_spindle(s.data(), s.size(), kGeometry, fit) == Status::kNotIdentifiable);
+  }
+  SECTION("one evaluation allowed") {
+    const auto bins = bins_of(s);
+    core::LmOptions options;
+    options.max_iterations = 1;
+    core::SpindleBuilder builder;
+    builder.start(*bins, kGeometry, core::kMaxSpindleGapDeg, options);
+    core::SpindleStep step;
+    do step = builder.step(); while (step.more);
+    CHECK(step.status == Status::kNoConvergence);
+    options.max_iterations = 200;
+    builder.start(*bins, kGeometry, core::kMaxSpindleGapDeg, options);
+    do step = builder.step(); while (step.more);
+    CHECK(step.status == Status::kOk);
+  }
+}

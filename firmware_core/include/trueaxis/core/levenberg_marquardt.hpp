@@ -32,6 +32,12 @@
 //     the scaled gradient max_k |g_k| / sqrt(A_kk) <= gtol sqrt(2 F).
 //     (No test on the cost's fall: near a minimum it falls by the square of
 //     the error left, and would stop the solver far from it.)
+//     Also kOk, before a step is solved for, when the full Gauss-Newton step
+//     could lower the cost by no more than stat_tol^2 s^2 / 2 (s^2 = 2 F /
+//     (m - N)): g^T A^-1 g <= stat_tol^2 s^2, i.e. the minimum lies within
+//     stat_tol (1e-3) of the parameters' own 1-sigma ellipsoid; iterating
+//     further changes nothing the covariance can show (noise-free data, s = 0,
+//     never stop here).
 //     Also kOk when lambda exceeds kMaxLambda with the scaled gradient within
 //     1e3 gtol: no step can lower the cost any more (a minimum at rounding).
 //     kNoConvergence after max_iterations evaluations, or lambda beyond
@@ -73,6 +79,7 @@ struct LmOptions {
   double gtol = 1e-12;
   double lambda0 = 1e-3;
   double rank_tol = 1e-12;
+  double stat_tol = 1e-3;  // convention 4; 0 disables
 };
 
 template <int N>
@@ -222,7 +229,17 @@ class LevenbergMarquardt {
     return largest > 0.0 ? e(0) / largest : 0.0;
   }
 
+  // Convention 4's statistical test: g^T A^-1 g <= stat_tol^2 s^2.
+  bool within_noise() const {
+    if (m_ <= static_cast<std::size_t>(N) || !(options_.stat_tol > 0.0)) return false;
+    Mat l;
+    if (!cholesky<N>(a_, l)) return false;
+    const double s2 = 2.0 * cost_ / static_cast<double>(m_ - static_cast<std::size_t>(N));
+    return g_.dot(cholesky_solve<N>(l, g_)) <= options_.stat_tol * options_.stat_tol * s2;
+  }
+
   LmStep next_trial() {
+    if (within_noise()) return converge();
     const Vec d = diag();
     Mat lhs = a_;
     for (int k = 0; k < N; ++k) lhs(k, k) += lambda_ * d(k);
