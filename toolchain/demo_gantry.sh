@@ -65,51 +65,21 @@ if [ -n "$keep" ]; then echo "  report: $out_dir/report/index.html"; fi
 
 echo
 echo "== 3-4. origins against the truth; a workpiece point through macro 9825"
-/usr/bin/python3 - "$port" "$out_dir/gantry.json" "$out_dir/report/module_figures.json" "$out_dir/truth.json" <<'PY'
-import json, math, struct, subprocess, sys
+/usr/bin/python3 - "$port" "$out_dir/gantry.json" "$out_dir/report/module_figures.json" "$out_dir/truth.json" \
+  "$root/toolchain" <<'PY'
+import json, math, sys
 
 port, out_path, figures_path, truth_path = sys.argv[1:5]
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+sys.path.insert(0, sys.argv[5])
+from mbpoll_vars import Vars  # noqa: E402
+
 out = json.load(open(out_path))
 figures = {f["id"]: f for f in json.load(open(figures_path))["sub_machine_figures"]}
 truth = {s["id"]: s for s in json.load(open(truth_path))["sub_machines"]}
 ARCSEC = math.pi / (180.0 * 3600.0)
-
-
-# Variables over Modbus with mbpoll (INTERFACE.md "Encoding": #N is registers
-# 4N..4N+3, most significant first).
-def mbpoll(first, words=None, count=None):
-    argv = ["mbpoll", "-m", "tcp", "-p", port, "-0", "-q", "-t", "4:hex", "-r", str(4 * first)]
-    if words is None:
-        argv += ["-c", str(count * 4), "-1", "127.0.0.1"]
-    else:
-        argv += ["127.0.0.1"] + [f"0x{w:04X}" for w in words]
-    done = subprocess.run(argv, capture_output=True, text=True)
-    if done.returncode != 0:
-        sys.exit(f"demo: mbpoll failed: {' '.join(argv)}: {done.stdout.strip()} {done.stderr.strip()}")
-    return done.stdout
-
-
-def write(first, values):
-    words = []
-    for v in values:
-        words += struct.unpack(">4H", struct.pack(">d", v))
-    mbpoll(first, words=words)
-
-
-def read(first, count):
-    words = [int(line.split()[1], 16) for line in mbpoll(first, count=count).splitlines() if line.startswith("[")]
-    if len(words) != 4 * count:
-        sys.exit(f"demo: mbpoll read #{first}: {len(words)} registers")
-    return [struct.unpack(">d", struct.pack(">4H", *words[4 * k:4 * k + 4]))[0] for k in range(count)]
-
-
-def run_macro(number):
-    write(9000, [number])
-    for _ in range(50):
-        status, error = read(9001, 2)
-        if status >= 2:
-            return int(error) if status == 3 else 0
-    sys.exit(f"demo: macro {number} did not finish")
+module = Vars(port)  # variables over Modbus with mbpoll
+write, read, run_macro = module.write, module.read, module.run_macro
 
 
 def to_sub(t, p):

@@ -1,97 +1,24 @@
-// The trueaxis-calibrate gantry tests' own support: trueaxis-sim's parts served
-// in this process, the virtual gantry measured, samples rows, the module's 9825
-// conversions, and the command's flow run without its files.
+// The trueaxis-calibrate gantry tests' own support: the virtual gantry
+// measured, samples rows, the module's 9825 conversions, and the command's flow
+// run without its files (the simulator in this process: in_process_sim.hpp).
 #pragma once
 
 #include <cmath>
-#include <csignal>
 #include <cstdint>
-#include <memory>
 #include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
-
-#include <pthread.h>
 
 #include <catch2/catch.hpp>
 
 #include "calibrate_support.hpp"
-#include "trueaxis/core/status.hpp"
-#include "trueaxis/hal/posix/steady_clock.hpp"
-#include "trueaxis/hal/ram_nv_storage.hpp"
-#include "trueaxis/macros/module.hpp"
+#include "in_process_sim.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/sim/calibrate.hpp"
 #include "trueaxis/sim/client.hpp"
 #include "trueaxis/sim/gantry_measure.hpp"
-#include "trueaxis/sim/modbus_server.hpp"
-#include "trueaxis/sim/request_handler.hpp"
-#include "trueaxis/sim/simulator.hpp"
-#include "trueaxis/sim/variable_router.hpp"
 
 namespace trueaxis::test {
-
-// ---- the simulator, in this process ---------------------------------------------------
-
-inline volatile std::sig_atomic_t g_stop = 0;
-extern "C" inline void on_wake(int) {}
-
-// trueaxis-sim's parts (sim_main.cpp) on RAM storage, served by a thread until
-// the destructor: it sets the stop flag and wakes the thread's ppoll with
-// SIGUSR1 (blocked in that thread but while it waits, so it cannot be lost).
-class InProcessSim {
- public:
-  InProcessSim()
-      : nv_(trueaxis::macros::kRequiredStorageBytes),
-        storage_(nv_.data(), nv_.size()),
-        module_(std::make_unique<trueaxis::macros::Module>(storage_, clock_)) {
-    REQUIRE(module_->start() == core::Status::kOk);
-    simulator_ = std::make_unique<sim::Simulator>(*module_, sim::FaceConfig{}, 1);
-    router_ = std::make_unique<sim::VariableRouter>(*module_, *simulator_);
-    handler_ = std::make_unique<sim::RequestHandler>(*router_);
-    server_ = std::make_unique<sim::ModbusTcpServer>(*handler_, *simulator_);
-    REQUIRE(server_->listen("127.0.0.1", 0));
-    struct sigaction wake {};
-    wake.sa_handler = on_wake;
-    sigemptyset(&wake.sa_mask);
-    sigaction(SIGUSR1, &wake, nullptr);
-    std::signal(SIGPIPE, SIG_IGN);
-    g_stop = 0;
-    thread_ = std::thread([this] {
-      sigset_t usr1, wait_mask;
-      sigemptyset(&usr1);
-      sigaddset(&usr1, SIGUSR1);
-      pthread_sigmask(SIG_BLOCK, &usr1, &wait_mask);
-      sigdelset(&wait_mask, SIGUSR1);
-      server_->serve(g_stop, wait_mask);
-    });
-    REQUIRE(client_.connect("127.0.0.1", server_->port()));
-  }
-  ~InProcessSim() {
-    client_.close();
-    g_stop = 1;
-    pthread_kill(thread_.native_handle(), SIGUSR1);
-    thread_.join();
-  }
-  InProcessSim(const InProcessSim&) = delete;
-  InProcessSim& operator=(const InProcessSim&) = delete;
-
-  int port() const { return server_->port(); }
-  sim::VariableClient& client() { return client_; }
-
- private:
-  std::vector<std::uint8_t> nv_;
-  trueaxis::hal::RamNvStorage storage_;
-  trueaxis::hal::SteadyClock clock_;
-  std::unique_ptr<trueaxis::macros::Module> module_;
-  std::unique_ptr<sim::Simulator> simulator_;
-  std::unique_ptr<sim::VariableRouter> router_;
-  std::unique_ptr<sim::RequestHandler> handler_;
-  std::unique_ptr<sim::ModbusTcpServer> server_;
-  std::thread thread_;
-  sim::VariableClient client_;
-};
 
 // ---- the virtual gantry's files ------------------------------------------------------
 
@@ -189,17 +116,6 @@ inline std::vector<std::vector<double>> conversions(sim::VariableClient& client)
     out.push_back(p);
   }
   return out;
-}
-
-inline double read_var(sim::VariableClient& client, std::uint16_t number) {
-  double x = 0.0;
-  REQUIRE(client.read_one(number, x));
-  return x;
-}
-
-inline std::string module_error(core::Status s) {
-  return "module error " + std::to_string(static_cast<int>(s)) + " " + trueaxis::core::status_name(s) + ": " +
-         trueaxis::core::status_message(s);
 }
 
 // The command's flow as calibrate_main.cpp runs it, without the files: the

@@ -29,13 +29,18 @@ bool transport(VariableClient& client, bool ok, FlowResult& fail) {
   return ok;
 }
 
-bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail) {
+bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail,
+                 const std::vector<MacroArgument>& arguments) {
   namespace var = macros::var;
   if (!transport(client, client.write_one(var::kUnlock, macros::kUnlockCode), fail)) return false;
   // The same session computed again, now stored: the computation is
   // deterministic, so what is stored is what OUT.json describes.
-  const bool stored = transport(client, client.write_one(var::kArgR, 1.0), fail) &&
-                      run_or_fail(client, build_macro, "", fail);
+  bool stored = true;
+  for (const MacroArgument& a : arguments) {
+    stored = stored && transport(client, client.write_one(a.number, a.value), fail);
+  }
+  stored = stored && transport(client, client.write_one(var::kArgR, 1.0), fail) &&
+           run_or_fail(client, build_macro, "", fail);
   const bool locked = client.write_one(var::kUnlock, 0.0);  // lock again, whatever happened
   if (stored && !locked) fail.error = "Modbus: the controller could not be locked again: " + client.error_text();
   return stored && locked;

@@ -64,6 +64,18 @@ bool make_report(const CalibrateOptions& o, const std::string& json_path) {
   return waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
+FlowResult calibrate(trueaxis::sim::VariableClient& client, const CalibrateOptions& o) {
+  if (o.method == "gantry") return trueaxis::sim::calibrate_gantry(client, o);
+  if (o.method == "spindle") return trueaxis::sim::calibrate_spindle(client, o);
+  return trueaxis::sim::calibrate_rigidity(client, o);
+}
+
+bool store(trueaxis::sim::VariableClient& client, const std::string& method, FlowResult& r) {
+  if (method == "gantry") return trueaxis::sim::store_gantry(client, r);
+  if (method == "spindle") return trueaxis::sim::store_spindle(client, r);
+  return trueaxis::sim::store_rigidity(client, r);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -98,14 +110,12 @@ int main(int argc, char** argv) {
   if (o.method != "rigidity" && o.method != "gantry" && o.method != "spindle") {
     return usage(("unknown METHOD '" + o.method + "'").c_str());
   }
-  if (o.method == "spindle") return fail("method 'spindle' is not built yet (M4 comes next)");
-  const bool gantry = o.method == "gantry";
 
   trueaxis::sim::VariableClient client;
   if (!client.connect(o.host, o.port)) {
     return fail("cannot connect to " + o.host + ":" + std::to_string(o.port) + ": " + client.error_text());
   }
-  FlowResult r = gantry ? trueaxis::sim::calibrate_gantry(client, o) : trueaxis::sim::calibrate_rigidity(client, o);
+  FlowResult r = calibrate(client, o);
   if (!r.ok) return fail(r.error);
 
   // OUT.json goes to a temporary file first and into place last, after the
@@ -124,7 +134,7 @@ int main(int argc, char** argv) {
       return fail_clean(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
     }
   }
-  if (o.store && !(gantry ? trueaxis::sim::store_gantry(client, r) : trueaxis::sim::store_rigidity(client, r))) {
+  if (o.store && !store(client, o.method, r)) {
     return fail_clean(r.error);
   }
   client.close();

@@ -17,6 +17,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "trueaxis/sim/client.hpp"
 
@@ -33,11 +34,20 @@ struct CalibrateOptions {
   int port = 502;
 };
 
+// #number = value: one argument of a macro.
+struct MacroArgument {
+  std::uint16_t number = 0;
+  double value = 0.0;
+};
+
 struct FlowResult {
   bool ok = false;
   std::string error;          // one line, when !ok
   std::string json;           // the OUT.json text, when ok
   std::string report_extras;  // JSON of the module's figures beyond OUT.json, for the report
+  // The build macro's arguments besides R, written again by the store (the
+  // module clears the arguments after every macro); empty when it takes none.
+  std::vector<MacroArgument> build_arguments;
 };
 
 // The text of a module error code, "module error 402 session_full: The session is full ...".
@@ -54,10 +64,11 @@ bool transport(VariableClient& client, bool ok, FlowResult& fail);
 std::string json_number(double v);
 std::string json_vec3(const double* v);
 
-// Unlocks, runs `build_macro` with R = 1 on the session already in the module
-// (the method stores what it computes), and locks again whatever happened;
-// false with fail.error set when anything failed.
-bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail);
+// Unlocks, runs `build_macro` with `arguments` and R = 1 on the session
+// already in the module (the method stores what it computes), and locks again
+// whatever happened; false with fail.error set when anything failed.
+bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail,
+                 const std::vector<MacroArgument>& arguments = {});
 
 // Streams the samples and builds the table WITHOUT storing it; reads back
 // what the module computed.
@@ -75,5 +86,27 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
 // Stores the frames of the session already in the module (unlock, 9823 with
 // R = 1, lock again).
 bool store_gantry(VariableClient& client, FlowResult& fail);
+
+// The spindle angles of OUT.json's per_angle: 0, 5, ..., 355 (INTERFACE.md: at most 10).
+inline constexpr double kSpindleStepDeg = 5.0;
+
+// Streams the analyser samples (file order) to the session 9840/9841,
+// identifies the tool-axis model with 9842 WITHOUT storing it (D, U, V from
+// MACHINE), and reads back the parameters (9845, R = 0) and one revolution of
+// the correction with its sigmas at tool_length_mm (9844, R = 0, every
+// kSpindleStepDeg). OUT.json adds to INTERFACE.md's keys the per-angle
+// sigmas, tool_length_mm, the mean tool-tip error over a revolution with its
+// sigma, and "fit" (samples, noise, synchronous and overall RMS).
+// MACHINE holds `name,value` rows: exactly the five names INTERFACE.md
+// requires, each once; any other name is refused (there are no optional names
+// yet, and a misspelt one would otherwise pass unnoticed). bearing_spacing_mm,
+// which the model does not take (the analyser sees the tool line, not the
+// bearings), is only checked (> 0) and shown in the report. A ball other than
+// 1 or 2 is refused at its line; a length the module refuses names MACHINE.
+FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& options);
+
+// Stores the model of the session already in the module (unlock, 9842 with
+// result.build_arguments and R = 1, lock again).
+bool store_spindle(VariableClient& client, FlowResult& result);
 
 }  // namespace trueaxis::sim

@@ -1,0 +1,177 @@
+// `trueaxis-calibrate spindle`'s flow (calibrate_spindle, store_spindle) driven
+// in this process against a simulator served in this process too (see
+// test_calibrate_spindle.cpp): every bad input gets its own one-line error (the
+// file and physical line, or the module's code) and stores nothing: 9843
+// answers afterwards exactly as before (no_table, or the model stored
+// earlier), and the module is locked.
+#include <catch2/catch.hpp>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "calibrate_spindle_support.hpp"
+#include "calibrate_support.hpp"
+#include "in_process_sim.hpp"
+#include "trueaxis/core/status.hpp"
+
+namespace {
+
+namespace v = trueaxis::macros::var;
+namespace sim = trueaxis::sim;
+using trueaxis::core::Status;
+using namespace trueaxis::test;
+
+}  // namespace
+
+TEST_CASE("calibrate spindle: every bad input has its own error and stores nothing", "[calibrate][spindle]") {
+  InProcessSim sim;
+  sim::VariableClient& client = sim.client();
+  Workspace w("trueaxis-calibrate-spindle");
+  // One revolution at 5 deg: lines 1-2 comments, 3 the header, then phi = 5 i
+  // ball 1 on line 4 + 2 i and ball 2 on line 5 + 2 i.
+  const SpindleFiles f = measure_spindle(w, "good", 3, 1);
+  const std::vector<std::string> good = lines_of(slurp(f.samples));
+  REQUIRE(good.size() == 3 + 144);
+  REQUIRE(good[2] == "phi_deg,ball,x_mm,y_mm,z_mm");
+  const std::vector<std::string> machine_lines = lines_of(slurp(f.machine));
+  REQUIRE(machine_lines.size() == 7);  // a comment, the header, five names
+  REQUIRE(machine_lines[6].rfind("tool_length_mm,", 0) == 0);
+  const std::string bad = w.file("bad.csv");
+  const std::string bad_machine = w.file("bad_machine.csv");
+  const double tool = parse(slurp(f.truth))["tool_length_mm"].number;
+
+  struct Case {
+    std::string name, samples, machine, error;  // machine: a text, or "" for none; error: the line, or its start
+    bool whole;
+  };
+  std::vector<Case> cases;
+  const std::string machine = slurp(f.machine);
+  const auto replaced = [&](std::size_t line, const std::string& text) {
+    std::vector<std::string> lines = good;
+    lines[line - 1] = text;
+    return text_of(lines);
+  };
+  const auto kept = [&](bool (*keep)(double phi, int ball)) {
+    std::vector<std::string> lines(good.begin(), good.begin() + 3);
+    for (std::size_t n = 3; n < good.size(); ++n) {
+      const std::vector<std::string> x = fields_of(good[n]);
+      if (keep(std::stod(x[0]), std::stoi(x[1]))) lines.push_back(good[n]);
+    }
+    return text_of(lines);
+  };
+  const auto at = [&](std::size_t line, const std::string& what) {
+    return bad + ":" + std::to_string(line) + ": " + what;
+  };
+  const auto machine_with = [&](std::size_t line, const std::string& text) {
+    std::vector<std::string> lines = machine_lines;
+    if (text.empty()) {
+      lines.erase(lines.begin() + static_cast<std::ptrdiff_t>(line - 1));
+    } else {
+      lines[line - 1] = text;
+    }
+    return text_of(lines);
+  };
+  const std::string samples = text_of(good);
+
+  cases.push_back({"a malformed row", replaced(20, "40,1,1.5,abc,3"), machine,
+                   at(20, "'y_mm' is not a finite number: 'abc'"), true});
+  cases.push_back({"a row with a field missing", replaced(21, "40,2,1.5,2"), machine,
+                   at(21, "too few fields: no value for 'z_mm'"), true});
+  cases.push_back({"a missing column", replaced(3, "phi_deg,ball,x_mm,y_mm"), machine,
+                   at(3, "the header has no column 'z_mm'"), true});
+  cases.push_back(
+      {"ball 3", replaced(30, "65,3,0.001,0.002,250"), machine, at(30, "ball must be 1 or 2, not '3'"), true});
+  cases.push_back(
+      {"ball 1.5", replaced(31, "65,1.5,0.001,0.002,250"), machine, at(31, "ball must be 1 or 2, not '1.5'"), true});
+  cases.push_back(
+      {"nan", replaced(40, "90,1,nan,0,250"), machine, at(40, "'x_mm' is not a finite number: 'nan'"), true});
+  cases.push_back(
+      {"inf", replaced(41, "inf,2,0,0,250"), machine, at(41, "'phi_deg' is not a finite number: 'inf'"), true});
+  cases.push_back({"an angle beyond 1e6 deg", replaced(50, "2e6,1,0,0,250"), machine,
+                   at(50, "the module refused the sample: Illegal data value"), true});  // the register's range
+  cases.push_back({"one ball height only", kept([](double, int ball) { return ball == 1; }), machine,
+                   module_error(Status::kMissingGroup) + " (macro 9842)", true});
+  cases.push_back({"7 angles of ball 2",
+                   kept([](double phi, int ball) { return ball == 1 || static_cast<int>(phi) % 55 == 0; }), machine,
+                   module_error(Status::kTooFewSamples) + " (macro 9842)", true});
+  cases.push_back({"less than a revolution", kept([](double phi, int) { return phi < 300.0; }), machine,
+                   module_error(Status::kRevolutionIncomplete) + " (macro 9842)", true});
+  {
+    // Ball 1's 361st distinct angle: 288 more (1..359 deg but the multiples of 5), then 0.5 deg.
+    std::vector<std::string> lines = good;
+    for (int k = 0; k < 360; ++k) {
+      if (k % 5 != 0) lines.push_back(std::to_string(k) + ",1,0.001,0.002,250");
+    }
+    lines.push_back("0.5,1,0.001,0.002,250");
+    cases.push_back(
+        {"a full session", text_of(lines), machine, at(lines.size(), module_error(Status::kSessionFull)), false});
+  }
+  cases.push_back({"an empty samples file", "", machine, at(1, "no header row"), true});
+  cases.push_back({"no samples file", "", machine, "", false});  // the path is replaced below
+  // MACHINE: line 1 a comment, 2 the header, 3..7 the five names in INTERFACE.md's order.
+  cases.push_back({"no MACHINE file", samples, "", "spindle needs --machine MACHINE.csv", false});
+  cases.push_back(
+      {"a missing MACHINE name", samples, machine_with(7, ""), bad_machine + ": no row for 'tool_length_mm'", true});
+  cases.push_back({"bearing_spacing_mm missing", samples, machine_with(3, ""),
+                   bad_machine + ": no row for 'bearing_spacing_mm'", true});
+  cases.push_back({"an unknown MACHINE name", samples, machine + "ball_3_mm,250\n",
+                   bad_machine + ":8: unknown name 'ball_3_mm' (MACHINE names: bearing_spacing_mm, "
+                                 "gauge_from_upper_bearing_mm, ball_1_mm, ball_2_mm, tool_length_mm)",
+                   true});
+  cases.push_back({"a MACHINE name twice", samples, machine + "ball_1_mm,60\n",
+                   bad_machine + ":8: 'ball_1_mm' is given twice (first at line 5)", true});
+  cases.push_back({"a malformed MACHINE value", samples, machine_with(6, "ball_2_mm,15O"),
+                   bad_machine + ":6: 'value' is not a finite number: '15O'", true});
+  cases.push_back({"MACHINE without its value column", samples, machine_with(2, "name,val"),
+                   bad_machine + ":2: the header has no column 'value'", true});
+  cases.push_back({"ball_2 at ball_1", samples, machine_with(6, "ball_2_mm,50"),
+                   bad_machine + ": " + module_error(Status::kArgumentOutOfRange) +
+                       " (macro 9842) (gauge_from_upper_bearing_mm > 0, 0 <= ball_1_mm < ball_2_mm)",
+                   true});
+  cases.push_back({"ball_2 nearer the spindle than ball_1", samples, machine_with(6, "ball_2_mm,20"),
+                   bad_machine + ": " + module_error(Status::kArgumentOutOfRange), false});
+  cases.push_back({"a zero gauge length", samples, machine_with(4, "gauge_from_upper_bearing_mm,0"),
+                   bad_machine + ": " + module_error(Status::kArgumentOutOfRange), false});
+  cases.push_back({"a zero bearing spacing", samples, machine_with(3, "bearing_spacing_mm,0"),
+                   bad_machine + ":3: bearing_spacing_mm must be more than 0", true});
+  cases.push_back({"a negative tool length", samples, machine_with(7, "tool_length_mm,-1"),
+                   bad_machine + ":7: " + module_error(Status::kArgumentOutOfRange) + " (macro 9844)", true});
+
+  const auto check_refusals = [&](const std::vector<std::vector<double>>& before) {
+    for (const Case& c : cases) {
+      CAPTURE(c.name);
+      const bool no_file = c.name == "no samples file";
+      w.write("bad.csv", c.samples);
+      if (!c.machine.empty()) w.write("bad_machine.csv", c.machine);
+      const std::string in = no_file ? w.file("absent.csv") : bad;
+      const sim::FlowResult r = spindle_flow(client, in, c.machine.empty() ? "" : bad_machine, true);
+      CAPTURE(r.error);
+      CHECK_FALSE(r.ok);
+      CHECK(r.json.empty());
+      if (no_file) {
+        CHECK(r.error == w.file("absent.csv") + ": cannot be read");
+      } else if (c.whole) {
+        CHECK(r.error == c.error);
+      } else {
+        CHECK(r.error.compare(0, c.error.size(), c.error) == 0);
+      }
+      CHECK(r.error.find('\n') == std::string::npos);  // one line
+      CHECK(read_var(client, v::kUnlock) == 0.0);      // locked
+      CHECK(corrections(client, tool) == before);      // nothing stored
+    }
+  };
+
+  SECTION("with no model stored: still none") {
+    const std::vector<std::vector<double>> none = corrections(client, tool);
+    for (const auto& c : none) REQUIRE(c == std::vector<double>{static_cast<double>(Status::kNoTable)});
+    check_refusals(none);
+  }
+  SECTION("with a model stored: 9843 answers exactly as before") {
+    const sim::FlowResult r = spindle_flow(client, f.samples, f.machine, true);
+    INFO(r.error);
+    REQUIRE(r.ok);
+    const std::vector<std::vector<double>> stored = corrections(client, tool);
+    for (const auto& c : stored) REQUIRE(c.size() == 5);
+    check_refusals(stored);
+  }
+}
