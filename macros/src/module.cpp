@@ -139,8 +139,11 @@ void Module::load_variables(RecordKey key) {
   }
 }
 
+bool Module::unlocked() const { return unlocked_ && clock_.now_us() - last_write_us_ < kUnlockIdleUs; }
+
 double Module::value(std::uint16_t number) const {
-  if (number == var::kUnlock) return unlocked_ ? 1.0 : 0.0;
+  if (number == var::kUnlock) return unlocked() ? 1.0 : 0.0;
+  if (number == var::kUnlockCodeSetting) return 0.0;  // write-only
   const std::size_t slot = slot_of(number);
   return slot < kVariableCount ? values_[slot] : 0.0;
 }
@@ -162,13 +165,12 @@ AccessFault Module::check_write(std::uint16_t number, double value) const {
     case Access::kReadOnly:
       return AccessFault::kReadOnly;
     case Access::kUnlock:
-      if (!std::isfinite(value)) return AccessFault::kNotFinite;
-      return (value == 0.0 || value == kUnlockCode) ? AccessFault::kNone : AccessFault::kBadUnlockCode;
+      return check_unlock(value);
     case Access::kCommand:
       if (busy()) return AccessFault::kBusy;
       return check_value(*info, value);
     case Access::kConfig:
-      if (!unlocked_) return AccessFault::kLocked;
+      if (!unlocked()) return AccessFault::kLocked;
       [[fallthrough]];
     case Access::kReadWrite:
     case Access::kPersistent:
@@ -176,6 +178,20 @@ AccessFault Module::check_write(std::uint16_t number, double value) const {
       return check_value(*info, value);
   }
   return AccessFault::kUndefined;
+}
+
+AccessFault Module::check_unlock(double value) const {
+  if (!std::isfinite(value)) return AccessFault::kNotFinite;
+  if (value == 0.0) return AccessFault::kNone;  // locking is always allowed
+  if (clock_.now_us() < backoff_until_us_) return AccessFault::kUnlockBackoff;
+  return value == values_[slot_of(var::kUnlockCodeSetting)] ? AccessFault::kNone : AccessFault::kBadUnlockCode;
+}
+
+void Module::failed_unlock() {
+  set(var::kFailedUnlocks, value(var::kFailedUnlocks) + 1.0);
+  failed_in_row_ = failed_in_row_ < 7 ? failed_in_row_ + 1 : 7;
+  const std::uint64_t backoff = std::uint64_t{1'000'000} << (failed_in_row_ - 1);
+  backoff_until_us_ = clock_.now_us() + (backoff < kMaxBackoffUs ? backoff : kMaxBackoffUs);
 }
 
 // The whole record of one group (config or work offsets) with the written
@@ -194,10 +210,12 @@ AccessFault Module::save_variables(Access group, std::uint16_t first, std::uint1
 }
 
 AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const double* values) {
+  if (unlocked_ && !unlocked()) unlocked_ = false;  // idle past kUnlockIdleUs: closed for good
   bool touches[2] = {false, false};  // config, work offsets
   for (std::uint16_t i = 0; i < count; ++i) {
     const auto number = static_cast<std::uint16_t>(first + i);
     const AccessFault f = check_write(number, values[i]);
+    if (f == AccessFault::kBadUnlockCode) failed_unlock();
     if (f != AccessFault::kNone) return fault(f);
     const Access access = access_of(number);
     touches[0] = touches[0] || access == Access::kConfig;
@@ -217,7 +235,8 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
     const auto number = static_cast<std::uint16_t>(first + i);
     const Access access = access_of(number);
     if (access == Access::kUnlock) {
-      unlocked_ = values[i] == kUnlockCode;
+      unlocked_ = values[i] != 0.0;  // check_unlock passed: the code or 0
+      if (unlocked_) failed_in_row_ = 0;
       continue;
     }
     set(number, values[i]);
@@ -228,6 +247,7 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
       set(var::kError, 0.0);
     }
   }
+  last_write_us_ = clock_.now_us();
   return AccessFault::kNone;
 }
 
@@ -269,7 +289,7 @@ void Module::step() {
     } else if (!record_.staged) {
       publish_results();
       finish(core::Status::kOk);
-    } else if (!unlocked_) {
+    } else if (!unlocked()) {
       finish(core::Status::kTableLocked);
     } else {
       phase_ = Phase::kCommitting;  // the save is a step of its own: it bounds the step

@@ -27,6 +27,15 @@
 //     save fails the macro with kStorageFailure and publishes nothing.
 //  6. Extra macros (an integrator's own, or a test's) may be handed in; they
 //     are looked up after the product's macros and share their contract.
+//  7. Access control. #9004 takes the code in #9009 (a persistent
+//     configuration variable, default kUnlockCode = 2718, published for
+//     commissioning only; it reads 0) or 0. A right code unlocks; 0 locks. A
+//     wrong code is refused (kBadUnlockCode), counted in #9010, and makes
+//     #9004 refuse every code for a back-off of 2^(k-1) s after the k-th wrong
+//     code in a row (at most 64 s; kUnlockBackoff, Modbus 06); a right code
+//     resets k. An unlock closes by itself kUnlockIdleUs after the last write
+//     that succeeded, and when the transport calls lock() (the connection
+//     that opened it closed). The clock is the one handed in.
 #pragma once
 
 #include <cstdint>
@@ -60,8 +69,16 @@ class Module final : public VariableAccess {
   // Does one bounded piece of the pending macro, if any.
   void step();
 
+  // Contract 7: an unlock closes this long after the last successful write.
+  static constexpr std::uint64_t kUnlockIdleUs = 300'000'000;
+  static constexpr std::uint64_t kMaxBackoffUs = 64'000'000;
+
   bool busy() const { return pending_ != 0; }
-  bool unlocked() const { return unlocked_; }
+  // True while unlocked (and not yet idle past kUnlockIdleUs).
+  bool unlocked() const;
+  // Contract 7: closes an unlock (a transport calls it when the connection
+  // that opened the unlock closes).
+  void lock() { unlocked_ = false; }
 
   // The value of #number; 0 for a number the map does not define.
   double value(std::uint16_t number) const;
@@ -79,6 +96,8 @@ class Module final : public VariableAccess {
   void do_note_fault(AccessFault f) override;
 
   AccessFault check_write(std::uint16_t number, double value) const;
+  AccessFault check_unlock(double value) const;
+  void failed_unlock();
   AccessFault save_variables(Access group, std::uint16_t first, std::uint16_t count, const double* values);
   void load_variables(RecordKey key);
   const MacroInfo* lookup(std::uint16_t number) const;
@@ -102,6 +121,9 @@ class Module final : public VariableAccess {
   std::uint16_t pending_ = 0;
   Phase phase_ = Phase::kStart;
   bool unlocked_ = false;
+  std::uint64_t last_write_us_ = 0;   // contract 7's idle clock
+  std::uint64_t backoff_until_us_ = 0;
+  std::uint32_t failed_in_row_ = 0;
 };
 
 }  // namespace trueaxis::macros

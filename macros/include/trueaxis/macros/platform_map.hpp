@@ -72,11 +72,15 @@ inline constexpr std::uint16_t kRunTime = 9005;
 inline constexpr std::uint16_t kInterfaceVersion = 9006;
 inline constexpr std::uint16_t kAccessFault = 9007;
 inline constexpr std::uint16_t kStepCount = 9008;
+inline constexpr std::uint16_t kUnlockCodeSetting = 9009;
+inline constexpr std::uint16_t kFailedUnlocks = 9010;
 }  // namespace var
 
 // #9001 values.
 enum class MacroState : std::uint8_t { kIdle = 0, kBusy = 1, kDone = 2, kError = 3 };
 
+// The published unlock code: the default of #9009, for commissioning only (the
+// integrator sets the machine's own, module.hpp contract 7).
 inline constexpr double kUnlockCode = 2718.0;
 inline constexpr double kInterfaceVersionValue = 1.0;
 
@@ -153,6 +157,8 @@ inline constexpr VarInfo kPlatformRows[] = {
   {var::kInterfaceVersion, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, kInterfaceVersionValue, "interface_version", "", "Version of this register map."},
   {var::kAccessFault, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 255.0, 0.0, "access_fault", "", "Why the last refused register access was refused (see access_faults)."},
   {var::kStepCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "step_count", "", "Number of step() calls the last macro took (1 for a macro that finishes in one step)."},
+  {var::kUnlockCodeSetting, 1, Access::kConfig, ValueKind::kInteger, 1.0, 9999.0, kUnlockCode, "unlock_code", "", "The code #9004 takes: set it while unlocked (persistent); it reads 0. The default 2718 is published, for commissioning only. An unlock closes by itself 300 s after the last write that succeeded, and when the connection that opened it closes."},
+  {var::kFailedUnlocks, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "failed_unlocks", "", "Wrong codes written to #9004 since start; each makes #9004 refuse codes for a back-off (1 s, doubling up to 64 s)."},
 };
 // clang-format on
 

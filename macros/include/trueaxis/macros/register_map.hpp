@@ -217,7 +217,7 @@ static_assert(slot_of(var::kResultLast) - slot_of(var::kResultFirst) == kResultS
 static_assert(is_defined(var::kCmd) && is_defined(var::kStepCount) && is_defined(var::kLevelOtherReachable));
 static_assert(is_defined(var::kMaxDirectionSigma) && is_defined(var::kG59 + 5) && !is_defined(var::kG59 + 6));
 static_assert(!is_defined(10), "#10 (letter G) is not an argument");
-static_assert(slot_of(var::kStepCount) == kVariableCount - 1);
+static_assert(slot_of(var::kFailedUnlocks) == kVariableCount - 1);
 
 // Macro numbers unique and in 1..9999, a handler, outputs inside #100..#199,
 // inputs defined in the map.

@@ -44,6 +44,7 @@ enum class AccessFault : std::uint8_t {
   kBusy = 8,            // a macro is running                                   -> 06
   kStorageFailure = 9,  // non-volatile storage refused the write               -> 04
   kBadFunction = 10,    // a function code the server does not serve            -> 01
+  kUnlockBackoff = 11,  // #9004 written while failed unlocks are slowed down   -> 06
 };
 
 // Modbus exception codes (Modbus Application Protocol V1.1b3, section 7).
@@ -66,7 +67,8 @@ constexpr ModbusException modbus_exception(AccessFault f) {
     case AccessFault::kNotFinite:
     case AccessFault::kOutOfRange:
     case AccessFault::kBadUnlockCode: return ModbusException::kIllegalDataValue;
-    case AccessFault::kBusy: return ModbusException::kServerDeviceBusy;
+    case AccessFault::kBusy:
+    case AccessFault::kUnlockBackoff: return ModbusException::kServerDeviceBusy;
     case AccessFault::kStorageFailure: return ModbusException::kServerDeviceFailure;
     case AccessFault::kBadFunction: return ModbusException::kIllegalFunction;
   }
@@ -93,6 +95,9 @@ inline constexpr AccessFaultInfo kAccessFaultTable[] = {
     {AccessFault::kBusy, "busy", "A macro is running: commands and macro inputs wait until it is done."},
     {AccessFault::kStorageFailure, "storage_failure", "Non-volatile storage refused the write; nothing changed."},
     {AccessFault::kBadFunction, "bad_function", "The server does not serve that Modbus function code."},
+    {AccessFault::kUnlockBackoff, "unlock_backoff",
+     "A wrong unlock code was written moments ago: #9004 takes no code until the back-off (1 s, doubling "
+     "with each further wrong code up to 64 s) has passed."},
 };
 
 struct VarInfo {
