@@ -127,10 +127,10 @@ TEST_CASE("the Modbus exceptions carry the codes of the Modbus specification on 
   const std::pair<F, int> wire[] = {{F::kNone, 0},       {F::kUndefined, 2},      {F::kMisaligned, 2},
                                     {F::kReadOnly, 2},   {F::kLocked, 2},         {F::kNotFinite, 3},
                                     {F::kOutOfRange, 3}, {F::kBadUnlockCode, 3},  {F::kBusy, 6},
-                                    {F::kStorageFailure, 4}, {F::kBadFunction, 1}};
+                                    {F::kStorageFailure, 4}, {F::kBadFunction, 1}, {F::kUnlockBackoff, 6}};
   for (const auto& [fault, code] : wire) {
     INFO("fault " << static_cast<int>(fault));
     CHECK(static_cast<int>(m::modbus_exception(fault)) == code);
   }
-  CHECK(sizeof wire / sizeof wire[0] == static_cast<std::size_t>(F::kBadFunction) + 1);  // every fault listed
+  CHECK(sizeof wire / sizeof wire[0] == static_cast<std::size_t>(F::kUnlockBackoff) + 1);  // every fault listed
 }
