@@ -16,14 +16,14 @@ namespace {
 
 constexpr std::size_t kHeaderBytes = 6;  // transaction id, protocol id, length
 constexpr std::size_t kMinLength = 2;    // unit id + function code
-constexpr std::size_t kMaxLength = 1 + kMaxPduBytes;
+constexpr std::size_t kMaxLength = 1 + macros::kMaxPduBytes;
 
 std::size_t be16(const std::uint8_t* p) { return static_cast<std::size_t>((p[0] << 8) | p[1]); }
 
 }  // namespace
 
-ModbusTcpServer::ModbusTcpServer(RequestHandler& handler, Simulator& simulator, const ServerLimits& limits)
-    : handler_(handler), simulator_(simulator), limits_(limits) {
+ModbusTcpServer::ModbusTcpServer(macros::ModbusCore& core, Simulator& simulator, const ServerLimits& limits)
+    : core_(core), simulator_(simulator), limits_(limits) {
   clients_.reserve(limits_.max_clients);
   polled_.reserve(limits_.max_clients + 1);
 }
@@ -130,7 +130,9 @@ bool ModbusTcpServer::serve_frames(Connection& c, Clock::time_point now) {
     std::uint8_t* reply = c.out + c.out_used;
     std::copy(frame, frame + 4, reply);  // transaction id, protocol id
     reply[6] = frame[6];                 // unit id
-    const std::size_t pdu_bytes = handler_.respond(frame + 7, length - 1, reply + 7);
+    const bool was_unlocked = simulator_.module().unlocked();
+    const std::size_t pdu_bytes = core_.respond(frame + 7, length - 1, reply + 7);
+    if (!was_unlocked && simulator_.module().unlocked()) unlock_owner_ = c.fd;  // contract 8
     reply[4] = static_cast<std::uint8_t>((pdu_bytes + 1) >> 8);
     reply[5] = static_cast<std::uint8_t>(pdu_bytes + 1);
     c.out_used += 7 + pdu_bytes;
@@ -185,6 +187,10 @@ const timespec* ModbusTcpServer::next_timeout(Clock::time_point now, timespec& s
 }
 
 void ModbusTcpServer::drop(std::size_t index) {
+  if (clients_[index].fd == unlock_owner_) {  // contract 8
+    simulator_.module().lock();
+    unlock_owner_ = -1;
+  }
   ::close(clients_[index].fd);
   if (index + 1 != clients_.size()) clients_[index] = clients_.back();
   clients_.pop_back();

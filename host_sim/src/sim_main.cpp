@@ -9,10 +9,10 @@
 
 #include "trueaxis/hal/posix/file_nv_storage.hpp"
 #include "trueaxis/hal/posix/steady_clock.hpp"
+#include "trueaxis/macros/modbus_core.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 #include "trueaxis/sim/modbus_server.hpp"
-#include "trueaxis/sim/request_handler.hpp"
 #include "trueaxis/sim/simulator.hpp"
 #include "trueaxis/sim/variable_router.hpp"
 
@@ -132,8 +132,8 @@ int main(int argc, char** argv) {
   }
   sim::Simulator simulator(module, face, seed, errors_on);
   sim::VariableRouter router(module, simulator);
-  sim::RequestHandler handler(router);
-  sim::ModbusTcpServer server(handler, simulator, limits);
+  macros::ModbusCore core(router);
+  sim::ModbusTcpServer server(core, simulator, limits);
 
   // Block the stop signals; ppoll unblocks them only while waiting.
   sigset_t stop_signals;

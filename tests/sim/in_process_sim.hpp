@@ -16,10 +16,10 @@
 #include "trueaxis/core/status.hpp"
 #include "trueaxis/hal/posix/steady_clock.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
+#include "trueaxis/macros/modbus_core.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/sim/client.hpp"
 #include "trueaxis/sim/modbus_server.hpp"
-#include "trueaxis/sim/request_handler.hpp"
 #include "trueaxis/sim/simulator.hpp"
 #include "trueaxis/sim/variable_router.hpp"
 
@@ -40,8 +40,8 @@ class InProcessSim {
     REQUIRE(module_->start() == core::Status::kOk);
     simulator_ = std::make_unique<sim::Simulator>(*module_, sim::FaceConfig{}, 1);
     router_ = std::make_unique<sim::VariableRouter>(*module_, *simulator_);
-    handler_ = std::make_unique<sim::RequestHandler>(*router_);
-    server_ = std::make_unique<sim::ModbusTcpServer>(*handler_, *simulator_);
+    core_ = std::make_unique<trueaxis::macros::ModbusCore>(*router_);
+    server_ = std::make_unique<sim::ModbusTcpServer>(*core_, *simulator_);
     REQUIRE(server_->listen("127.0.0.1", 0));
     struct sigaction wake {};
     wake.sa_handler = on_wake;
@@ -78,7 +78,7 @@ class InProcessSim {
   std::unique_ptr<trueaxis::macros::Module> module_;
   std::unique_ptr<sim::Simulator> simulator_;
   std::unique_ptr<sim::VariableRouter> router_;
-  std::unique_ptr<sim::RequestHandler> handler_;
+  std::unique_ptr<trueaxis::macros::ModbusCore> core_;
   std::unique_ptr<sim::ModbusTcpServer> server_;
   std::thread thread_;
   sim::VariableClient client_;

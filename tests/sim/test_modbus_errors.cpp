@@ -2,8 +2,10 @@
 // and in each case proof that nothing else changed.
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <thread>
 #include <vector>
 
 #include "sim_fixture.hpp"
@@ -13,6 +15,7 @@ namespace {
 
 using trueaxis::sim::test::kUnlockCode;
 using trueaxis::sim::test::SimFixture;
+using trueaxis::sim::VariableClient;
 namespace simvar = trueaxis::sim::simvar;
 
 constexpr int kIllegalFunction = 1;
@@ -199,7 +202,11 @@ TEST_CASE("a wrong unlock code is exception 03 and leaves the configuration lock
   level_once(f);
   const std::vector<double> before = f.snapshot();
   CHECK(f.write_exception(9004, {1234.0}) == kIllegalValue);
-  CHECK(f.write_exception(9004, {kUnlockCode + 1.0}) == kIllegalValue);
+  // Within the wrong code's back-off (1 s) every code is refused with 06, the
+  // right one too, and only the wrong codes judged are counted (#9010).
+  CHECK(f.write_exception(9004, {kUnlockCode + 1.0}) == 6);
+  CHECK(f.write_exception(9004, {kUnlockCode}) == 6);
+  CHECK(f.get(9010) == 1.0);
   CHECK(f.get(9004) == 0.0);
   CHECK(f.write_exception(500, {-10.0}) == kIllegalAddress);
   CHECK(f.snapshot() == before);
@@ -247,4 +254,40 @@ TEST_CASE("probing into a number that is not a work offset or point-list X is ex
     CHECK(f.write_exception(simvar::kProbeInto, {target}) == kIllegalValue);
   }
   CHECK(f.snapshot() == before);
+}
+
+TEST_CASE("an unlock closes when the connection that opened it closes, and only then") {
+  SimFixture f;
+  const auto unlocked = [&f] { return f.get(9004) == 1.0; };
+  const auto wait_locked = [&] {
+    for (int i = 0; i < 200 && unlocked(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    return !unlocked();
+  };
+  {
+    VariableClient owner;
+    REQUIRE(owner.connect("127.0.0.1", f.port()));
+    REQUIRE(owner.write_one(9004, kUnlockCode));
+    CHECK(unlocked());  // seen from the fixture's own connection
+    {
+      VariableClient other;  // another connection comes and goes: the unlock stays
+      REQUIRE(other.connect("127.0.0.1", f.port()));
+      double v = 0.0;
+      REQUIRE(other.read_one(9004, v));
+      CHECK(v == 1.0);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    CHECK(unlocked());
+    f.set(506, 0.002);  // a configuration write through another connection while it is open
+  }
+  CHECK(wait_locked());
+  CHECK(f.write_exception(506, {0.003}) == kIllegalAddress);
+  CHECK(f.get(506) == 0.002);
+  // The fixture's connection unlocks now: its unlock is its own.
+  f.set(9004, kUnlockCode);
+  {
+    VariableClient passer;
+    REQUIRE(passer.connect("127.0.0.1", f.port()));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  CHECK(unlocked());
 }

@@ -10,8 +10,8 @@
 #include "alloc_counter.hpp"
 #include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
+#include "trueaxis/macros/modbus_core.hpp"
 #include "trueaxis/macros/module.hpp"
-#include "trueaxis/sim/request_handler.hpp"
 #include "trueaxis/sim/simulator.hpp"
 #include "trueaxis/sim/variable_router.hpp"
 
@@ -26,13 +26,13 @@ struct Core {
   trueaxis::macros::Module module{nv, clock};
   trueaxis::sim::Simulator simulator{module, trueaxis::sim::FaceConfig{}, 1};
   trueaxis::sim::VariableRouter router{module, simulator};
-  trueaxis::sim::RequestHandler handler{router};
+  trueaxis::macros::ModbusCore core{router};
 
   Core() { (void)module.start(); }
 
   Bytes run(const Bytes& pdu) {
-    std::uint8_t response[trueaxis::sim::kMaxPduBytes];
-    const std::size_t n = handler.respond(pdu.data(), pdu.size(), response);
+    std::uint8_t response[trueaxis::macros::kMaxPduBytes];
+    const std::size_t n = core.respond(pdu.data(), pdu.size(), response);
     simulator.after_request();
     return Bytes(response, response + n);
   }
@@ -182,11 +182,11 @@ TEST_CASE("respond() allocates nothing") {
   Core c;
   const Bytes write = fc16(4 * 5281, 12);
   const Bytes read = fc3(4 * 5281, 12);
-  std::uint8_t response[trueaxis::sim::kMaxPduBytes];
+  std::uint8_t response[trueaxis::macros::kMaxPduBytes];
   trueaxis::test::AllocationScope scope;
   for (int i = 0; i < 10; ++i) {
-    (void)c.handler.respond(write.data(), write.size(), response);
-    (void)c.handler.respond(read.data(), read.size(), response);
+    (void)c.core.respond(write.data(), write.size(), response);
+    (void)c.core.respond(read.data(), read.size(), response);
   }
   CHECK(scope.count() == 0);
 }

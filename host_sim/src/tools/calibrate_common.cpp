@@ -32,7 +32,7 @@ bool transport(VariableClient& client, bool ok, FlowResult& fail) {
 bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail,
                  const std::vector<MacroArgument>& arguments) {
   namespace var = macros::var;
-  if (!transport(client, client.write_one(var::kUnlock, macros::kUnlockCode), fail)) return false;
+  if (!transport(client, client.write_one(var::kUnlock, fail.unlock_code), fail)) return false;
   // The same session computed again, now stored: the computation is
   // deterministic, so what is stored is what OUT.json describes.
   bool stored = true;

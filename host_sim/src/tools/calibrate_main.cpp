@@ -1,10 +1,11 @@
 // trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
-//                   [--report DIR] [--store] [--port PORT] [--host ADDR]
+//                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
 // The integrator's command (INTERFACE.md, "The integrator's command"): reads the
 // samples, streams them to the module over Modbus (default 127.0.0.1:502), runs
 // the method's macros there and writes what the module computed into OUT.json;
 // --report DIR also writes DIR/index.html with plots; --store stores the result
-// as the controller's calibration table (unlocking and locking again).
+// as the controller's calibration table (unlocking with --unlock-code, default
+// the published 2718, and locking again).
 // Exit 0 on success; 1 with one line on stderr on any failure, and then no
 // OUT.json, no report and nothing stored.
 #include <cstdio>
@@ -31,7 +32,8 @@ int usage(const char* why) {
   std::fprintf(stderr,
                "trueaxis-calibrate: %s\n"
                "usage: trueaxis-calibrate rigidity|gantry|spindle --in SAMPLES.csv --json OUT.json\n"
-               "       [--machine MACHINE.csv] [--report DIR] [--store] [--port PORT] [--host ADDR]\n",
+               "       [--machine MACHINE.csv] [--report DIR] [--store] [--port PORT] [--host ADDR]\n"
+               "       [--unlock-code CODE]   the machine's unlock code for --store (default 2718)\n",
                why);
   return 1;
 }
@@ -95,6 +97,11 @@ int main(int argc, char** argv) {
       o.machine_path = argv[++i];
     } else if (arg == "--report" && has_value) {
       o.report_dir = argv[++i];
+    } else if (arg == "--unlock-code" && has_value) {
+      char* end = nullptr;
+      const long code = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || code < 1 || code > 9999) return usage("--unlock-code takes 1..9999");
+      o.unlock_code = static_cast<double>(code);
     } else if (arg == "--host" && has_value) {
       o.host = argv[++i];
     } else if (arg == "--port" && has_value) {
@@ -134,6 +141,7 @@ int main(int argc, char** argv) {
       return fail_clean(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
     }
   }
+  r.unlock_code = o.unlock_code;
   if (o.store && !store(client, o.method, r)) {
     return fail_clean(r.error);
   }

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/sim/client.hpp"
 
 namespace trueaxis::sim {
@@ -30,6 +31,7 @@ struct CalibrateOptions {
   std::string machine_path;  // "" when absent
   std::string report_dir;    // "" when absent
   bool store = false;
+  double unlock_code = macros::kUnlockCode;  // --unlock-code: the machine's own (#9009)
   std::string host = "127.0.0.1";
   int port = 502;
 };
@@ -48,6 +50,8 @@ struct FlowResult {
   // The build macro's arguments besides R, written again by the store (the
   // module clears the arguments after every macro); empty when it takes none.
   std::vector<MacroArgument> build_arguments;
+  // The code the store unlocks with (CalibrateOptions::unlock_code).
+  double unlock_code = macros::kUnlockCode;
 };
 
 // The text of a module error code, "module error 402 session_full: The session is full ...".

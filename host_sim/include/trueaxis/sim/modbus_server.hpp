@@ -1,7 +1,7 @@
 // The socket side of trueaxis-sim: a Modbus TCP server that serves several
 // clients at once from one thread (so requests never race), framed by the MBAP
 // header, every connection buffered and non-blocking. The requests themselves
-// are decided by the transport-free core (request_handler.hpp).
+// are decided by the transport-free core (macros/modbus_core.hpp).
 //
 // Contract
 //  1. listen(host, port) binds and listens; port 0 picks a free port, which
@@ -28,6 +28,10 @@
 //     signals and passes in `wait_mask` the mask to use while waiting (ppoll), so
 //     a signal can never be lost between test and wait.
 //  7. No allocation per request: buffers are sized when a client connects.
+//  8. Access control (module.hpp contract 7): the connection whose request
+//     turned the module from locked to unlocked owns the unlock; when it
+//     closes (the client's close, a refused frame, a time-out), the server
+//     locks the module. Other connections closing change nothing.
 #pragma once
 
 #include <chrono>
@@ -38,7 +42,7 @@
 
 #include <poll.h>
 
-#include "trueaxis/sim/request_handler.hpp"
+#include "trueaxis/macros/modbus_core.hpp"
 #include "trueaxis/sim/simulator.hpp"
 
 namespace trueaxis::sim {
@@ -50,11 +54,11 @@ struct ServerLimits {
 };
 
 // MBAP header (7 bytes) plus the largest PDU.
-inline constexpr std::size_t kMaxAduBytes = 7 + kMaxPduBytes;
+inline constexpr std::size_t kMaxAduBytes = 7 + macros::kMaxPduBytes;
 
 class ModbusTcpServer {
  public:
-  ModbusTcpServer(RequestHandler& handler, Simulator& simulator, const ServerLimits& limits = ServerLimits{});
+  ModbusTcpServer(macros::ModbusCore& core, Simulator& simulator, const ServerLimits& limits = ServerLimits{});
   ~ModbusTcpServer();
   ModbusTcpServer(const ModbusTcpServer&) = delete;
   ModbusTcpServer& operator=(const ModbusTcpServer&) = delete;
@@ -66,6 +70,9 @@ class ModbusTcpServer {
   void serve(volatile std::sig_atomic_t& stop, const sigset_t& wait_mask);
 
  private:
+  // tests/fuzz/fuzz_tcp_framer.cpp drives one connection's receive and framing
+  // without a listening socket.
+  friend class ModbusTcpServerFuzzPeer;
   using Clock = std::chrono::steady_clock;
 
   struct Connection {
@@ -91,11 +98,12 @@ class ModbusTcpServer {
   const timespec* next_timeout(Clock::time_point now, timespec& storage) const;
   void drop(std::size_t index);
 
-  RequestHandler& handler_;
+  macros::ModbusCore& core_;
   Simulator& simulator_;
   ServerLimits limits_;
   int listen_fd_ = -1;
   int port_ = 0;
+  int unlock_owner_ = -1;  // contract 8: the fd of the connection that opened the unlock
   std::vector<Connection> clients_;
   std::vector<pollfd> polled_;
 };

@@ -55,6 +55,10 @@ class Simulator final : public macros::VariableAccess {
   // Contract 6.
   void after_request();
 
+  // The module behind the simulator, for what the transport owns: closing an
+  // unlock when the connection that opened it closes (module.hpp contract 7).
+  macros::Module& module() { return module_; }
+
   // The machine sim_errors selects now.
   const CradleMachine& machine() const { return machine_for(state_.values); }
 

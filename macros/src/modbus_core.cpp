@@ -1,11 +1,8 @@
-#include "trueaxis/sim/request_handler.hpp"
+#include "trueaxis/macros/modbus_core.hpp"
 
 #include <algorithm>
 
-namespace trueaxis::sim {
-
-using macros::AccessFault;
-using macros::ModbusException;
+namespace trueaxis::macros {
 
 namespace {
 
@@ -19,6 +16,9 @@ constexpr std::uint16_t kMaxReadQuantity = 0x7D;
 constexpr std::uint16_t kMaxWriteQuantity = 0x7B;
 constexpr std::uint16_t kMaxReadWriteWriteQuantity = 0x79;
 
+// Protocol addresses 0..0xFFFF.
+constexpr std::size_t kRegisterSpace = 65536;
+
 std::uint16_t be16(const std::uint8_t* p) { return static_cast<std::uint16_t>((p[0] << 8) | p[1]); }
 
 void put_be16(std::uint8_t* p, std::uint16_t v) {
@@ -28,7 +28,7 @@ void put_be16(std::uint8_t* p, std::uint16_t v) {
 
 }  // namespace
 
-std::size_t RequestHandler::respond(const std::uint8_t* pdu, std::size_t length, std::uint8_t* response) {
+std::size_t ModbusCore::respond(const std::uint8_t* pdu, std::size_t length, std::uint8_t* response) {
   ReadWords read;
   const ModbusException e = decide(pdu, length, read);
   const std::uint8_t fc = length > 0 ? pdu[0] : 0;
@@ -47,14 +47,7 @@ std::size_t RequestHandler::respond(const std::uint8_t* pdu, std::size_t length,
   return 2u + 2u * read.count;
 }
 
-ModbusException RequestHandler::handle(const std::uint8_t* pdu, std::size_t length, std::uint16_t* image) {
-  ReadWords read;
-  const ModbusException e = decide(pdu, length, read);
-  if (e == ModbusException::kNone) std::copy(read.words, read.words + read.count, image + read.address);
-  return e;
-}
-
-ModbusException RequestHandler::decide(const std::uint8_t* pdu, std::size_t length, ReadWords& read) {
+ModbusException ModbusCore::decide(const std::uint8_t* pdu, std::size_t length, ReadWords& read) {
   if (length < 1) return ModbusException::kIllegalDataValue;
   switch (pdu[0]) {
     case kReadHolding: return read_holding(pdu, length, read);
@@ -69,7 +62,7 @@ ModbusException RequestHandler::decide(const std::uint8_t* pdu, std::size_t leng
 // FC3 read holding registers
 //   request:  | 0x03 | address u16 | quantity u16 |
 //   response: | 0x03 | byte count u8 = 2 quantity | quantity x register u16 |
-ModbusException RequestHandler::read_holding(const std::uint8_t* pdu, std::size_t length, ReadWords& read) {
+ModbusException ModbusCore::read_holding(const std::uint8_t* pdu, std::size_t length, ReadWords& read) {
   if (length != 5) return ModbusException::kIllegalDataValue;
   const std::uint16_t address = be16(pdu + 1);
   const std::uint16_t quantity = be16(pdu + 3);
@@ -82,7 +75,7 @@ ModbusException RequestHandler::read_holding(const std::uint8_t* pdu, std::size_
 // FC16 write multiple registers
 //   request:  | 0x10 | address u16 | quantity u16 | byte count u8 | quantity x register u16 |
 //   response: | 0x10 | address u16 | quantity u16 |
-ModbusException RequestHandler::write_multiple(const std::uint8_t* pdu, std::size_t length) {
+ModbusException ModbusCore::write_multiple(const std::uint8_t* pdu, std::size_t length) {
   if (length < 6) return ModbusException::kIllegalDataValue;
   const std::uint16_t address = be16(pdu + 1);
   const std::uint16_t quantity = be16(pdu + 3);
@@ -99,7 +92,7 @@ ModbusException RequestHandler::write_multiple(const std::uint8_t* pdu, std::siz
 //   request:  | 0x17 | read address u16 | read quantity u16 | write address u16 |
 //             | write quantity u16 | byte count u8 | write quantity x register u16 |
 //   response: | 0x17 | byte count u8 = 2 read quantity | read quantity x register u16 |
-ModbusException RequestHandler::read_write_multiple(const std::uint8_t* pdu, std::size_t length, ReadWords& read) {
+ModbusException ModbusCore::read_write_multiple(const std::uint8_t* pdu, std::size_t length, ReadWords& read) {
   if (length < 10) return ModbusException::kIllegalDataValue;
   const std::uint16_t read_address = be16(pdu + 1);
   const std::uint16_t read_quantity = be16(pdu + 3);
@@ -121,35 +114,21 @@ ModbusException RequestHandler::read_write_multiple(const std::uint8_t* pdu, std
   return e;
 }
 
-void RequestHandler::prepare_read_write_reply(std::uint8_t* pdu, std::size_t length, const std::uint16_t* image) {
-  if (length < 10 || pdu[0] != kReadWriteMultiple) return;
-  const std::uint32_t read_first = be16(pdu + 1);
-  const std::uint32_t read_end = read_first + be16(pdu + 3);
-  const std::uint32_t write_first = be16(pdu + 5);
-  const std::uint16_t write_quantity = be16(pdu + 7);
-  for (std::uint32_t i = 0; i < write_quantity && 10u + 2u * i + 1u < length; ++i) {
-    const std::uint32_t reg = write_first + i;
-    if (reg < read_first || reg >= read_end) continue;
-    pdu[10 + 2 * i] = static_cast<std::uint8_t>(image[reg] >> 8);
-    pdu[11 + 2 * i] = static_cast<std::uint8_t>(image[reg]);
-  }
-}
-
 // FC6 write single register
 //   request:  | 0x06 | address u16 | value u16 |
 //   response: exception 02 always: one register is never a whole variable.
-ModbusException RequestHandler::write_single(std::size_t length) {
+ModbusException ModbusCore::write_single(std::size_t length) {
   if (length != 5) return ModbusException::kIllegalDataValue;
   return modbus_exception(vars_.fault(AccessFault::kMisaligned));
 }
 
-ModbusException RequestHandler::past_last_register(std::uint16_t address, std::uint16_t quantity) {
-  if (static_cast<std::size_t>(address) + quantity <= kImageRegisters) return ModbusException::kNone;
+ModbusException ModbusCore::past_last_register(std::uint16_t address, std::uint16_t quantity) {
+  if (static_cast<std::size_t>(address) + quantity <= kRegisterSpace) return ModbusException::kNone;
   return modbus_exception(vars_.fault(AccessFault::kUndefined));
 }
 
-ModbusException RequestHandler::read_into(std::uint16_t address, std::uint16_t quantity, ReadWords& read) {
-  const ModbusException e = modbus_exception(macros::read_registers(vars_, address, quantity, read.words));
+ModbusException ModbusCore::read_into(std::uint16_t address, std::uint16_t quantity, ReadWords& read) {
+  const ModbusException e = modbus_exception(read_registers(vars_, address, quantity, read.words));
   if (e == ModbusException::kNone) {
     read.address = address;
     read.count = quantity;
@@ -157,10 +136,10 @@ ModbusException RequestHandler::read_into(std::uint16_t address, std::uint16_t q
   return e;
 }
 
-ModbusException RequestHandler::write_from(std::uint16_t address, std::uint16_t quantity, const std::uint8_t* bytes) {
+ModbusException ModbusCore::write_from(std::uint16_t address, std::uint16_t quantity, const std::uint8_t* bytes) {
   std::uint16_t words[kMaxWriteQuantity];
   for (std::uint16_t i = 0; i < quantity; ++i) words[i] = be16(bytes + 2 * i);
-  return modbus_exception(macros::write_registers(vars_, address, quantity, words));
+  return modbus_exception(write_registers(vars_, address, quantity, words));
 }
 
-}  // namespace trueaxis::sim
+}  // namespace trueaxis::macros
