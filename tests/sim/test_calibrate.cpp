@@ -7,10 +7,12 @@
 // fails falls back to the older copy, then to no table.
 #include <catch2/catch.hpp>
 
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "calibrate_support.hpp"
@@ -463,4 +465,31 @@ TEST_CASE("calibrate rigidity: a report that cannot be made leaves no OUT.json a
   CHECK_FALSE(exists(w.file("out.json")));
   CHECK(query(sim.client(), 45.0, 0, 0) == kNoTable);
   CHECK(read_var(sim.client(), v::kUnlock) == 0.0);
+}
+
+TEST_CASE("calibrate --store unlocks with the machine's own code (--unlock-code), and the published one fails then",
+          "[calibrate]") {
+  SimFixture sim({"--errors", "realistic"});
+  Workspace w("trueaxis-calibrate-code");
+  measure(sim.port(), w, "samples.csv");
+  VariableClient& client = sim.client();
+  REQUIRE(client.write_one(v::kUnlock, m::kUnlockCode));
+  REQUIRE(client.write_one(v::kUnlockCodeSetting, 4321.0));
+  REQUIRE(client.write_one(v::kUnlock, 0.0));
+  Run r = calibrate(sim.port(), w, w.file("samples.csv"), w.file("out.json"), true);
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("Modbus") != std::string::npos);
+  CHECK_FALSE(exists(w.file("out.json")));
+  CHECK(query(sim.client(), 45.0, 0, 0) == kNoTable);
+  CHECK(read_var(client, v::kFailedUnlocks) == 1.0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // the wrong code's back-off
+  std::vector<std::string> argv = {TRUEAXIS_CALIBRATE_BINARY, "rigidity", "--in", w.file("samples.csv"), "--json",
+                                   w.file("out.json"), "--port", std::to_string(sim.port()), "--store",
+                                   "--unlock-code", "4321"};
+  r = run(argv, w.file("calibrate.err"));
+  CHECK(r.exit_code == 0);
+  CHECK(query(sim.client(), 45.0, 0, 0) != kNoTable);
+  CHECK(read_var(client, v::kUnlock) == 0.0);  // locked again
+  argv.back() = "0";
+  CHECK(run(argv, w.file("calibrate.err")).exit_code == 1);  // 1..9999 only
 }
