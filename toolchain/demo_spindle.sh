@@ -37,30 +37,8 @@
 set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-bin_dir=""
-keep=""
-seed=1
-while [ $# -gt 0 ]; do
-  case "$1" in
-    --bin-dir) bin_dir="$2"; shift 2 ;;
-    --keep) keep="$2"; shift 2 ;;
-    --seed) seed="$2"; shift 2 ;;
-    *) echo "usage: $0 [--bin-dir DIR] [--keep DIR] [--seed N]" >&2; exit 2 ;;
-  esac
-done
-
-if [ -z "$bin_dir" ]; then
-  bash "$root/toolchain/setup.sh"
-  cmake -S "$root" -B "$root/build/host" -G Ninja >/dev/null
-  cmake --build "$root/build/host" --target trueaxis-sim trueaxis-measure-spindle trueaxis-calibrate
-  bin_dir="$root/build/host/bin"
-fi
-
 source "$root/toolchain/sim_session.sh"
-start_sim "$bin_dir"
-out_dir="${keep:-$work}"
-mkdir -p "$out_dir"
-echo "demo: trueaxis-sim (pid $sim_pid) $sim_line"
+demo_start trueaxis-measure-spindle "$@"
 
 echo
 echo "== 1. measure the virtual spindle with the spindle analyser"

@@ -34,3 +34,35 @@ start_sim() {
     exit 3
   fi
 }
+
+# The start of a calibration demo (demo_gantry.sh, demo_spindle.sh):
+#   demo_start MEASURE_TOOL "$@"
+# reads --bin-dir DIR, --keep DIR and --seed N (default 1) into $bin_dir, $keep
+# and $seed; without --bin-dir installs what is missing and builds trueaxis-sim,
+# MEASURE_TOOL and trueaxis-calibrate into build/host; starts the sim and makes
+# $out_dir ($keep, or the work directory). Needs $root.
+demo_start() {
+  local tool="$1"
+  shift
+  bin_dir=""
+  keep=""
+  seed=1
+  while [ $# -gt 0 ]; do
+    case "$1" in
+      --bin-dir) bin_dir="$2"; shift 2 ;;
+      --keep) keep="$2"; shift 2 ;;
+      --seed) seed="$2"; shift 2 ;;
+      *) echo "usage: $0 [--bin-dir DIR] [--keep DIR] [--seed N]" >&2; exit 2 ;;
+    esac
+  done
+  if [ -z "$bin_dir" ]; then
+    bash "$root/toolchain/setup.sh"
+    cmake -S "$root" -B "$root/build/host" -G Ninja >/dev/null
+    cmake --build "$root/build/host" --target trueaxis-sim "$tool" trueaxis-calibrate
+    bin_dir="$root/build/host/bin"
+  fi
+  start_sim "$bin_dir"
+  out_dir="${keep:-$work}"
+  mkdir -p "$out_dir"
+  echo "demo: trueaxis-sim (pid $sim_pid) $sim_line"
+}

@@ -31,6 +31,11 @@ struct FlowRig {
     return get(macros::var::kStatus);
   }
   core::Vec3 out3(std::uint16_t first) const { return core::Vec3(get(first), get(first + 1), get(first + 2)); }
+  // Runs a macro that must fail (#9001 = 3); its code.
+  core::Status refuse(double macro) {
+    REQUIRE(run(macro) == 3.0);
+    return static_cast<core::Status>(static_cast<int>(get(macros::var::kError)));
+  }
 };
 
 }  // namespace trueaxis::test

@@ -31,11 +31,6 @@ constexpr double kDone = 2.0;
 constexpr double kError = 3.0;
 
 struct Rig : trueaxis::test::FlowRig {
-  // Runs a macro that must fail; its code.
-  Status refuse(double macro) {
-    REQUIRE(run(macro) == kError);
-    return static_cast<Status>(static_cast<int>(get(v::kError)));
-  }
   double add(int sub, g::GroupKind kind, int pass, const Vec3& p) {
     put(v::kArgT, sub);
     put(v::kArgQ, static_cast<double>(kind));

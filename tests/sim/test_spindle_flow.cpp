@@ -54,10 +54,6 @@ std::vector<core::SpindleSample> samples(std::uint64_t seed) {
 }
 
 struct Rig : t::FlowRig {
-  Status refuse(double macro) {
-    REQUIRE(run(macro) == kError);
-    return static_cast<Status>(static_cast<int>(get(v::kError)));
-  }
   double add(const core::SpindleSample& s) {
     put(v::kArgS, s.phi_deg);
     put(v::kArgT, s.ball);
