@@ -9,6 +9,7 @@ packages=(
   gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   qemu-system-arm
   mbpoll python3 python3-matplotlib
+  clang libclang-rt-14-dev llvm  # toolchain/fuzz.sh: libFuzzer, ASan/UBSan runtimes, llvm-symbolizer
 )
 
 missing=()

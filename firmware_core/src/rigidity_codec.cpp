@@ -9,8 +9,6 @@ namespace trueaxis::core {
 
 namespace {
 
-constexpr std::size_t kPoseReals = 27;
-
 // The one list of fields, in layout order, for both directions: `Io` puts or
 // gets a double at the cursor.
 template <typename Io>
