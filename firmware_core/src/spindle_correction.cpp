@@ -31,8 +31,6 @@ constexpr std::size_t kHeaderBytes = 24;
 constexpr std::size_t kRealCount = 9 + 45 + 3 + 4;
 static_assert(kHeaderBytes + 8 * kRealCount == kSpindleModelBytes, "convention 5's layout");
 
-constexpr double kMaxTilt = 0.5;  // sin 30 deg
-
 }  // namespace
 
 Result<SpindleCorrection> spindle_correction(const SpindleAxes& x, double gauge_mm, double tool_mm,
@@ -148,7 +146,7 @@ Status decode_spindle_model(const std::uint8_t* bytes, std::size_t size, Spindle
                       std::isfinite(f.noise_sigma_mm) && std::isfinite(f.smallest_eigenvalue_ratio);
   if (!finite) return Status::kTableInvalid;
   const double tilt = std::hypot(f.params(3), f.params(4));
-  if (!(tilt <= kMaxTilt) || f.covariance.diagonal().minCoeff() < 0.0 || f.rms_mm < 0.0 ||
+  if (!(tilt <= kMaxSpindleTilt) || f.covariance.diagonal().minCoeff() < 0.0 || f.rms_mm < 0.0 ||
       f.synchronous_rms_mm < 0.0 || f.noise_sigma_mm < 0.0 || f.smallest_eigenvalue_ratio < 0.0 ||
       f.evaluations < 0 || !(m.geometry.ball_mm[1] > m.geometry.ball_mm[0])) {
     return Status::kTableInvalid;

@@ -276,6 +276,7 @@ SpindleStep SpindleBuilder::step() {
       const double s2 = fit_.noise_from_repeats ? scatter / (3.0 * (n - bins))
                                                 : (means + scatter) / (3.0 * n - kSpindleParams);
       fit_.params = lm_.solution();
+      if (!(std::hypot(fit_.params(3), fit_.params(4)) <= kMaxSpindleTilt)) return fail(Status::kArgumentOutOfRange);
       fit_.covariance = lm_.covariance(s2 > 0.0 ? s2 : 1e-300);
       fit_.noise_sigma_mm = std::sqrt(s2);
       fit_.rms_mm = std::sqrt((means + scatter) / n);

@@ -296,3 +296,59 @@ TEST_CASE("identifiability is judged in correlation form: units do not matter", 
   CHECK(std::fabs(lm.solution()(0) - 0.25) < 1e-9);
   CHECK(std::fabs(lm.solution()(1) - 4e8) < 1e-1);
 }
+
+// --- proposed (review of M4) ---
+
+TEST_CASE("the statistical stop holds at stat_tol of the 1-sigma ellipsoid, not before", "[lm]") {
+  // A linear model started k s / sqrt(A_00) from its solution along parameter 0,
+  // where g^T A^-1 g = k^2 s^2: k = stat_tol / 2 stops at the start, 2 stat_tol steps.
+  t::Rng rng(48);
+  std::vector<Vec3p> a;
+  std::vector<double> b;
+  for (int i = 0; i < 30; ++i) {
+    a.emplace_back(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+    b.push_back(rng.uniform(-10, 10));
+  }
+  auto solve = [&](const Vec3p& p0, const core::LmOptions& options) {
+    core::LevenbergMarquardt<3> lm;
+    lm.start(p0, options);
+    core::LmStep s;
+    do {
+      lm.begin_evaluation();
+      for (std::size_t i = 0; i < a.size(); ++i) {
+        R1 r;
+        r(0) = a[i].dot(lm.point()) - b[i];
+        lm.add(r, J13(a[i].transpose()));
+      }
+      s = lm.finish_evaluation();
+    } while (s.more);
+    return lm;
+  };
+  core::LmOptions exact;
+  exact.stat_tol = 0.0;
+  const core::LevenbergMarquardt<3> best = solve(Vec3p::Zero(), exact);
+  REQUIRE(best.status() == Status::kOk);
+  const double s = std::sqrt(2.0 * best.cost() / (30.0 - 3.0));
+  const double tol = core::LmOptions().stat_tol;
+  for (const double k : {0.5 * tol, 2.0 * tol}) {
+    CAPTURE(k);
+    const core::LevenbergMarquardt<3> lm =
+        solve(best.solution() + Vec3p(k * s / std::sqrt(best.normal_matrix()(0, 0)), 0, 0), core::LmOptions());
+    REQUIRE(lm.status() == Status::kOk);
+    if (k < tol) {
+      CHECK(lm.evaluations() == 1);
+    } else {
+      CHECK(lm.evaluations() > 1);
+    }
+  }
+}
+
+TEST_CASE("the covariance from the residuals is 2F / (m - N) times A^-1", "[lm]") {
+  t::Rng rng(49);
+  const Data d = exp_data(rng, Vec3p(2.0, -1.3, 0.5), 0.01);
+  const core::LevenbergMarquardt<3> lm = solve_exp(d, Vec3p(1, 0, 0));
+  REQUIRE(lm.status() == Status::kOk);
+  const double s2 = 2.0 * lm.cost() / static_cast<double>(d.x.size() - 3);
+  const Eigen::Matrix3d want = s2 * lm.covariance(1.0);
+  CHECK((lm.covariance() - want).cwiseAbs().maxCoeff() <= 1e-12 * want.cwiseAbs().maxCoeff());
+}

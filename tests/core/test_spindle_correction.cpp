@@ -218,5 +218,49 @@ TEST_CASE("the stored model: round trip bit for bit, every refusal leaves the ou
   CHECK(refused([&](std::uint8_t* b) { put(b, 456 + 16, 50.0); }));        // b_2 = b_1
   CHECK(refused([&](std::uint8_t* b) { put(b, 480 + 16, -1e-9); }));       // noise sigma < 0
   CHECK(refused([&](std::uint8_t* b) { put(b, 480 + 24, INFINITY); }));    // the last real
+  CHECK(refused([&](std::uint8_t* b) { put(b, 480, -1e-9); }));           // rms < 0
+  CHECK(refused([&](std::uint8_t* b) { put(b, 488, -1e-9); }));           // synchronous RMS < 0
+  CHECK(refused([&](std::uint8_t* b) { put(b, 504, -1e-9); }));           // eigenvalue ratio < 0
+  CHECK(refused([](std::uint8_t* b) { b[19] = 0x80; }));                  // evaluations beyond INT_MAX
   CHECK_FALSE(refused([&](std::uint8_t* b) { put(b, 24 + 8 * 3, 0.4); })); // a tilt inside the limit is a model
+}
+
+// --- proposed (review of M4) ---
+
+TEST_CASE("the stored model's bytes are convention 5's layout, field by field", "[spindle]") {
+  core::SpindleModel m = sample_model();
+  m.fit.angles[0] = 71;  // distinct, so a swap shows
+  m.fit.angles[1] = 73;
+  std::uint8_t b[core::kSpindleModelBytes];
+  REQUIRE(core::encode_spindle_model(m, b, sizeof b) == core::kSpindleModelBytes);
+  using core::get_f64;
+  CHECK(core::get_u16(b) == 1);
+  CHECK(core::get_u16(b + 2) == 1);
+  CHECK(core::get_u32(b + 4) == 576);
+  CHECK(core::get_u32(b + 8) == 71);
+  CHECK(core::get_u32(b + 12) == 73);
+  CHECK(core::get_u32(b + 16) == 5);
+  CHECK(core::get_u32(b + 20) == 0);
+  for (int k = 0; k < 9; ++k) CHECK(get_f64(b + 24 + 8 * k) == m.fit.params(k));
+  std::size_t at = 96;
+  for (int r = 0; r < 9; ++r) {
+    for (int c = r; c < 9; ++c, at += 8) CHECK(get_f64(b + at) == m.fit.covariance(r, c));
+  }
+  CHECK(at == 456);
+  CHECK(get_f64(b + 456) == 350.0);
+  CHECK(get_f64(b + 464) == 50.0);
+  CHECK(get_f64(b + 472) == 150.0);
+  CHECK(get_f64(b + 480) == m.fit.rms_mm);
+  CHECK(get_f64(b + 488) == m.fit.synchronous_rms_mm);
+  CHECK(get_f64(b + 496) == m.fit.noise_sigma_mm);
+  CHECK(get_f64(b + 504) == m.fit.smallest_eigenvalue_ratio);
+  core::SpindleModel back;
+  REQUIRE(core::decode_spindle_model(b, sizeof b, back) == Status::kOk);
+  CHECK(back.fit.angles[0] == 71);
+  CHECK(back.fit.angles[1] == 73);
+  CHECK(back.fit.rms_mm == m.fit.rms_mm);
+  CHECK(back.fit.synchronous_rms_mm == m.fit.synchronous_rms_mm);
+  CHECK(back.fit.smallest_eigenvalue_ratio == m.fit.smallest_eigenvalue_ratio);
+  CHECK(back.geometry.gauge_mm == 350.0);
+  CHECK(back.geometry.ball_mm[0] == 50.0);
 }

@@ -399,3 +399,93 @@ TEST_CASE("both balls at one place: not_identifiable; a solver cut short: no_con
     CHECK(step.status == Status::kOk);
   }
 }
+
+// --- proposed (review of M4): each closes a break no test caught ---
+
+TEST_CASE("a repeat just below 360 joins the bin at 0 whichever came first", "[spindle]") {
+  auto bins = std::make_unique<core::SpindleBins>();
+  bins->clear();
+  REQUIRE(bins->add({0.0, 1, Vec3::Zero()}) == Status::kOk);
+  REQUIRE(bins->add({90.0, 1, Vec3::Zero()}) == Status::kOk);
+  REQUIRE(bins->add({359.9999995, 1, Vec3::Ones()}) == Status::kOk);  // 0.5e-6 deg below 0, written at the top
+  REQUIRE(bins->add({-0.5e-6, 1, Vec3::Ones()}) == Status::kOk);      // the same angle written below 0
+  CHECK(bins->angles(1) == 2);
+  CHECK(bins->bin(1, 0).phi_deg == 0.0);
+  CHECK(bins->bin(1, 0).count == 3);
+  CHECK(bins->largest_gap_deg(1) == 270.0);
+}
+
+TEST_CASE("2^24 repeats of an angle fit in its bin, the next is session_full and changes nothing", "[spindle]") {
+  auto bins = std::make_unique<core::SpindleBins>();
+  bins->clear();
+  std::uint32_t ok = 0;
+  for (std::uint32_t i = 0; i < core::kMaxBinCount; ++i) ok += bins->add({10.0, 1, Vec3::Zero()}) == Status::kOk ? 1u : 0u;
+  CHECK(ok == core::kMaxBinCount);
+  CHECK(bins->add({370.0, 1, Vec3::Zero()}) == Status::kSessionFull);
+  CHECK(bins->bin(1, 0).count == core::kMaxBinCount);
+  CHECK(bins->samples(1) == core::kMaxBinCount);
+}
+
+// Two revolutions of exact data, the second moved by d along X: each bin's mean is
+// the model moved by d / 2 (o_x takes it exactly) and each sample is d / 2 from it,
+// so convention 6's figures are known in closed form.
+TEST_CASE("the noise and the RMS figures are convention 6's formulas exactly", "[spindle]") {
+  const double d = 1e-3;
+  std::vector<core::SpindleSample> s;
+  for (int rev = 0; rev < 2; ++rev) {
+    for (int k = 1; k <= 2; ++k) {
+      for (int i = 0; i < 72; ++i) {
+        const double phi = 5.0 * i;
+        s.push_back({360.0 * rev + phi, k,
+                     ball(truth(), kGeometry.ball_mm[k - 1], core::deg_to_rad(phi)) + rev * d * Vec3::UnitX()});
+      }
+    }
+  }
+  core::SpindleFit fit;
+  REQUIRE(core::fit_spindle(s.data(), s.size(), kGeometry, fit) == Status::kOk);
+  REQUIRE(fit.noise_from_repeats);
+  CHECK(std::fabs(fit.params(0) - (truth()(0) + d / 2)) < 1e-10);
+  // s^2 = scatter / (3 (n - bins)) = 144 x 2 (d / 2)^2 / (3 x 144) = d^2 / 6
+  CHECK(fit.noise_sigma_mm == Approx(d / std::sqrt(6.0)).epsilon(1e-9));
+  CHECK(fit.rms_mm == Approx(d / 2).epsilon(1e-9));  // every sample, scatter included
+  CHECK(fit.synchronous_rms_mm < 1e-9);              // the means lie on the model
+}
+
+TEST_CASE("an evaluation never takes more than kBinsPerStep bins in one step", "[spindle]") {
+  // 24 + 25 = 49 bins: 48 in one step and 1 in the next; a bound of 49 would take one.
+  auto bins = std::make_unique<core::SpindleBins>();
+  bins->clear();
+  for (int k = 1; k <= 2; ++k) {
+    const int n = k == 1 ? 24 : 25;
+    for (int i = 0; i < n; ++i) {
+      const double phi = 360.0 * i / n;
+      REQUIRE(bins->add({phi, k, ball(truth(), kGeometry.ball_mm[k - 1], core::deg_to_rad(phi))}) == Status::kOk);
+    }
+  }
+  core::SpindleBuilder builder;
+  builder.start(*bins, kGeometry);
+  core::SpindleStep step;
+  int steps = 0;
+  do {
+    step = builder.step();
+    ++steps;
+  } while (step.more);
+  REQUIRE(step.status == Status::kOk);
+  CHECK(steps == 1 + builder.fit().evaluations * (2 + 1) + 1);
+}
+
+// The fit stores only what the decoder loads again (spindle_correction.hpp
+// convention 5): an axis beyond 30 deg from -Z is refused at the fit.
+TEST_CASE("an axis tilted past kMaxSpindleTilt is refused at the fit, one just inside is identified", "[spindle]") {
+  for (const double ax : {0.49, 0.51}) {
+    core::SpindleParams p = truth();
+    p(3) = ax;
+    p(4) = 0.0;
+    t::Rng rng(80);
+    const auto s = samples(p, 0.0, rng);
+    core::SpindleFit fit;
+    const Status status = core::fit_spindle(s.data(), s.size(), kGeometry, fit);
+    CAPTURE(ax);
+    CHECK(status == (ax < core::kMaxSpindleTilt ? Status::kOk : Status::kArgumentOutOfRange));
+  }
+}

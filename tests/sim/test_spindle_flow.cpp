@@ -166,6 +166,11 @@ TEST_CASE("9840..9845: the module identifies, stores and answers as the core com
                                                           core::deg_to_rad(std::fmod(phi, 360.0)));
         CHECK(rig.out3(v::kSpindleTipSigmaX) == sigma.value().tip_error_mm);
         CHECK(rig.out3(v::kSpindleMeanTipX) == core::spindle_mean_tip_error_mm(model.axes, 350.0, tool));
+        CHECK(rig.get(v::kSpindleThetaE) == c.value().theta_e_rad * (180.0 * 3600.0 / core::kPi));
+        CHECK(rig.get(v::kSpindleDE) == c.value().d_e_mm);
+        CHECK(rig.get(v::kSpindleThetaESigma) == sigma.value().theta_e_rad * (180.0 * 3600.0 / core::kPi));
+        CHECK(rig.get(v::kSpindleDESigma) == sigma.value().d_e_mm);
+        CHECK(rig.out3(v::kSpindleMeanTipSigmaX) == sigma.value().mean_tip_error_mm);
       }
     }
   }
@@ -243,6 +248,8 @@ TEST_CASE("every refusal of 9841 and 9842 keeps the outputs, the session and the
     CHECK(rig.build(true, core::SpindleGeometry{350.0, {150, 150}}) == kError);
     CHECK(rig.build(true, core::SpindleGeometry{350.0, {-1, 150}}) == kError);
     CHECK(rig.get(v::kError) == static_cast<double>(Status::kArgumentOutOfRange));
+    // U = 0 is allowed (a ball at the gauge line): the same data with every depth 50 mm less.
+    CHECK(rig.build(false, core::SpindleGeometry{350.0, {0.0, 100.0}}) == kDone);
     rig.arguments(2.0);
     CHECK(rig.refuse(9842) == Status::kArgumentOutOfRange);
     unchanged();
@@ -318,5 +325,32 @@ TEST_CASE("a damaged or undecodable spindle record says so at 9843", "[spindle][
     REQUIRE(second.module.start() == Status::kOk);
     CHECK(second.correction(0, 100) == kError);
     CHECK(second.get(v::kError) == static_cast<double>(Status::kTableInvalid));
+  }
+}
+
+TEST_CASE("9844 and 9845: a bad R or Q is refused, and R = 0 has no model before an identification",
+          "[spindle][flow][errors]") {
+  Rig rig;
+  CHECK(rig.report(0, 30, 100) == kError);
+  CHECK(rig.get(v::kError) == static_cast<double>(Status::kNoTable));
+  rig.put(v::kArgQ, 1);
+  rig.put(v::kArgR, 0);
+  CHECK(rig.refuse(9845) == Status::kNoTable);
+
+  rig.stream(samples(94));
+  REQUIRE(rig.build(true) == kDone);
+  for (double r : {2.0, 0.5, -1.0}) {
+    CAPTURE(r);
+    CHECK(rig.report(r, 30, 100) == kError);
+    CHECK(rig.get(v::kError) == static_cast<double>(Status::kArgumentOutOfRange));
+    rig.put(v::kArgQ, 1);
+    rig.put(v::kArgR, r);
+    CHECK(rig.refuse(9845) == Status::kArgumentOutOfRange);
+  }
+  for (double q : {0.0, 10.0, 1.5}) {
+    CAPTURE(q);
+    rig.put(v::kArgQ, q);
+    rig.put(v::kArgR, 0);
+    CHECK(rig.refuse(9845) == Status::kArgumentOutOfRange);
   }
 }

@@ -4,8 +4,8 @@
 // the Levenberg-Marquardt fit (levenberg_marquardt.hpp) with its covariance.
 //
 // Conventions
-//  1. Parameters p = (o_x, o_y, o_z [mm], a_x, a_y [rad], e_x, e_y [mm],
-//     w_x, w_y [rad]): O1 in the analyser frame; the x, y of the unit spindle
+//  1. Parameters p = (o_x, o_y, o_z [mm], a_x, a_y, e_x, e_y [mm], w_x, w_y;
+//     a and w dimensionless, radians for small angles): O1 in the analyser frame; the x, y of the unit spindle
 //     axis a through O1, pointing to the tool (a_z < 0); the tool line minus the
 //     spindle axis at the gauge plane at phi = 0 (e, normal to a); the tool
 //     direction minus a per unit depth (w, normal to a):
@@ -53,7 +53,8 @@
 // w), kRevolutionIncomplete (convention 7), kNotFinite, kArgumentOutOfRange (a
 // ball index other than 1 or 2, b_2 <= b_1, a coordinate beyond kSpindleBigMm),
 // kSessionFull (a ball's kMaxSpindleAngles-th + 1 distinct angle), and those of
-// the solver (kNotIdentifiable, kNoConvergence).
+// the solver (kNotIdentifiable, kNoConvergence); a fit whose axis lies more than
+// 30 deg from -Z (kMaxSpindleTilt) is kArgumentOutOfRange.
 #pragma once
 
 #include <cstddef>
@@ -74,6 +75,9 @@ inline constexpr std::size_t kMinNoiseRepeats = 9;        // convention 6
 inline constexpr double kSpindleBigMm = 1e5;              // a coordinate beyond this is refused
 inline constexpr double kSpindleBigDeg = 1e6;             // an angle beyond this is refused
 inline constexpr std::uint32_t kMaxBinCount = 1u << 24;   // samples one angle bin takes
+// The spindle axis within 30 deg of the machine's -Z (|(a_x, a_y)| <= sin 30):
+// a fit beyond it is refused (kArgumentOutOfRange), and so is a stored model.
+inline constexpr double kMaxSpindleTilt = 0.5;
 using SpindleParams = Eigen::Matrix<double, kSpindleParams, 1>;
 using SpindleCovariance = Eigen::Matrix<double, kSpindleParams, kSpindleParams>;
 using SpindleJacobian = Eigen::Matrix<double, 3, kSpindleParams>;

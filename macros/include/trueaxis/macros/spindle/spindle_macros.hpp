@@ -10,7 +10,7 @@
 //  frame). Samples at an angle already in the session (within 1e-6 deg) join
 //  its bin (spindle_model.hpp convention 4). Out: #100..#103. Refused, nothing
 //  added: kArgumentOutOfRange (T not 1 or 2), kSessionFull (a ball's 361st
-//  distinct angle, or 2^24 repeats of one).
+//  distinct angle, or a repeat beyond 2^24 of one).
 // Macro 9842: identify the model from the session (core::SpindleBuilder, several
 //  steps): D = #7 O1 to the gauge line (mm, > 0), U = #21 and V = #22 the ball
 //  centres below the gauge line (mm, 0 <= U < V), the gap limit #800. R = #18: 1
@@ -19,8 +19,9 @@
 //  with R = 0 report it). Out: #100..#104 (kBuildOutputs). Status:
 //  kArgumentOutOfRange (D, U, V, R), kMissingGroup (a ball without samples),
 //  kTooFewSamples (fewer than 8 distinct angles of a ball),
-//  kRevolutionIncomplete, kNotIdentifiable, kNoConvergence. The session is kept
-//  either way.
+//  kRevolutionIncomplete, kNotIdentifiable, kNoConvergence, kArgumentOutOfRange
+//  also for an axis more than 30 deg from -Z (core::kMaxSpindleTilt: the model
+//  stores only what it can load again). The session is kept either way.
 // Macro 9843: correction query (INTERFACE.md): S = #19 spindle angle (deg), Z =
 //  #26 tool length (mm below the gauge line, 0..1e5) -> #100 theta_e (arcsec),
 //  #101 d_e (mm), #102..#104 the tool-tip error (mm), from the stored model.
