@@ -9,7 +9,6 @@ namespace trueaxis::core {
 
 namespace {
 
-constexpr double kArcsecPerRad = 180.0 / kPi * 3600.0;
 
 bool is_sign(double s) { return s == 1.0 || s == -1.0; }
 

@@ -6,7 +6,6 @@ namespace trueaxis::core {
 
 namespace {
 
-constexpr double kArcsecPerRad = 180.0 / kPi * 3600.0;
 constexpr double kRadPerDeg = kPi / 180.0;
 
 // E_act(A) Rz(C) from the table, clamped (convention 6).

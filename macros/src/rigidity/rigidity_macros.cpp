@@ -11,7 +11,7 @@ namespace trueaxis::macros::rigidity {
 
 namespace {
 
-constexpr double kArcsecPerRad = 180.0 / core::kPi * 3600.0;
+using core::kArcsecPerRad;
 
 MacroStep report_session(MacroContext& ctx, std::size_t count) {
   ctx.out<var::kRigiditySessionCount>(static_cast<double>(count));

@@ -12,14 +12,19 @@ static_assert(core::kSpindleModelBytes <= record_capacity(RecordKey::kSpindleMod
 
 namespace {
 
-constexpr double kArcsecPerRad = 180.0 * 3600.0 / core::kPi;
-
 MacroStep report_session(MacroContext& ctx, const core::SpindleBins& b) {
   ctx.out<var::kSpindleSessionSamples>(static_cast<double>(b.samples()));
   ctx.out<var::kSpindleSessionAngles1>(static_cast<double>(b.angles(1)));
   ctx.out<var::kSpindleSessionAngles2>(static_cast<double>(b.angles(2)));
   ctx.out<var::kSpindleSessionCapacity>(static_cast<double>(core::kMaxSpindleAngles));
   return done(core::Status::kOk);
+}
+
+// 9843's outputs (#100..#104), which 9844 shares.
+void out_correction(MacroContext& ctx, const core::SpindleCorrection& c) {
+  ctx.out<var::kSpindleThetaE>(c.theta_e_rad * core::kArcsecPerRad);
+  ctx.out<var::kSpindleDE>(c.d_e_mm);
+  ctx.out3<var::kSpindleTipX>(c.tip_error_mm);
 }
 
 // The spindle angle in radians, reduced first so that many revolutions lose nothing.
@@ -118,9 +123,7 @@ MacroStep run_correction(MacroContext& ctx) {
   const core::Result<core::SpindleCorrection> c =
       tool_tip_correction(ctx.methods().spindle, ctx.in<var::kArgS>(), ctx.in<var::kArgZ>());
   if (!c.ok()) return done(c.status());
-  ctx.out<var::kSpindleThetaE>(c.value().theta_e_rad * kArcsecPerRad);
-  ctx.out<var::kSpindleDE>(c.value().d_e_mm);
-  ctx.out3<var::kSpindleTipX>(c.value().tip_error_mm);
+  out_correction(ctx, c.value());
   return done(core::Status::kOk);
 }
 
@@ -137,10 +140,8 @@ MacroStep run_report(MacroContext& ctx) {
     const core::Result<core::SpindleCorrectionSigma> s =
         core::spindle_correction_sigma(m.fit.params, m.fit.covariance, m.geometry.gauge_mm, tool_mm, phi);
     if (!s.ok()) return done(s.status());
-    ctx.out<var::kSpindleThetaE>(c.value().theta_e_rad * kArcsecPerRad);
-    ctx.out<var::kSpindleDE>(c.value().d_e_mm);
-    ctx.out3<var::kSpindleTipX>(c.value().tip_error_mm);
-    ctx.out<var::kSpindleThetaESigma>(s.value().theta_e_rad * kArcsecPerRad);
+    out_correction(ctx, c.value());
+    ctx.out<var::kSpindleThetaESigma>(s.value().theta_e_rad * core::kArcsecPerRad);
     ctx.out<var::kSpindleDESigma>(s.value().d_e_mm);
     ctx.out3<var::kSpindleTipSigmaX>(s.value().tip_error_mm);
     ctx.out3<var::kSpindleMeanTipX>(core::spindle_mean_tip_error_mm(m.axes, m.geometry.gauge_mm, tool_mm));

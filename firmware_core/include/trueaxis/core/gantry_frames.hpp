@@ -86,7 +86,6 @@ namespace trueaxis::core {
 inline constexpr std::size_t kMaxSubMachines = 8;
 inline constexpr double kMinBedNormalZ = 0.5;  // the bed within 60 deg of level
 inline constexpr double kMinToolCos = 0.1;     // the tool within 84 deg of the C axis
-inline constexpr double kArcsecPerRad = 180.0 * 3600.0 / kPi;
 
 enum class Axis : std::uint8_t { kX = 0, kY = 1, kZ = 2 };
 

@@ -29,6 +29,7 @@ using Mat2 = Eigen::Matrix<double, 2, 2>;
 using Mat3 = Eigen::Matrix<double, 3, 3>;
 
 inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kArcsecPerRad = 180.0 * 3600.0 / kPi;
 
 constexpr double deg_to_rad(double deg) { return deg * (kPi / 180.0); }
 constexpr double rad_to_deg(double rad) { return rad * (180.0 / kPi); }

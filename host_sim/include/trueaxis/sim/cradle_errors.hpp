@@ -92,6 +92,6 @@ struct Line {
   core::Vec3 direction = core::Vec3::UnitZ();
 };
 
-inline constexpr double kArcsecPerRad = 180.0 * 3600.0 / core::kPi;
+using core::kArcsecPerRad;  // firmware_core/types.hpp
 
 }  // namespace trueaxis::sim
