@@ -2,7 +2,10 @@
 // pseudo-terminal, driven by libmodbus's RTU client as a PLC on RS-485 would:
 // a read, a write, macro 9810 through the handshake, exception 01, a broadcast
 // write, and frames the slave must not answer (broadcast read, other address,
-// bad CRC). Bounded: the whole run is stopped by alarm() after 60 s.
+// bad CRC). First of all it runs the conformance suite (conformance.hpp): the
+// whole PDU table and the RTU table (CRC, addresses, broadcast, short and
+// over-long frames), each case with the state read before and after it.
+// Bounded: the whole run is stopped by alarm() after 300 s.
 //
 // Usage: test_rtu_qemu IMAGE [QEMU-ARGUMENTS...]. Exit 0 when every check holds, 1 when one fails,
 // 77 (ctest's SKIP_RETURN_CODE) when IMAGE does not exist.
@@ -20,9 +23,12 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
+#include <vector>
 #include <string>
 #include <thread>
 
+#include "conformance.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/macros/register_codec.hpp"
 
@@ -34,6 +40,7 @@ namespace var = trueaxis::macros::var;
 int g_failures = 0;
 pid_t g_qemu = -1;
 int g_qemu_output = -1;  // QEMU's stdout and stderr
+int g_baud = 19200;      // as the image says when it is ready
 
 #define CHECK(cond)                                                             \
   do {                                                                          \
@@ -45,7 +52,7 @@ int g_qemu_output = -1;  // QEMU's stdout and stderr
 
 extern "C" void on_alarm(int) {
   if (g_qemu > 0) kill(g_qemu, SIGKILL);
-  static const char msg[] = "test_rtu_qemu: timed out after 60 s\n";
+  static const char msg[] = "test_rtu_qemu: timed out after 300 s\n";
   (void)!write(2, msg, sizeof msg - 1);
   _exit(1);
 }
@@ -91,6 +98,8 @@ std::string start_qemu(int argc, char** argv) {
     }
     if (!pts.empty() && text.find("rtu_server: ") != std::string::npos && text.find('\n', text.find("rtu_server: ")) != std::string::npos) {
       std::fprintf(stderr, "%s", text.c_str());
+      const std::string banner = text.substr(text.find("rtu_server: "));
+      if (std::sscanf(banner.c_str(), "rtu_server: slave %*u, %d baud", &g_baud) != 1) g_baud = 19200;
       return pts;  // the pipe stays open: QEMU must not get SIGPIPE
     }
   }
@@ -165,6 +174,208 @@ int bytes_answered_verbatim(int fd, const std::uint8_t* frame, std::size_t lengt
 
 void drain(modbus_t* ctx) { static_cast<void>(bytes_arriving(modbus_get_socket(ctx), 200)); }
 
+namespace c = trueaxis::conformance;
+
+// CRC-16/MODBUS by the specification's bit loop (Modbus over Serial Line V1.02,
+// 6.2.2), written here rather than taken from the image's table-driven one.
+std::uint16_t crc_bitwise(const c::Bytes& data) {
+  std::uint16_t crc = 0xFFFF;
+  for (std::uint8_t byte : data) {
+    crc ^= byte;
+    for (int i = 0; i < 8; ++i) crc = (crc & 1u) != 0 ? static_cast<std::uint16_t>((crc >> 1) ^ 0xA001u) : static_cast<std::uint16_t>(crc >> 1);
+  }
+  return crc;
+}
+
+// | address | PDU | CRC low | CRC high |.
+c::Bytes rtu_frame(std::uint8_t to, const c::Bytes& pdu) {
+  c::Bytes f = {to};
+  f.insert(f.end(), pdu.begin(), pdu.end());
+  const std::uint16_t crc = crc_bitwise(f);
+  f.push_back(static_cast<std::uint8_t>(crc));
+  f.push_back(static_cast<std::uint8_t>(crc >> 8));
+  return f;
+}
+
+// Up to `n` bytes from `fd` within timeout_ms.
+c::Bytes read_bytes(int fd, std::size_t n, int timeout_ms) {
+  c::Bytes got;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  while (got.size() < n) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    pollfd p{fd, POLLIN, 0};
+    if (left.count() <= 0 || poll(&p, 1, static_cast<int>(left.count())) <= 0) break;
+    std::uint8_t buffer[300];
+    const ssize_t r = read(fd, buffer, std::min(sizeof buffer, n - got.size()));
+    if (r <= 0) break;
+    got.insert(got.end(), buffer, buffer + r);
+  }
+  return got;
+}
+
+// The conformance transport over the terminal, as a master on RS-485: the
+// request framed with its CRC; the reply's length known from its first bytes
+// (an exception 5 bytes, FC3 and FC23 3 + byte count + 2, FC16 8), its CRC and
+// address checked. A request that gets no reply at all is sent again (a PLC's
+// retry; see g_retries): only a torn request goes unanswered, and a torn
+// request executes nothing.
+class RtuTransport final : public c::Transport {
+ public:
+  explicit RtuTransport(int fd) : fd_(fd) {}
+
+  bool exchange(const c::Bytes& pdu, c::Bytes& reply, std::string& why) override {
+    for (int attempt = 0; attempt < kAttempts; ++attempt) {
+      if (attempt > 0) {
+        ++g_retries;
+        static_cast<void>(read_bytes(fd_, 1000, 200));
+      }
+      why.clear();
+      if (once(pdu, reply, why)) return true;
+      if (why != "no reply") return false;  // a wrong reply is an answer: not sent again
+    }
+    return false;
+  }
+
+ private:
+  bool once(const c::Bytes& pdu, c::Bytes& reply, std::string& why) {
+    const c::Bytes frame = rtu_frame(1, pdu);
+    if (write(fd_, frame.data(), frame.size()) != static_cast<ssize_t>(frame.size())) {
+      why = "write failed";
+      return false;
+    }
+    c::Bytes r = read_bytes(fd_, 2, 1000);
+    if (r.empty()) {
+      why = "no reply";
+      return false;
+    }
+    std::size_t total = 8;  // FC16's echo
+    if (r.size() == 2 && (r[1] & 0x80) != 0) {
+      total = 5;
+    } else if (r.size() == 2 && (r[1] == 0x03 || r[1] == 0x17)) {
+      const c::Bytes count = read_bytes(fd_, 1, 200);
+      r.insert(r.end(), count.begin(), count.end());
+      total = r.size() == 3 ? 5u + r[2] : 0;
+    }
+    if (r.size() < total) {
+      const c::Bytes rest = read_bytes(fd_, total - r.size(), 500);
+      r.insert(r.end(), rest.begin(), rest.end());
+    }
+    if (total == 0 || r.size() != total) {
+      why = "reply cut short: " + c::hex(r);
+      return false;
+    }
+    const c::Bytes body(r.begin(), r.end() - 2);
+    const std::uint16_t crc = crc_bitwise(body);
+    if (r[0] != 1 || r[total - 2] != static_cast<std::uint8_t>(crc) || r[total - 1] != static_cast<std::uint8_t>(crc >> 8)) {
+      why = "reply with a wrong address or CRC: " + c::hex(r);
+      return false;
+    }
+    reply.assign(r.begin() + 1, r.end() - 2);
+    return true;
+  }
+
+  int fd_;
+};
+
+// A case of the RTU table: the bytes written as they are, the response PDU
+// expected (empty: none within 300 ms), the variables it may change, and a
+// variable whose value must then be the given one.
+struct RtuCase {
+  std::string name;
+  c::Bytes frame;
+  c::Bytes reply;
+  std::vector<std::uint16_t> changes;
+  std::uint16_t check_number;
+  double check_value;
+};
+
+std::vector<RtuCase> rtu_cases() {
+  std::vector<RtuCase> t;
+  const c::Bytes write = c::fc16_values(3, {11.0});
+  c::Bytes bad_crc = rtu_frame(1, write);
+  bad_crc.back() ^= 0x01;
+  t.push_back({"a write with a bad CRC", bad_crc, {}, {}, 3, 3.125});
+  c::Bytes swapped = rtu_frame(1, write);
+  std::swap(swapped[swapped.size() - 1], swapped[swapped.size() - 2]);
+  t.push_back({"a write with its CRC high byte first", swapped, {}, {}, 3, 3.125});
+  t.push_back({"a write to address 2", rtu_frame(2, write), {}, {}, 3, 3.125});
+  t.push_back({"a write to address 247", rtu_frame(247, write), {}, {}, 3, 3.125});
+  t.push_back({"a write to address 248 (reserved)", rtu_frame(248, write), {}, {}, 3, 3.125});
+  t.push_back({"a write to address 255", rtu_frame(255, write), {}, {}, 3, 3.125});
+  t.push_back({"a broadcast write: done, not answered", rtu_frame(0, c::fc16_values(3, {12.5})), {}, {3}, 3, 12.5});
+  t.push_back({"a broadcast write back", rtu_frame(0, c::fc16_values(3, {3.125})), {}, {3}, 3, 3.125});
+  t.push_back({"a broadcast read: ignored", rtu_frame(0, c::fc3(4, 4)), {}, {}, 3, 3.125});
+  c::Bytes swap = {0x17, 0, 12, 0, 4, 0, 12, 0, 4, 8};
+  const c::Bytes v = c::value_bytes(13.0);
+  swap.insert(swap.end(), v.begin(), v.end());
+  t.push_back({"a broadcast FC23: a read, ignored whole (its write is not done)", rtu_frame(0, swap), {}, {}, 3, 3.125});
+  t.push_back({"a broadcast write to a read-only result: refused, not answered", rtu_frame(0, c::fc16_values(100, {1.0})),
+               {}, {}, 3, 3.125});
+  t.push_back({"a broadcast unknown function code: not answered", rtu_frame(0, {0x41, 0, 0}), {}, {}, 3, 3.125});
+  t.push_back({"three bytes: an address and a CRC", rtu_frame(1, {}), {}, {}, 3, 3.125});
+  t.push_back({"two bytes", c::Bytes{1, 3}, {}, {}, 3, 3.125});
+  // 1 + 254 + 2 = 257 bytes: one over the largest frame, its CRC right.
+  c::Bytes long_pdu = {0x10, 0, 12, 0, 124, 248};
+  for (int i = 0; i < 248; ++i) long_pdu.push_back(i % 8 == 0 ? 0x40 : 0);
+  t.push_back({"257 bytes (a write of 124 registers)", rtu_frame(1, long_pdu), {}, {}, 3, 3.125});
+  // 1 + 253 + 2 = 256 bytes: the largest frame, served (and refused: 03).
+  c::Bytes max_pdu = {0x10, 0, 12, 0, 123, 246};
+  for (int i = 0; i < 247; ++i) max_pdu.push_back(i % 8 == 0 ? 0x40 : 0);
+  t.push_back({"256 bytes (the largest frame, its PDU one byte over)", rtu_frame(1, max_pdu), {0x90, 0x03}, {}, 3, 3.125});
+  t.push_back({"a write to address 1 after all", rtu_frame(1, c::fc16_values(3, {3.125})), {0x10, 0, 12, 0, 4}, {3}, 3, 3.125});
+  return t;
+}
+
+// The conformance suite over RTU: the PDU table, then the RTU table.
+void run_conformance(int fd) {
+  RtuTransport t(fd);
+  const std::vector<c::Case> cases = c::pdu_cases();
+  const auto started = std::chrono::steady_clock::now();
+  // The addressed variables around each case, the whole state every 25 cases.
+  const c::Outcome out = c::run_cases(t, cases, 25);
+  for (const std::string& failure : out.failures) std::fprintf(stderr, "conformance: %s\n", failure.c_str());
+  CHECK(out.failures.empty());
+  CHECK(out.cases == cases.size());
+
+  const std::vector<RtuCase> framing = rtu_cases();
+  std::string why;
+  c::State before;
+  c::State after;
+  CHECK(c::read_state(t, before, why));
+  for (const RtuCase& k : framing) {
+    if (write(fd, k.frame.data(), k.frame.size()) != static_cast<ssize_t>(k.frame.size())) {
+      std::fprintf(stderr, "conformance: %s: write failed\n", k.name.c_str());
+      ++g_failures;
+      continue;
+    }
+    const c::Bytes answer = read_bytes(fd, k.reply.empty() ? 1 : k.reply.size() + 3, 300);
+    const c::Bytes expected = k.reply.empty() ? c::Bytes{} : rtu_frame(1, k.reply);
+    if (answer != expected) {
+      std::fprintf(stderr, "conformance: %s: got %s, expected %s\n", k.name.c_str(), c::hex(answer).c_str(),
+                   c::hex(expected).c_str());
+      ++g_failures;
+    }
+    if (!c::read_state(t, after, why)) {
+      std::fprintf(stderr, "conformance: %s: the state after it: %s\n", k.name.c_str(), why.c_str());
+      ++g_failures;
+      return;
+    }
+    for (std::uint16_t n : c::changed_variables(before, after, k.changes)) {
+      std::fprintf(stderr, "conformance: %s: changed #%u\n", k.name.c_str(), n);
+      ++g_failures;
+    }
+    c::Bytes value;
+    if (!t.exchange(c::fc3(4u * k.check_number, 4), value, why) || value != c::fc3_reply({k.check_value})) {
+      std::fprintf(stderr, "conformance: %s: #%u is not %g\n", k.name.c_str(), k.check_number, k.check_value);
+      ++g_failures;
+    }
+    before.swap(after);
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  std::fprintf(stderr, "test_rtu_qemu: conformance, %zu PDU cases and %zu RTU cases in %.1f s, %zu failed\n",
+               out.cases, framing.size(), seconds, out.failures.size());
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -178,7 +389,7 @@ int main(int argc, char** argv) {
     return 77;
   }
   signal(SIGALRM, on_alarm);
-  alarm(60);
+  alarm(300);
   const std::string pts = start_qemu(argc, argv);
   if (pts.empty()) {
     if (g_qemu > 0) kill(g_qemu, SIGKILL);
@@ -186,7 +397,7 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr, "test_rtu_qemu: UART0 on %s\n", pts.c_str());
 
-  modbus_t* ctx = modbus_new_rtu(pts.c_str(), 19200, 'N', 8, 1);
+  modbus_t* ctx = modbus_new_rtu(pts.c_str(), g_baud, 'N', 8, 1);
   CHECK(ctx != nullptr);
   if (ctx == nullptr || modbus_connect(ctx) != 0) {
     std::fprintf(stderr, "connect %s: %s\n", pts.c_str(), modbus_strerror(errno));
@@ -199,9 +410,11 @@ int main(int argc, char** argv) {
   // second, chardev/char-pty.c) and reads nothing from it before: wait for it.
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
 
+  run_conformance(modbus_get_socket(ctx));
+
   // A read and a write.
   double x[3] = {-1.0, -1.0, -1.0};
-  CHECK(read_vars(ctx, 1, 1, x) && x[0] == 0.0);
+  CHECK(read_vars(ctx, 1, 1, x) && x[0] == 1.125);  // as the conformance table left it
   const double two_and_a_half = 2.5;
   CHECK(write_vars(ctx, 1, 1, &two_and_a_half));
   CHECK(read_vars(ctx, 1, 1, x) && x[0] == 2.5);
