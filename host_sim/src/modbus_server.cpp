@@ -58,7 +58,10 @@ bool ModbusTcpServer::listen(const char* host, int port) {
 void ModbusTcpServer::serve(volatile std::sig_atomic_t& stop, const sigset_t& wait_mask) {
   while (stop == 0) {
     polled_.clear();
-    polled_.push_back(pollfd{listen_fd_, POLLIN, 0});
+    // While out of descriptors the listening socket is not polled: it stays
+    // readable, and polling it would only spin (contract 5).
+    const bool accepting = Clock::now() >= accept_paused_until_;
+    polled_.push_back(pollfd{listen_fd_, static_cast<short>(accepting ? POLLIN : 0), 0});
     for (const Connection& c : clients_) {
       // A client whose replies wait is not read until they are gone (contract 3).
       polled_.push_back(pollfd{c.fd, static_cast<short>(c.out_used > 0 ? POLLOUT : POLLIN), 0});
@@ -89,7 +92,12 @@ void ModbusTcpServer::accept_clients(Clock::time_point now) {
   // A bounded number per wake-up, so a flood of connections cannot starve the others.
   for (int k = 0; k < 16; ++k) {
     const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
-    if (fd < 0) return;
+    if (fd < 0) {
+      if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
+        accept_paused_until_ = now + std::chrono::milliseconds(kAcceptPauseMs);
+      }
+      return;
+    }
     if (clients_.size() >= limits_.max_clients) {  // contract 5: accepted and closed
       ::close(fd);
       continue;
@@ -166,8 +174,8 @@ bool ModbusTcpServer::timed_out(const Connection& c, Clock::time_point now) cons
 }
 
 const timespec* ModbusTcpServer::next_timeout(Clock::time_point now, timespec& storage) const {
-  bool any = false;
-  Clock::time_point earliest = Clock::time_point::max();
+  bool any = now < accept_paused_until_;
+  Clock::time_point earliest = any ? accept_paused_until_ : Clock::time_point::max();
   for (const Connection& c : clients_) {
     if (c.in_used > 0 || c.out_used > 0) {
       earliest = std::min(earliest, c.stalled_since + std::chrono::milliseconds(limits_.frame_timeout_ms));
@@ -192,6 +200,7 @@ void ModbusTcpServer::drop(std::size_t index) {
     unlock_owner_ = -1;
   }
   ::close(clients_[index].fd);
+  accept_paused_until_ = Clock::time_point{};  // a descriptor is free again
   if (index + 1 != clients_.size()) clients_[index] = clients_.back();
   clients_.pop_back();
 }

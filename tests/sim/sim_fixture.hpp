@@ -26,6 +26,7 @@ class SimFixture {
   VariableClient& client() { return client_; }
   const std::string& nv_path() const { return nv_path_; }
   int port() const { return sim_.port(); }
+  pid_t pid() const { return sim_.pid(); }  // the sim process, for /proc/<pid>
 
   double get(std::uint16_t number);
   void set(std::uint16_t number, double value);                     // REQUIREs success

@@ -24,6 +24,11 @@
 //     accepted and closed at once, with no reply. A connection holding a partial
 //     frame or an unsent reply for longer than frame_timeout_ms is closed; with
 //     idle_timeout_ms > 0, so is one that has sent no whole frame for that long.
+//     When the process runs out of descriptors (accept fails with EMFILE,
+//     ENFILE, ENOBUFS or ENOMEM), new connections wait in the listen backlog:
+//     the server stops accepting for kAcceptPauseMs or until one of its
+//     connections closes, whichever comes first, and serves the others
+//     meanwhile (it does not spin on the listening socket).
 //  6. serve() returns when `stop` becomes non-zero. The caller blocks the stop
 //     signals and passes in `wait_mask` the mask to use while waiting (ppoll), so
 //     a signal can never be lost between test and wait.
@@ -98,11 +103,14 @@ class ModbusTcpServer {
   const timespec* next_timeout(Clock::time_point now, timespec& storage) const;
   void drop(std::size_t index);
 
+  static constexpr int kAcceptPauseMs = 100;
+
   macros::ModbusCore& core_;
   Simulator& simulator_;
   ServerLimits limits_;
   int listen_fd_ = -1;
   int port_ = 0;
+  Clock::time_point accept_paused_until_{};  // contract 5: out of descriptors until then
   int unlock_owner_ = -1;  // contract 8: the fd of the connection that opened the unlock
   std::vector<Connection> clients_;
   std::vector<pollfd> polled_;

@@ -1,0 +1,457 @@
+// Load on loopback, bounded (issue 8): a trueaxis-sim started by the test
+// (127.0.0.1, port 0) under 16 clients at once, 10,000 connect/disconnect
+// cycles watched through /proc/<sim pid>, and a client dripping a request byte
+// by byte while others read. The figures for the issue's strict bounds (p99
+// under 5 ms with 15 other clients, throughput against a bare libmodbus loop)
+// come from host_sim/bench/bench_modbus_load.cpp; the bounds here are loose
+// enough for a loaded 2-core CI machine and still fail a server that serves one
+// client at a time. A fourth case exposes a defect found on the way: the
+// server spins when its descriptor limit is reached (it fails until
+// modbus_server.cpp is fixed). Whole program: about 6 s.
+//
+// Catch2 macros are not thread-safe: the client threads only count, the main
+// thread checks.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <arpa/inet.h>
+#include <dirent.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include "sim_fixture.hpp"
+#include "trueaxis/macros/register_codec.hpp"
+
+namespace {
+
+using trueaxis::sim::VariableClient;
+using trueaxis::sim::test::SimFixture;
+using Clock = std::chrono::steady_clock;
+using Bytes = std::vector<std::uint8_t>;
+
+// 16 macro arguments, one per client. #10, #12, #14, #15 and #16 are not
+// defined by the map (G, L, N, O, P are no G65 arguments), so the 16 are
+// #1..#9, #11, #13, #17..#21.
+constexpr std::uint16_t kArgs[16] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 13, 17, 18, 19, 20, 21};
+
+// --- raw sockets, no Catch2 inside (they run in the client threads) ---------
+
+int connect_to(int port) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (fd < 0) return -1;
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+    ::close(fd);
+    return -1;
+  }
+  const int on = 1;
+  ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &on, sizeof on);
+  return fd;
+}
+
+bool send_all(int fd, const std::uint8_t* data, std::size_t n) {
+  while (n > 0) {
+    const ssize_t sent = ::send(fd, data, n, MSG_NOSIGNAL);
+    if (sent <= 0) return false;
+    data += sent;
+    n -= static_cast<std::size_t>(sent);
+  }
+  return true;
+}
+
+bool receive_exact(int fd, std::uint8_t* out, std::size_t n, int timeout_ms) {
+  const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
+  std::size_t got = 0;
+  while (got < n) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+    pollfd p{fd, POLLIN, 0};
+    if (left <= 0 || ::poll(&p, 1, static_cast<int>(left)) <= 0) return false;
+    const ssize_t r = ::recv(fd, out + got, n - got, 0);
+    if (r <= 0) return false;
+    got += static_cast<std::size_t>(r);
+  }
+  return true;
+}
+
+// FC3 of variable #number (4 registers): 12 bytes.
+Bytes read_frame(std::uint16_t tid, std::uint16_t number) {
+  const std::uint32_t reg = trueaxis::macros::register_of(number);
+  return {static_cast<std::uint8_t>(tid >> 8), static_cast<std::uint8_t>(tid), 0, 0, 0, 6, 1, 3,
+          static_cast<std::uint8_t>(reg >> 8), static_cast<std::uint8_t>(reg), 0, 4};
+}
+
+// The 17-byte reply to read_frame(tid, ...): header checked, value decoded.
+bool read_reply(int fd, std::uint16_t tid, double& value, int timeout_ms = 2000) {
+  std::uint8_t r[17];
+  if (!receive_exact(fd, r, sizeof r, timeout_ms)) return false;
+  const std::uint8_t head[9] = {static_cast<std::uint8_t>(tid >> 8), static_cast<std::uint8_t>(tid), 0, 0, 0, 11, 1, 3, 8};
+  if (!std::equal(head, head + 9, r)) return false;
+  std::uint16_t w[4];
+  for (std::size_t i = 0; i < 4; ++i) w[i] = static_cast<std::uint16_t>((r[9 + 2 * i] << 8) | r[10 + 2 * i]);
+  value = trueaxis::macros::decode_double(w);
+  return true;
+}
+
+bool read_var(int fd, std::uint16_t tid, std::uint16_t number, double& value) {
+  const Bytes f = read_frame(tid, number);
+  return send_all(fd, f.data(), f.size()) && read_reply(fd, tid, value);
+}
+
+// --- /proc of the sim process ------------------------------------------------
+
+int fd_count(pid_t pid) {
+  const std::string dir = "/proc/" + std::to_string(pid) + "/fd";
+  DIR* d = ::opendir(dir.c_str());
+  if (d == nullptr) return -1;
+  int n = 0;
+  while (const dirent* e = ::readdir(d)) {
+    if (e->d_name[0] != '.') ++n;
+  }
+  ::closedir(d);
+  return n;
+}
+
+// The descriptor number the process's next open would get.
+int lowest_free_fd(pid_t pid) {
+  const std::string dir = "/proc/" + std::to_string(pid) + "/fd";
+  DIR* d = ::opendir(dir.c_str());
+  if (d == nullptr) return -1;
+  std::vector<int> used;
+  while (const dirent* e = ::readdir(d)) {
+    if (e->d_name[0] != '.') used.push_back(std::atoi(e->d_name));
+  }
+  ::closedir(d);
+  std::sort(used.begin(), used.end());
+  int free_fd = 0;
+  for (const int fd : used) {
+    if (fd == free_fd) ++free_fd;
+  }
+  return free_fd;
+}
+
+// A "Name:   123 kB" line of /proc/<pid>/status, in kB; -1 when absent.
+long status_kb(pid_t pid, const std::string& name) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.compare(0, name.size() + 1, name + ":") == 0) return std::stol(line.substr(name.size() + 1));
+  }
+  return -1;
+}
+
+// The CPU time (user + system) the process has used, in seconds.
+double cpu_seconds(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+  std::string stat;
+  std::getline(in, stat);
+  const std::size_t paren = stat.rfind(')');
+  if (paren == std::string::npos) return -1.0;
+  std::istringstream fields(stat.substr(paren + 2));  // from field 3, the state
+  std::string skip;
+  for (int i = 3; i < 14; ++i) fields >> skip;
+  long user = 0;
+  long system = 0;
+  fields >> user >> system;
+  return static_cast<double>(user + system) / static_cast<double>(::sysconf(_SC_CLK_TCK));
+}
+
+double percentile(std::vector<double> v, double p) {  // nearest rank
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const auto rank = static_cast<std::size_t>(std::ceil(p * static_cast<double>(v.size())));
+  return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
+}
+
+}  // namespace
+
+TEST_CASE("16 clients at once: FC16 write, FC3 read back and FC23 write+read of their own variable, no error, no wrong value") {
+  SimFixture f;
+  constexpr int kClients = 16;
+  constexpr int kIterations = 300;
+  std::atomic<int> connected{0};
+  std::atomic<int> connect_failures{0};
+  std::atomic<long> errors{0};
+  std::atomic<long> wrong{0};
+  std::atomic<long> requests{0};
+  std::vector<double> last(kClients, 0.0);
+  std::vector<std::thread> threads;
+  const auto t0 = Clock::now();
+  for (int id = 0; id < kClients; ++id) {
+    threads.emplace_back([&, id] {
+      VariableClient c;
+      const bool ok = c.connect("127.0.0.1", f.port());
+      if (!ok) ++connect_failures;
+      ++connected;
+      // All connected before anyone starts: 16 (+ the fixture's) served at once.
+      while (connected.load() < kClients) std::this_thread::yield();
+      if (!ok) return;
+      const std::uint16_t number = kArgs[id];
+      const int reg = static_cast<int>(trueaxis::macros::register_of(number));
+      for (int it = 0; it < kIterations; ++it) {
+        // Client and iteration in the value; the fraction makes every bit count.
+        const double sign = (it % 2 == 0) ? 1.0 : -1.0;
+        const double v16 = sign * ((id + 1) * 1000.0 + it + 1.0 / 1024.0);
+        const double v23 = sign * ((id + 1) * 1000.0 + it + 0.5 + 1.0 / 4096.0);
+        double back = 0.0;
+        if (!c.write_one(number, v16)) ++errors;
+        if (!c.read_one(number, back)) {
+          ++errors;
+        } else if (back != v16) {
+          ++wrong;
+        }
+        std::uint16_t w[4];
+        std::uint16_t r[4] = {};
+        trueaxis::macros::encode_double(v23, w);
+        if (modbus_write_and_read_registers(c.raw(), reg, 4, w, reg, 4, r) != 4) {
+          ++errors;
+        } else if (trueaxis::macros::decode_double(r) != v23) {
+          ++wrong;
+        }
+        requests += 3;
+        last[static_cast<std::size_t>(id)] = v23;
+      }
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  std::printf("16 clients x %d iterations: %ld requests in %.2f s (%.0f/s), %ld errors, %ld wrong values\n",
+              kIterations, requests.load(), seconds, static_cast<double>(requests.load()) / seconds, errors.load(),
+              wrong.load());
+  CHECK(connect_failures == 0);
+  CHECK(requests == 3L * kClients * kIterations);
+  CHECK(errors == 0);
+  CHECK(wrong == 0);
+  // Nobody wrote into anyone else's variable, and the values stayed (no macro ran).
+  for (int id = 0; id < kClients; ++id) {
+    INFO("client " << id << ", #" << kArgs[id]);
+    CHECK(f.get(kArgs[id]) == last[static_cast<std::size_t>(id)]);
+  }
+}
+
+TEST_CASE("10,000 connect/disconnect cycles leave the sim's descriptors and memory where they were") {
+  SimFixture f;
+  const pid_t pid = f.pid();
+  REQUIRE(pid > 0);
+  f.set(1, 31.25);
+  long failures = 0;
+  // Each connection reads #1 (so it is served), then closes in one of four ways:
+  // a clean close; a partial frame (5 bytes) left pending; a reset (SO_LINGER
+  // 0) with a partial frame pending; a request sent and the reply never read.
+  const auto cycle = [&](int k) {
+    const int fd = connect_to(f.port());
+    if (fd < 0) {
+      ++failures;
+      return;
+    }
+    const auto tid = static_cast<std::uint16_t>(k);
+    double v = 0.0;
+    if (!read_var(fd, tid, 1, v) || v != 31.25) ++failures;
+    const Bytes next = read_frame(static_cast<std::uint16_t>(tid + 1), 1);
+    switch (k % 4) {
+      case 1:
+        (void)send_all(fd, next.data(), 5);
+        break;
+      case 2: {
+        (void)send_all(fd, next.data(), 5);
+        const linger reset{1, 0};
+        ::setsockopt(fd, SOL_SOCKET, SO_LINGER, &reset, sizeof reset);
+        break;
+      }
+      case 3:
+        (void)send_all(fd, next.data(), next.size());
+        break;
+      default:
+        break;
+    }
+    ::close(fd);
+  };
+  // Settles when the server has dropped every closed connection: the fd count
+  // back at `target`, at most 3 s.
+  const auto settled_fds = [&](int target) {
+    int n = fd_count(pid);
+    for (int i = 0; i < 300 && n != target; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      n = fd_count(pid);
+    }
+    return n;
+  };
+
+  const int fds_idle = fd_count(pid);
+  REQUIRE(fds_idle > 0);
+  for (int k = 0; k < 200 && failures < 3; ++k) cycle(k);  // warm-up: first-touch pages, lazily bound code
+  const int fds_before = settled_fds(fds_idle);
+  (void)f.get(1);
+  const long rss_before = status_kb(pid, "VmRSS");
+  const long data_before = status_kb(pid, "VmData");
+  const auto t0 = Clock::now();
+  int done = 0;
+  for (; done < 10000 && failures < 3; ++done) cycle(done);  // bounded when the server stops serving
+  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  const int fds_after = settled_fds(fds_before);
+  CHECK(f.get(1) == 31.25);  // still serving
+  const long rss_after = status_kb(pid, "VmRSS");
+  const long data_after = status_kb(pid, "VmData");
+  std::printf("%d connect/disconnect cycles in %.2f s: fds %d -> %d, VmRSS %ld -> %ld kB, VmData %ld -> %ld kB\n",
+              done, seconds, fds_before, fds_after, rss_before, rss_after, data_before, data_after);
+  CHECK(failures == 0);
+  CHECK(done == 10000);
+  CHECK(fds_before == fds_idle);
+  CHECK(fds_after == fds_before);
+  REQUIRE(rss_before > 0);
+  REQUIRE(data_before > 0);
+  // The server allocates nothing per connection (its connection table is
+  // reserved for --max-clients at start). A leak of even one malloc chunk (32
+  // bytes) per connection would be 312 kB here; the bound is two pages, for a
+  // page of stack or libc data first touched late.
+  CHECK(data_after == data_before);
+  CHECK(rss_after - rss_before <= 8);
+}
+
+TEST_CASE("while one client drips a request a byte every 20 ms, four others are answered without waiting for it") {
+  SimFixture f;
+  constexpr int kReaders = 4;
+  for (int i = 0; i < kReaders + 1; ++i) f.set(kArgs[i], 100.0 + i);
+  std::atomic<bool> dripping{true};
+  std::atomic<bool> reading{true};
+  std::atomic<int> drip_ok{0};
+  std::atomic<int> drip_bad{0};
+  std::thread dripper([&] {
+    const int fd = connect_to(f.port());
+    if (fd < 0) {
+      ++drip_bad;
+      return;
+    }
+    for (std::uint16_t tid = 1; dripping.load(); ++tid) {
+      const Bytes frame = read_frame(tid, kArgs[kReaders]);
+      bool ok = true;
+      for (const std::uint8_t& b : frame) {
+        ok = ok && ::send(fd, &b, 1, MSG_NOSIGNAL) == 1;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+      double v = 0.0;
+      if (ok && read_reply(fd, tid, v) && v == 100.0 + kReaders) {
+        ++drip_ok;
+      } else {
+        ++drip_bad;
+        break;
+      }
+    }
+    ::close(fd);
+  });
+  std::vector<std::vector<double>> latencies(kReaders);
+  std::vector<long> bad(kReaders, 0);
+  std::vector<std::thread> readers;
+  for (int id = 0; id < kReaders; ++id) {
+    readers.emplace_back([&, id] {
+      auto& mine = latencies[static_cast<std::size_t>(id)];
+      mine.reserve(4000);
+      const int fd = connect_to(f.port());
+      if (fd < 0) {
+        ++bad[static_cast<std::size_t>(id)];
+        return;
+      }
+      for (std::uint16_t tid = 1; reading.load() && mine.size() < 4000; ++tid) {
+        double v = 0.0;
+        const auto t0 = Clock::now();
+        const bool ok = read_var(fd, tid, kArgs[id], v);
+        mine.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+        if (!ok || v != 100.0 + id) {
+          ++bad[static_cast<std::size_t>(id)];
+          if (!ok) break;  // the connection is out of step
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      }
+      ::close(fd);
+    });
+  }
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  dripping = false;
+  dripper.join();  // ends with its current request answered
+  reading = false;
+  for (std::thread& t : readers) t.join();
+
+  std::vector<double> all;
+  for (int id = 0; id < kReaders; ++id) {
+    const auto& mine = latencies[static_cast<std::size_t>(id)];
+    all.insert(all.end(), mine.begin(), mine.end());
+    std::printf("drip test, reader %d: %zu requests, p50 %.3f ms, p99 %.3f ms, max %.3f ms\n", id, mine.size(),
+                percentile(mine, 0.5), percentile(mine, 0.99), percentile(mine, 1.0));
+  }
+  const double p99 = percentile(all, 0.99);
+  std::printf("drip test, %d readers: %zu requests, p50 %.3f ms, p99 %.3f ms, max %.3f ms; %d dripped requests answered\n",
+              kReaders, all.size(), percentile(all, 0.5), p99, percentile(all, 1.0), drip_ok.load());
+  for (int id = 0; id < kReaders; ++id) {
+    INFO("reader " << id);
+    CHECK(bad[static_cast<std::size_t>(id)] == 0);
+    CHECK(latencies[static_cast<std::size_t>(id)].size() > 200);
+  }
+  CHECK(drip_bad == 0);
+  CHECK(drip_ok >= 10);  // 3 s at 12 bytes x 20 ms per request
+  // A server that waits for the dripped frame to be whole before serving anyone
+  // holds every reader for up to 240 ms per dripped request: its p99 is far
+  // above this. This server's is well under 5 ms (bench_modbus_load); 50 ms
+  // leaves room for a loaded CI machine.
+  CHECK(p99 < 50.0);
+}
+
+// Found while writing these tests (issue 8): when the sim has as many
+// descriptors open as its RLIMIT_NOFILE allows (fewer than --max-clients + its
+// own), accept4 fails with EMFILE, the waiting connection stays in the listen
+// backlog, the listening socket stays readable and ppoll returns at once: the
+// server spins a core until a descriptor frees. Here the limit is lowered so
+// that 4 more descriptors fit, and 10 clients connect.
+TEST_CASE("with its descriptor limit reached, the sim does not spin while connections wait in the backlog") {
+  SimFixture f;
+  const pid_t pid = f.pid();
+  (void)f.get(1);  // the fixture's connection accepted
+  const int base = lowest_free_fd(pid);  // the limit caps descriptor numbers
+  REQUIRE(base > 0);
+  const rlimit limit{static_cast<rlim_t>(base + 4), static_cast<rlim_t>(base + 4)};
+  REQUIRE(::prlimit(pid, RLIMIT_NOFILE, &limit, nullptr) == 0);
+  std::vector<int> fds;
+  for (int i = 0; i < 10; ++i) {
+    const int fd = connect_to(f.port());  // the backlog takes the ones not accepted
+    REQUIRE(fd >= 0);
+    fds.push_back(fd);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const double cpu0 = cpu_seconds(pid);
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  const double cpu1 = cpu_seconds(pid);
+  double v = -1.0;
+  const bool first_served = read_var(fds.front(), 1, 1, v) && v == 0.0;
+  std::printf("descriptor limit %d reached: the sim used %.2f s of CPU in 1 s with 10 clients connected (%d fds)\n",
+              base + 4, cpu1 - cpu0, fd_count(pid));
+  CHECK(first_served);      // the accepted ones are served
+  CHECK(f.get(1) == 0.0);   // and so is the fixture's client
+  CHECK(cpu1 - cpu0 < 0.2);  // an idle server uses none
+  // Four descriptors fitted: clients 0..3 were accepted, 4..9 wait in the
+  // backlog. When two accepted ones close, the first two waiting are accepted
+  // and served at once, not after the pause (read_var waits up to its own time-out).
+  ::close(fds[0]);
+  ::close(fds[1]);
+  fds.erase(fds.begin(), fds.begin() + 2);
+  double waited = -1.0;
+  CHECK((read_var(fds[2], 1, 1, waited) && waited == 0.0));
+  CHECK((read_var(fds[3], 1, 1, waited) && waited == 0.0));
+  for (const int fd : fds) ::close(fd);
+}
