@@ -33,9 +33,9 @@
 //                          [--block N] [--blocks N] [--cycles N]
 //                          [--pin CPU|none] [--pin-server CPU]
 //   e.g. (from the repository root)
-//     cmake -S . -B build/helper_load -G Ninja
-//     cmake --build build/helper_load --target bench_modbus_load trueaxis-sim
-//     build/helper_load/bin/bench_modbus_load
+//     cmake -S . -B build/host -G Ninja
+//     cmake --build build/host --target bench_modbus_load trueaxis-sim
+//     build/host/bin/bench_modbus_load
 //   It starts trueaxis-sim (beside this program) on 127.0.0.1 port 0 with a
 //   temporary NV file, and stops it at the end.
 #include <algorithm>
@@ -61,6 +61,7 @@
 
 #include <modbus/modbus.h>
 
+#include "loopback.hpp"
 #include "trueaxis/macros/register_codec.hpp"
 #include "trueaxis/sim/client.hpp"
 #include "trueaxis/sim/sim_process.hpp"
@@ -69,99 +70,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using Bytes = std::vector<std::uint8_t>;
+using namespace trueaxis::sim::loopback;  // NOLINT: the helpers of loopback.hpp
 
 // Macro arguments, one per client (#10, #12, #14..#16 are not defined).
 constexpr std::uint16_t kArgs[21] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 13, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26};
-
-int connect_to(int port) {
-  const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (fd < 0) return -1;
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_port = htons(static_cast<std::uint16_t>(port));
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
-    ::close(fd);
-    return -1;
-  }
-  const int on = 1;
-  ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &on, sizeof on);
-  return fd;
-}
-
-bool send_all(int fd, const std::uint8_t* data, std::size_t n) {
-  while (n > 0) {
-    const ssize_t sent = ::send(fd, data, n, MSG_NOSIGNAL);
-    if (sent <= 0) return false;
-    data += sent;
-    n -= static_cast<std::size_t>(sent);
-  }
-  return true;
-}
-
-bool receive_exact(int fd, std::uint8_t* out, std::size_t n, int timeout_ms) {
-  const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
-  std::size_t got = 0;
-  while (got < n) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-    pollfd p{fd, POLLIN, 0};
-    if (left <= 0 || ::poll(&p, 1, static_cast<int>(left)) <= 0) return false;
-    const ssize_t r = ::recv(fd, out + got, n - got, 0);
-    if (r <= 0) return false;
-    got += static_cast<std::size_t>(r);
-  }
-  return true;
-}
-
-Bytes read_frame(std::uint16_t tid, std::uint16_t number) {
-  const std::uint32_t reg = trueaxis::macros::register_of(number);
-  return {static_cast<std::uint8_t>(tid >> 8), static_cast<std::uint8_t>(tid), 0, 0, 0, 6, 1, 3,
-          static_cast<std::uint8_t>(reg >> 8), static_cast<std::uint8_t>(reg), 0, 4};
-}
-
-bool read_reply(int fd, std::uint16_t tid, double& value, int timeout_ms = 2000) {
-  std::uint8_t r[17];
-  if (!receive_exact(fd, r, sizeof r, timeout_ms)) return false;
-  const std::uint8_t head[9] = {static_cast<std::uint8_t>(tid >> 8), static_cast<std::uint8_t>(tid), 0, 0, 0, 11, 1, 3, 8};
-  if (!std::equal(head, head + 9, r)) return false;
-  std::uint16_t w[4];
-  for (std::size_t i = 0; i < 4; ++i) w[i] = static_cast<std::uint16_t>((r[9 + 2 * i] << 8) | r[10 + 2 * i]);
-  value = trueaxis::macros::decode_double(w);
-  return true;
-}
-
-bool read_var(int fd, std::uint16_t tid, std::uint16_t number, double& value) {
-  const Bytes f = read_frame(tid, number);
-  return send_all(fd, f.data(), f.size()) && read_reply(fd, tid, value);
-}
-
-int fd_count(pid_t pid) {
-  const std::string dir = "/proc/" + std::to_string(pid) + "/fd";
-  DIR* d = ::opendir(dir.c_str());
-  if (d == nullptr) return -1;
-  int n = 0;
-  while (const dirent* e = ::readdir(d)) {
-    if (e->d_name[0] != '.') ++n;
-  }
-  ::closedir(d);
-  return n;
-}
-
-long status_kb(pid_t pid, const std::string& name) {
-  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.compare(0, name.size() + 1, name + ":") == 0) return std::stol(line.substr(name.size() + 1));
-  }
-  return -1;
-}
-
-double percentile(std::vector<double> v, double p) {  // nearest rank
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const auto rank = static_cast<std::size_t>(std::ceil(p * static_cast<double>(v.size())));
-  return v[std::min(v.size() - 1, rank == 0 ? 0 : rank - 1)];
-}
 
 double value_of(int client) { return 100.0 + client + 1.0 / 1024.0; }
 
@@ -416,41 +328,9 @@ bool cycles(int port, pid_t pid, trueaxis::sim::VariableClient& setup, int count
   if (!setup.write_one(1, value)) return false;
   long failures = 0;
   const auto cycle = [&](int k) {
-    const int fd = connect_to(port);
-    if (fd < 0) {
-      ++failures;
-      return;
-    }
-    const auto tid = static_cast<std::uint16_t>(k);
-    double v = 0.0;
-    if (!read_var(fd, tid, 1, v) || v != value) ++failures;
-    const Bytes next = read_frame(static_cast<std::uint16_t>(tid + 1), 1);
-    switch (k % 4) {
-      case 1:
-        (void)send_all(fd, next.data(), 5);
-        break;
-      case 2: {
-        (void)send_all(fd, next.data(), 5);
-        const linger reset{1, 0};
-        ::setsockopt(fd, SOL_SOCKET, SO_LINGER, &reset, sizeof reset);
-        break;
-      }
-      case 3:
-        (void)send_all(fd, next.data(), next.size());
-        break;
-      default:
-        break;
-    }
-    ::close(fd);
+    if (!connect_cycle(port, k, value)) ++failures;
   };
-  const auto settled_fds = [&](int target) {
-    int n = fd_count(pid);
-    for (int i = 0; i < 300 && n != target; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-      n = fd_count(pid);
-    }
-    return n;
-  };
+  const auto settled_fds = [&](int target) { return settled_fd_count(pid, target); };
   const int fds_idle = fd_count(pid);
   for (int k = 0; k < 200 && failures < 3; ++k) cycle(k);
   const int fds_before = settled_fds(fds_idle);

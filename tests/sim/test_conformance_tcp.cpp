@@ -8,7 +8,6 @@
 // variables its served writes name.
 #include <catch2/catch.hpp>
 
-#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <string>
@@ -17,14 +16,9 @@
 #include <utility>
 #include <vector>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <netinet/tcp.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include "conformance.hpp"
+#include "raw_tcp_client.hpp"
 #include "sim_fixture.hpp"
 
 namespace {
@@ -52,61 +46,8 @@ Bytes joined(const std::vector<Bytes>& parts) {
   return all;
 }
 
-class Connection {
- public:
-  explicit Connection(int port) {
-    fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    REQUIRE(fd_ >= 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(static_cast<std::uint16_t>(port));
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    REQUIRE(::connect(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0);
-    const int on = 1;
-    ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &on, sizeof on);
-  }
-  ~Connection() { ::close(fd_); }
-  Connection(const Connection&) = delete;
-  Connection& operator=(const Connection&) = delete;
+using Connection = trueaxis::sim::test::RawTcpClient;
 
-  bool send(const Bytes& b) { return ::send(fd_, b.data(), b.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(b.size()); }
-  void shutdown_write() { ::shutdown(fd_, SHUT_WR); }
-
-  // Up to `n` bytes within timeout_ms; fewer when the peer closes (closed()) or
-  // the time is up.
-  Bytes receive(std::size_t n, int timeout_ms) {
-    Bytes got;
-    const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
-    while (got.size() < n && !closed_) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-      pollfd p{fd_, POLLIN, 0};
-      if (left <= 0 || ::poll(&p, 1, static_cast<int>(left)) <= 0) break;
-      std::uint8_t buffer[512];
-      const ssize_t r = ::recv(fd_, buffer, std::min(sizeof buffer, n - got.size()), 0);
-      if (r <= 0) {
-        closed_ = true;
-        break;
-      }
-      got.insert(got.end(), buffer, buffer + r);
-    }
-    return got;
-  }
-
-  // One reply frame, its MBAP length read first; empty when none came.
-  Bytes frame(int timeout_ms = 2000) {
-    Bytes head = receive(6, timeout_ms);
-    if (head.size() < 6) return {};
-    const Bytes rest = receive(static_cast<std::size_t>((head[4] << 8) | head[5]), timeout_ms);
-    head.insert(head.end(), rest.begin(), rest.end());
-    return head;
-  }
-
-  bool closed() const { return closed_; }
-
- private:
-  int fd_ = -1;
-  bool closed_ = false;
-};
 
 // The conformance transport: one request, one reply frame, checked against the
 // MBAP rules of the reply (the transaction and unit id echoed, protocol 0, the
@@ -118,11 +59,8 @@ class TcpTransport final : public c::Transport {
   bool exchange(const Bytes& pdu, Bytes& reply, std::string& why) override {
     ++tid_;
     const auto unit = static_cast<std::uint8_t>(tid_ * 7);  // any unit id is served and echoed
-    if (!connection_.send(mbap(tid_, unit, pdu))) {
-      why = "send failed";
-      return false;
-    }
-    const Bytes r = connection_.frame();
+    connection_.send(mbap(tid_, unit, pdu));
+    const Bytes r = connection_.reply();
     if (r.size() < 8) {
       why = connection_.closed() ? "closed by the server" : "no reply within 2 s";
       return false;
@@ -304,10 +242,10 @@ TEST_CASE("the TCP framing table: refused frames close and execute nothing, whol
     Connection k(f.port());
     for (std::size_t i = 0; i < fc.chunks.size(); ++i) {
       if (i > 0) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      CHECK(k.send(fc.chunks[i]));
+      k.send(fc.chunks[i]);
     }
     if (fc.client_closes) k.shutdown_write();
-    for (const Bytes& expected : fc.replies) CHECK(c::hex(k.frame()) == c::hex(expected));
+    for (const Bytes& expected : fc.replies) CHECK(c::hex(k.reply()) == c::hex(expected));
     if (fc.closes) {
       CHECK(k.receive(1, 2000).empty());  // nothing more, then the close
       CHECK(k.closed());

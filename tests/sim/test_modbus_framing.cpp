@@ -10,13 +10,8 @@
 #include <thread>
 #include <vector>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <netinet/tcp.h>
-#include <poll.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
+#include "raw_tcp_client.hpp"
 #include "sim_fixture.hpp"
 #include "trueaxis/macros/register_codec.hpp"
 
@@ -67,63 +62,8 @@ double value_in(const Bytes& reply) {  // the FC3 reply of read_pdu
   return trueaxis::macros::decode_double(w);
 }
 
-class RawClient {
- public:
-  explicit RawClient(int port) {
-    fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    REQUIRE(fd_ >= 0);
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(static_cast<std::uint16_t>(port));
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    REQUIRE(::connect(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0);
-    const int on = 1;
-    ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &on, sizeof on);
-  }
-  ~RawClient() { ::close(fd_); }
-  RawClient(const RawClient&) = delete;
-  RawClient& operator=(const RawClient&) = delete;
+using RawClient = trueaxis::sim::test::RawTcpClient;
 
-  int fd() const { return fd_; }
-
-  void send(const Bytes& b) { REQUIRE(::send(fd_, b.data(), b.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(b.size())); }
-
-  // Up to `n` bytes, waiting at most timeout_ms in all; fewer when the peer
-  // closes or the time is up.
-  Bytes receive(std::size_t n, int timeout_ms = 2000) {
-    Bytes got;
-    const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
-    while (got.size() < n) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-      pollfd p{fd_, POLLIN, 0};
-      if (left <= 0 || ::poll(&p, 1, static_cast<int>(left)) <= 0) break;
-      std::uint8_t buf[512];
-      const ssize_t r = ::recv(fd_, buf, std::min(sizeof buf, n - got.size()), 0);
-      if (r <= 0) {
-        closed_ = true;
-        break;
-      }
-      got.insert(got.end(), buf, buf + r);
-    }
-    return got;
-  }
-
-  // One whole reply frame (its MBAP length read first).
-  Bytes reply() {
-    Bytes head = receive(6);
-    if (head.size() < 6) return head;
-    const Bytes rest = receive(static_cast<std::size_t>((head[4] << 8) | head[5]));
-    head.insert(head.end(), rest.begin(), rest.end());
-    return head;
-  }
-
-  // True when the server closes the connection within timeout_ms having sent nothing.
-  bool closed_silently(int timeout_ms = 2000) { return receive(1, timeout_ms).empty() && closed_; }
-
- private:
-  int fd_ = -1;
-  bool closed_ = false;
-};
 
 }  // namespace
 
