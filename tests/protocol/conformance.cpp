@@ -183,6 +183,8 @@ void write_multiple(std::vector<Case>& t) {
   t.push_back({"FC16 byte count one short", fc16_raw(arg, 4, 7, twos(8)), exception(0x10, kIllegalValue), {}});
   t.push_back({"FC16 byte count one over", fc16_raw(arg, 4, 9, twos(8)), exception(0x10, kIllegalValue), {}});
   t.push_back({"FC16 byte count one over, with its byte", fc16_raw(arg, 4, 9, twos(9)), exception(0x10, kIllegalValue), {}});
+  t.push_back({"FC16 byte count one short, with its bytes", fc16_raw(arg, 4, 7, twos(7)), exception(0x10, kIllegalValue), {}});
+  t.push_back({"FC16 byte count 6 with its 6 bytes", fc16_raw(arg, 4, 6, twos(6)), exception(0x10, kIllegalValue), {}});
   t.push_back({"FC16 byte count 0 with quantity 4", fc16_raw(arg, 4, 0, {}), exception(0x10, kIllegalValue), {}});
   t.push_back({"FC16 data one byte short (truncated)", fc16_raw(arg, 4, 8, twos(7)), exception(0x10, kIllegalValue), {}});
   t.push_back({"FC16 data one byte over (over-long)", fc16_raw(arg, 4, 8, twos(9)), exception(0x10, kIllegalValue), {}});
@@ -264,6 +266,10 @@ void read_write_multiple(std::vector<Case>& t) {
                exception(0x17, kIllegalValue), {}});
   t.push_back({"FC23 byte count one short", fc23_raw(arg, 4, arg, 4, 7, twos(8)), exception(0x17, kIllegalValue), {}});
   t.push_back({"FC23 byte count one over", fc23_raw(arg, 4, arg, 4, 9, twos(8)), exception(0x17, kIllegalValue), {}});
+  t.push_back({"FC23 byte count one over, with its byte", fc23_raw(arg, 4, arg, 4, 9, twos(9)), exception(0x17, kIllegalValue), {}});
+  t.push_back({"FC23 byte count one short, with its bytes", fc23_raw(arg, 4, arg, 4, 7, twos(7)), exception(0x17, kIllegalValue), {}});
+  t.push_back({"FC23 byte count 0 with write quantity 4", fc23_raw(arg, 4, arg, 4, 0, {}), exception(0x17, kIllegalValue), {}});
+  t.push_back({"FC23 byte count 6 with its 6 bytes", fc23_raw(arg, 4, arg, 4, 6, twos(6)), exception(0x17, kIllegalValue), {}});
   t.push_back({"FC23 data one byte short (truncated)", fc23_raw(arg, 4, arg, 4, 8, twos(7)), exception(0x17, kIllegalValue), {}});
   t.push_back({"FC23 data one byte over (over-long)", fc23_raw(arg, 4, arg, 4, 8, twos(9)), exception(0x17, kIllegalValue), {}});
   Bytes nine = fc23_raw(arg, 4, arg, 4, 8, {});

@@ -10,6 +10,8 @@
 #include <thread>
 #include <vector>
 
+#include <sys/socket.h>
+
 
 #include "raw_tcp_client.hpp"
 #include "sim_fixture.hpp"
@@ -236,4 +238,36 @@ TEST_CASE("with --idle-timeout a connection that sends nothing is closed") {
   const double waited_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   CHECK(waited_ms > 250.0);
   CHECK(waited_ms < 2000.0);
+}
+
+TEST_CASE("a frame dripped a byte every 100 ms is closed --frame-timeout after its first byte, not after its last") {
+  // 23 bytes at 100 ms would take 2.2 s; each byte must not restart the clock.
+  SimFixture f({"--frame-timeout", "300"});
+  RawClient dripping(f.port());
+  const Bytes whole = frame(1, 1, write_pdu(1, 3.0));
+  const auto t0 = Clock::now();
+  bool closed = false;
+  for (std::size_t i = 0; i < whole.size() && !closed; ++i) {
+    if (::send(dripping.fd(), whole.data() + i, 1, MSG_NOSIGNAL) != 1) break;
+    closed = dripping.closed_silently(100);
+  }
+  const double waited_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  CHECK(closed);
+  CHECK(waited_ms > 250.0);
+  CHECK(waited_ms < 1500.0);
+  CHECK(f.get(1) == 0.0);
+}
+
+TEST_CASE("with --idle-timeout a client that sends a request every 100 ms stays open") {
+  SimFixture f({"--idle-timeout", "300"});
+  RawClient busy(f.port());
+  int answered = 0;
+  for (std::uint16_t i = 0; i < 15; ++i) {
+    busy.send(frame(i, 1, read_pdu(9006)));
+    const Bytes r = busy.reply();
+    if (r.size() == 17 && value_in(r) == 1.0) ++answered;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  CHECK(answered == 15);  // 1.5 s, five times the idle time-out
+  CHECK_FALSE(busy.closed());
 }

@@ -178,6 +178,21 @@ TEST_CASE("a malformed quantity is not noted in #9007; a map fault is") {
   CHECK(undefined == Bytes({0x03, 8, 0x3F, 0xF0, 0, 0, 0, 0, 0, 0}));  // 1: undefined
 }
 
+TEST_CASE("a range that ends exactly at register 0xFFFF reaches the map; one past it is undefined before the map") {
+  // Both are exception 02; #9007 tells which check refused them.
+  Core c;
+  const Bytes misaligned = {0x03, 8, 0x40, 0, 0, 0, 0, 0, 0, 0};  // 2.0
+  const Bytes undefined = {0x03, 8, 0x3F, 0xF0, 0, 0, 0, 0, 0, 0};  // 1.0
+  CHECK(c.run(fc3(0xFFFF, 1)) == exception(0x03, 0x02));  // ends at 0xFFFF: the map sees part of a variable
+  CHECK(c.run(fc3(4 * 9007, 4)) == misaligned);
+  CHECK(c.run(fc3(0xFFFC, 8)) == exception(0x03, 0x02));  // one variable past 0xFFFF
+  CHECK(c.run(fc3(4 * 9007, 4)) == undefined);
+  CHECK(c.run(fc16(0xFFFD, 3)) == exception(0x10, 0x02));  // ends at 0xFFFF
+  CHECK(c.run(fc3(4 * 9007, 4)) == misaligned);
+  CHECK(c.run(fc16(0xFFFE, 3)) == exception(0x10, 0x02));  // ends at 0x10000
+  CHECK(c.run(fc3(4 * 9007, 4)) == undefined);
+}
+
 TEST_CASE("respond() allocates nothing") {
   Core c;
   const Bytes write = fc16(4 * 5281, 12);
