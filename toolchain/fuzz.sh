@@ -4,7 +4,7 @@
 # bounded smoke run (ctest fuzz_smoke: 20 s per target from the checked-in seeds).
 #
 #   toolchain/fuzz.sh                  the smoke run; exit code 0 when nothing was found
-#   toolchain/fuzz.sh --long SECONDS   every target for SECONDS, all at once, into
+#   toolchain/fuzz.sh --long SECONDS   every target (tests/fuzz/fuzz_*.cpp) for SECONDS, all at once, into
 #                                      build/fuzz/long (corpora kept between runs)
 #   toolchain/fuzz.sh --long SECONDS TARGET...   only those targets
 #

@@ -14,6 +14,10 @@ the public libmodbus CVEs:
     past its buffer);
   CVE-2022-0367: FC23 whose write address plus quantity runs past the map
     (libmodbus wrote past its mapping).
+RTU (rtu_framer): valid frames to address 1, broadcast writes and reads, other
+addresses, bad CRCs, frames of 1-3 and 257+ bytes, frames split by a gap just
+below and at the silence, back-to-back frames, polls around the silence, other
+bauds and addresses.
 """
 import json
 import os
@@ -252,6 +256,118 @@ def decoder_seeds():
     }
 
 
+# --- Modbus RTU ------------------------------------------------------------------
+
+RTU_BAUDS = [1200, 2400, 9600, 19200, 19201, 38400, 57600, 115200]  # fuzz_rtu_framer.cpp kBauds
+# Gap codes (bits 0..2 of an operation's code): when it happens after the last byte.
+BACK_TO_BACK, ONE_CHARACTER, BELOW_SILENCE, AT_SILENCE, ABOVE_SILENCE, ONE_SECOND, SAME_INSTANT, \
+    ONE_AND_HALF = range(8)
+POLL = 0x08
+SET_ADDRESS = 0x18
+
+
+def crc16_modbus(data):
+    """CRC-16/MODBUS, the specification's bit loop."""
+    crc = 0xFFFF
+    for byte in data:
+        crc ^= byte
+        for _ in range(8):
+            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    return crc
+
+
+def rtu(address, pdu):
+    """| address | PDU | CRC low, high |."""
+    frame = bytes([address]) + pdu
+    return frame + struct.pack("<H", crc16_modbus(frame))
+
+
+def line(data, first=AT_SILENCE, rest=BACK_TO_BACK):
+    """rtu_framer operations: the bytes of `data`, the first after `first`."""
+    out = b""
+    for i, byte in enumerate(data):
+        out += bytes([first if i == 0 else rest, byte])
+    return out
+
+
+def rtu_input(*ops, baud=19200, address=1):
+    return bytes([RTU_BAUDS.index(baud), address]) + b"".join(ops)
+
+
+def poll(gap=AT_SILENCE):
+    return bytes([POLL | gap])
+
+
+def rtu_seeds():
+    seeds = {}
+    for name, pdu in VALID.items():
+        seeds["frame_" + name] = rtu_input(line(rtu(1, pdu)), poll())
+    for name in ("fc_only_3", "fc1_coils", "fc16_nan", "cve_2019_14462_fc16_byte_count_over_length",
+                 "cve_2019_14463_fc23_read_quantity_0xffff", "cve_2022_0367_fc23_write_past_0xffff"):
+        seeds["frame_" + name] = rtu_input(line(rtu(1, REFUSED[name])), poll())
+    read = rtu(1, fc3(reg(9000), 4))
+    write = rtu(1, fc16(reg(1), words(1.0)))
+    fc23_write = fc23(reg(9000), 4, reg(1), words(2.0))
+    seeds["broadcast_fc16_write"] = rtu_input(line(rtu(0, fc16(reg(1), words(5.0)))), poll())
+    seeds["broadcast_fc3_read"] = rtu_input(line(rtu(0, fc3(reg(9000), 4))), poll())
+    seeds["broadcast_fc23_read_write"] = rtu_input(line(rtu(0, fc23_write)), poll())
+    seeds["broadcast_unknown_fc"] = rtu_input(line(rtu(0, b"\x41\x00\x01")), poll())
+    seeds["broadcast_write_then_read"] = rtu_input(line(rtu(0, fc16(reg(1), words(6.0)))),
+                                                   line(rtu(1, fc3(reg(1), 4))), poll())
+    for to in (2, 247, 248, 255):
+        seeds[f"other_address_{to}"] = rtu_input(line(rtu(to, fc16(reg(1), words(3.0)))), poll())
+    seeds["slave_247"] = rtu_input(line(rtu(247, fc3(reg(9000), 4))), poll(), address=247)
+    seeds["slave_0_is_1"] = rtu_input(line(rtu(1, fc3(reg(9000), 4))), poll(), address=0)
+    seeds["set_address_17_then_read"] = rtu_input(bytes([SET_ADDRESS, 17, SET_ADDRESS, 248]),
+                                                  line(rtu(17, fc3(reg(9000), 4))), poll(),
+                                                  line(rtu(1, fc3(reg(9000), 4))), poll())
+    bad = bytearray(write)
+    bad[-1] ^= 0x01
+    seeds["bad_crc_last_byte"] = rtu_input(line(bytes(bad)), poll())
+    bad = bytearray(write)
+    bad[0] ^= 0x01
+    seeds["bad_crc_address_flipped"] = rtu_input(line(bytes(bad)), poll())
+    seeds["crc_byte_order_swapped"] = rtu_input(line(write[:-2] + write[-1:] + write[-2:-1]), poll())
+    seeds["too_short_1_2_3"] = rtu_input(line(b"\x01"), line(b"\x01\x03"), line(b"\x01\x03\x00"), poll())
+    seeds["shortest_4_bytes"] = rtu_input(line(rtu(1, b"\x03")), poll())
+    longest = rtu(1, b"\x41" + bytes([0xAA] * 252))
+    assert len(longest) == 256
+    seeds["longest_256_bytes"] = rtu_input(line(longest), poll())
+    over = rtu(1, fc16(reg(1), words(8.0)) + bytes(255 - 1 - len(fc16(reg(1), words(8.0)))))
+    assert len(over) == 257
+    seeds["too_long_257_then_write"] = rtu_input(line(over), poll(), line(write), poll())
+    seeds["too_long_300"] = rtu_input(line(bytes([0x55] * 300)), poll())
+    for k in (1, 3, len(write) - 2, len(write) - 1):
+        seeds[f"split_before_{k}_below_silence"] = rtu_input(
+            line(write[:k]), line(write[k:], first=BELOW_SILENCE), poll())
+        seeds[f"split_before_{k}_at_silence"] = rtu_input(
+            line(write[:k]), line(write[k:], first=AT_SILENCE), poll())
+    seeds["split_one_and_half_characters"] = rtu_input(line(write, rest=ONE_AND_HALF), poll())
+    seeds["split_one_character"] = rtu_input(line(write, rest=ONE_CHARACTER), poll())
+    seeds["fifo_burst_same_instant"] = rtu_input(line(write, rest=SAME_INSTANT), poll())
+    seeds["back_to_back_at_silence"] = rtu_input(line(write), line(read), line(write), poll())
+    seeds["back_to_back_above_silence"] = rtu_input(line(write), line(read, first=ABOVE_SILENCE), poll())
+    seeds["back_to_back_below_silence"] = rtu_input(line(write), line(read, first=BELOW_SILENCE), poll())
+    seeds["back_to_back_one_second"] = rtu_input(line(write), line(read, first=ONE_SECOND), poll(ONE_SECOND))
+    seeds["poll_below_then_at_silence"] = rtu_input(line(read), poll(BELOW_SILENCE), poll(AT_SILENCE),
+                                                    poll(ABOVE_SILENCE))
+    seeds["poll_mid_frame"] = rtu_input(line(read[:4]), poll(BACK_TO_BACK), poll(ONE_CHARACTER),
+                                        line(read[4:], first=BACK_TO_BACK), poll())
+    seeds["no_final_poll"] = rtu_input(line(read))
+    unlock = [fc16(reg(9004), words(float(UNLOCK_CODE))), fc16(reg(500), words(-100.0)), fc3(reg(500), 8),
+              fc16(reg(9004), words(0.0))]
+    seeds["seq_unlock_config_lock"] = rtu_input(*[line(rtu(1, p)) for p in unlock], poll())
+    level = SEQUENCES["seq_level_9810"]
+    seeds["seq_level_9810"] = rtu_input(*[line(rtu(1, p)) + poll() for p in level],
+                                        *[poll(ONE_SECOND) for _ in range(8)], line(rtu(1, fc3(reg(9000), 16))),
+                                        poll())
+    for baud in (1200, 9600, 38400, 115200):
+        seeds[f"baud_{baud}_split_at_silence"] = rtu_input(
+            line(write), line(read[:3]), line(read[3:], first=BELOW_SILENCE), line(read, first=AT_SILENCE),
+            poll(BELOW_SILENCE), poll(), baud=baud)
+    return seeds
+
+
 def write(target, seeds):
     directory = os.path.join(CORPUS, target)
     shutil.rmtree(directory, ignore_errors=True)
@@ -270,6 +386,7 @@ def main():
     write("tcp_framer", tcp_seeds())
     write("keyed_store", store_seeds())
     write("table_decoders", decoder_seeds())
+    write("rtu_framer", rtu_seeds())
 
 
 if __name__ == "__main__":

@@ -6,6 +6,9 @@
 #   run_fuzz.sh --bin-dir DIR --work-dir DIR --seconds N [--runs N] [--parallel]
 #               [TARGET...]
 #
+# Without TARGETs: every fuzz_*.cpp of this directory (ctest fuzz_smoke passes
+# the list of tests/fuzz/CMakeLists.txt).
+#
 # Each target reads tests/fuzz/corpus/<name>/ (never written) and keeps what it
 # finds in WORK/<name>/corpus; a reproducer lands in WORK/<name>/ as
 # crash-*, leak-*, timeout-* or oom-* (replay: bin/<target> FILE). The last
@@ -30,7 +33,7 @@ if [ -z "$bin_dir" ] || [ -z "$work_dir" ]; then
   exit 2
 fi
 if [ "${#targets[@]}" -eq 0 ]; then
-  targets=(fuzz_modbus_core fuzz_tcp_framer fuzz_keyed_store fuzz_table_decoders)
+  for source in "$here"/fuzz_*.cpp; do targets+=("$(basename "$source" .cpp)"); done
 fi
 
 # The largest input each target reads in full (its format's natural bound).
@@ -39,6 +42,7 @@ max_len() {
     fuzz_modbus_core) echo 4096 ;;      # 16 requests of up to 255 bytes
     fuzz_tcp_framer) echo 8192 ;;       # 32 chunks of up to 255 bytes
     fuzz_keyed_store) echo 32768 ;;     # several slots of up to 4 KiB
+    fuzz_rtu_framer) echo 4096 ;;       # ~2,000 bytes on the line, several frames
     *) echo 4096 ;;                     # one record of up to 3544 bytes
   esac
 }

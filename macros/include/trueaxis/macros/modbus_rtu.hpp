@@ -13,7 +13,8 @@
 //     19200 baud and a fixed 1750 us above; rtu_silence_us() rounds it up to a
 //     whole microsecond (19200 baud: 2005.2 us -> 2006 us).
 //  3. Time: the clock handed to the constructor (microseconds) is read once for
-//     each byte received and once per poll(); the framer reads no other. A
+//     each byte received and once per poll() while a frame is open (never when
+//     none is); the framer reads no other. A
 //     byte's time is when it was taken from the UART, which is taken as the
 //     end of its stop bit; the silence before a byte is its time minus the
 //     previous byte's time minus one character. A poll() at time t sees a
