@@ -159,6 +159,19 @@ inline int lowest_free_fd(pid_t pid) {
   return free_fd;
 }
 
+// How many descriptor numbers below `limit` the process has free.
+inline int free_fds_below(pid_t pid, int limit) {
+  const std::string dir = "/proc/" + std::to_string(pid) + "/fd";
+  DIR* d = ::opendir(dir.c_str());
+  if (d == nullptr) return -1;
+  int free_count = limit;
+  while (const dirent* e = ::readdir(d)) {
+    if (e->d_name[0] != '.' && std::atoi(e->d_name) < limit) --free_count;
+  }
+  ::closedir(d);
+  return free_count;
+}
+
 // A "Name:   123 kB" line of /proc/<pid>/status, in kB; -1 when absent.
 // The fd count once the server has dropped every closed connection: back at
 // `target`, waiting at most 3 s (what it is then, otherwise).

@@ -23,6 +23,10 @@ bool SimProcess::start(const std::string& binary, const std::vector<std::string>
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
+  // The simulator gets stdin, stdout (the pipe) and stderr, nothing else of
+  // this process: a test runner's inherited descriptors would count against
+  // its limits and in its /proc/<pid>/fd.
+  posix_spawn_file_actions_addclosefrom_np(&actions, STDERR_FILENO + 1);
   std::vector<std::string> argv_strings;
   argv_strings.push_back(binary);
   argv_strings.insert(argv_strings.end(), args.begin(), args.end());
