@@ -6,11 +6,6 @@ namespace trueaxis::macros {
 
 namespace {
 
-constexpr std::uint8_t kReadHolding = 0x03;
-constexpr std::uint8_t kWriteSingle = 0x06;
-constexpr std::uint8_t kWriteMultiple = 0x10;
-constexpr std::uint8_t kReadWriteMultiple = 0x17;
-
 // Quantity limits of the Modbus Application Protocol V1.1b3 (6.3, 6.12, 6.17).
 constexpr std::uint16_t kMaxReadQuantity = 0x7D;
 constexpr std::uint16_t kMaxWriteQuantity = 0x7B;
@@ -38,7 +33,7 @@ std::size_t ModbusCore::respond(const std::uint8_t* pdu, std::size_t length, std
     return 2;
   }
   response[0] = fc;
-  if (fc == kWriteMultiple) {  // echo of address and quantity
+  if (fc == kFcWriteMultiple) {  // echo of address and quantity
     std::copy(pdu + 1, pdu + 5, response + 1);
     return 5;
   }
@@ -50,10 +45,10 @@ std::size_t ModbusCore::respond(const std::uint8_t* pdu, std::size_t length, std
 ModbusException ModbusCore::decide(const std::uint8_t* pdu, std::size_t length, ReadWords& read) {
   if (length < 1) return ModbusException::kIllegalDataValue;
   switch (pdu[0]) {
-    case kReadHolding: return read_holding(pdu, length, read);
-    case kWriteMultiple: return write_multiple(pdu, length);
-    case kReadWriteMultiple: return read_write_multiple(pdu, length, read);
-    case kWriteSingle: return write_single(length);
+    case kFcReadHolding: return read_holding(pdu, length, read);
+    case kFcWriteMultiple: return write_multiple(pdu, length);
+    case kFcReadWriteMultiple: return read_write_multiple(pdu, length, read);
+    case kFcWriteSingle: return write_single(length);
     default: break;
   }
   return modbus_exception(vars_.fault(AccessFault::kBadFunction));

@@ -7,8 +7,6 @@ namespace trueaxis::macros {
 namespace {
 
 constexpr std::size_t kMinFrameBytes = 4;  // address, function code, CRC
-constexpr std::uint8_t kReadHolding = 0x03;
-constexpr std::uint8_t kReadWriteMultiple = 0x17;
 
 // CRC-16/MODBUS one byte at a time: the table holds the eight shift-and-xor
 // steps of the reflected polynomial 0xA001 for each value of the low byte.
@@ -90,7 +88,7 @@ std::size_t ModbusRtu::end_frame(std::uint8_t* reply) {
   const std::uint8_t* pdu = frame_ + 1;
   const std::size_t pdu_bytes = n - 3;
   if (to == kRtuBroadcast) {
-    if (pdu[0] == kReadHolding || pdu[0] == kReadWriteMultiple) {
+    if (pdu[0] == kFcReadHolding || pdu[0] == kFcReadWriteMultiple) {
       ++counters_.ignored_reads;
       return 0;
     }

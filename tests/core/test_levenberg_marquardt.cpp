@@ -88,6 +88,24 @@ Eigen::Matrix<long double, 3, 1> gauss_newton_l(const Data& d, Eigen::Matrix<lon
   return p;
 }
 
+// LM on the linear model r_i = a_i . p - b_i, from p0, to its end.
+core::LevenbergMarquardt<3> solve_linear(const std::vector<Vec3p>& a, const std::vector<double>& b, const Vec3p& p0,
+                                         const core::LmOptions& options) {
+  core::LevenbergMarquardt<3> lm;
+  lm.start(p0, options);
+  core::LmStep s;
+  do {
+    lm.begin_evaluation();
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      R1 r;
+      r(0) = a[i].dot(lm.point()) - b[i];
+      lm.add(r, J13(a[i].transpose()));
+    }
+    s = lm.finish_evaluation();
+  } while (s.more);
+  return lm;
+}
+
 }  // namespace
 
 TEST_CASE("a linear model: the least-squares solution of a long-double QR", "[lm]") {
@@ -111,18 +129,7 @@ TEST_CASE("a linear model: the least-squares solution of a long-double QR", "[lm
     for (const double stat_tol : {0.0, core::LmOptions().stat_tol}) {
       core::LmOptions options;
       options.stat_tol = stat_tol;
-      core::LevenbergMarquardt<3> lm;
-      lm.start(Vec3p(100, -50, 3), options);
-      core::LmStep s;
-      do {
-        lm.begin_evaluation();
-        for (std::size_t i = 0; i < a.size(); ++i) {
-          R1 r;
-          r(0) = a[i].dot(lm.point()) - b[i];
-          lm.add(r, J13(a[i].transpose()));
-        }
-        s = lm.finish_evaluation();
-      } while (s.more);
+      const core::LevenbergMarquardt<3> lm = solve_linear(a, b, Vec3p(100, -50, 3), options);
       REQUIRE(lm.status() == Status::kOk);
       // Within 1e-6 of each parameter's own standard uncertainty: below that the
       // cost cannot tell two points apart (its rounding, 1e-16 F, is larger).
@@ -309,21 +316,7 @@ TEST_CASE("the statistical stop holds at stat_tol of the 1-sigma ellipsoid, not 
     a.emplace_back(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
     b.push_back(rng.uniform(-10, 10));
   }
-  auto solve = [&](const Vec3p& p0, const core::LmOptions& options) {
-    core::LevenbergMarquardt<3> lm;
-    lm.start(p0, options);
-    core::LmStep s;
-    do {
-      lm.begin_evaluation();
-      for (std::size_t i = 0; i < a.size(); ++i) {
-        R1 r;
-        r(0) = a[i].dot(lm.point()) - b[i];
-        lm.add(r, J13(a[i].transpose()));
-      }
-      s = lm.finish_evaluation();
-    } while (s.more);
-    return lm;
-  };
+  auto solve = [&](const Vec3p& p0, const core::LmOptions& options) { return solve_linear(a, b, p0, options); };
   core::LmOptions exact;
   exact.stat_tol = 0.0;
   const core::LevenbergMarquardt<3> best = solve(Vec3p::Zero(), exact);

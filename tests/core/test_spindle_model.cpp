@@ -60,6 +60,16 @@ std::unique_ptr<core::SpindleBins> bins_of(const std::vector<core::SpindleSample
   return bins;
 }
 
+// Steps `builder` until it is done: the number of steps, the last one in `last`.
+int step_to_end(core::SpindleBuilder& builder, core::SpindleStep& last) {
+  int steps = 0;
+  do {
+    last = builder.step();
+    ++steps;
+  } while (last.more);
+  return steps;
+}
+
 }  // namespace
 
 TEST_CASE("noise-free data give the parameters back", "[spindle]") {
@@ -353,11 +363,7 @@ TEST_CASE("the builder's steps are bounded and give fit_spindle's result bit for
   core::SpindleBuilder builder;
   builder.start(*bins, kGeometry);
   core::SpindleStep step;
-  int steps = 0;
-  do {
-    step = builder.step();
-    ++steps;
-  } while (step.more);
+  const int steps = step_to_end(builder, step);
   REQUIRE(step.status == Status::kOk);
   core::SpindleFit direct;
   REQUIRE(core::fit_spindle(s.data(), s.size(), kGeometry, direct) == Status::kOk);
@@ -465,11 +471,7 @@ TEST_CASE("an evaluation never takes more than kBinsPerStep bins in one step", "
   core::SpindleBuilder builder;
   builder.start(*bins, kGeometry);
   core::SpindleStep step;
-  int steps = 0;
-  do {
-    step = builder.step();
-    ++steps;
-  } while (step.more);
+  const int steps = step_to_end(builder, step);
   REQUIRE(step.status == Status::kOk);
   CHECK(steps == 1 + builder.fit().evaluations * (2 + 1) + 1);
 }

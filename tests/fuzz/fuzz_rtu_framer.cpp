@@ -41,6 +41,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "crc16_reference.hpp"
 #include "fuzz_support.hpp"
 #include "trueaxis/macros/modbus_core.hpp"
 #include "trueaxis/macros/modbus_rtu.hpp"
@@ -68,16 +69,6 @@ class LineClock final : public trueaxis::hal::Clock {
     return now;
   }
 };
-
-// Convention 1: the specification's bit loop, not the product's table.
-std::uint16_t crc_bitwise(const std::uint8_t* data, std::size_t n) {
-  std::uint32_t crc = 0xFFFF;
-  for (std::size_t i = 0; i < n; ++i) {
-    crc ^= data[i];
-    for (int bit = 0; bit < 8; ++bit) crc = (crc & 1u) ? ((crc >> 1) ^ 0xA001u) : (crc >> 1);
-  }
-  return static_cast<std::uint16_t>(crc);
-}
 
 // The reading of conventions 2, 4, 5 and 7, with the reference core behind it.
 struct Reference {
@@ -121,7 +112,7 @@ struct Reference {
       return;
     }
     const unsigned sent = frame[n - 2] + 256u * frame[n - 1];
-    if (crc_bitwise(frame, n - 2) != sent) {
+    if (trueaxis::test::crc16_bitwise(frame, n - 2) != sent) {
       ++bad_crc;
       return;
     }
@@ -147,7 +138,7 @@ struct Reference {
     const std::size_t pdu = core.respond(frame + 1, n - 3, reply + 1);
     FUZZ_CHECK(pdu >= 2 && pdu <= 253);
     reply[0] = address;
-    const std::uint16_t crc = crc_bitwise(reply, 1 + pdu);
+    const std::uint16_t crc = trueaxis::test::crc16_bitwise(reply, 1 + pdu);
     reply[1 + pdu] = static_cast<std::uint8_t>(crc & 0xFF);
     reply[2 + pdu] = static_cast<std::uint8_t>(crc >> 8);
     reply_bytes = 3 + pdu;
@@ -210,7 +201,7 @@ void check_same(const trueaxis::macros::ModbusRtu& rtu, const Reference& ref, co
   if (out.n == 0) return;
   FUZZ_CHECK(out.n >= 5 && out.n <= kReplyRoom);
   FUZZ_CHECK(out.buffer[0] == ref.address);
-  FUZZ_CHECK(crc_bitwise(out.buffer, out.n - 2) == out.buffer[out.n - 2] + 256u * out.buffer[out.n - 1]);
+  FUZZ_CHECK(trueaxis::test::crc16_bitwise(out.buffer, out.n - 2) == out.buffer[out.n - 2] + 256u * out.buffer[out.n - 1]);
   FUZZ_CHECK(std::memcmp(out.buffer, ref.reply, out.n) == 0);
 }
 

@@ -29,6 +29,7 @@
 #include <thread>
 
 #include "conformance.hpp"
+#include "crc16_reference.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/macros/register_codec.hpp"
 
@@ -176,22 +177,11 @@ void drain(modbus_t* ctx) { static_cast<void>(bytes_arriving(modbus_get_socket(c
 
 namespace c = trueaxis::conformance;
 
-// CRC-16/MODBUS by the specification's bit loop (Modbus over Serial Line V1.02,
-// 6.2.2), written here rather than taken from the image's table-driven one.
-std::uint16_t crc_bitwise(const c::Bytes& data) {
-  std::uint16_t crc = 0xFFFF;
-  for (std::uint8_t byte : data) {
-    crc ^= byte;
-    for (int i = 0; i < 8; ++i) crc = (crc & 1u) != 0 ? static_cast<std::uint16_t>((crc >> 1) ^ 0xA001u) : static_cast<std::uint16_t>(crc >> 1);
-  }
-  return crc;
-}
-
 // | address | PDU | CRC low | CRC high |.
 c::Bytes rtu_frame(std::uint8_t to, const c::Bytes& pdu) {
   c::Bytes f = {to};
   f.insert(f.end(), pdu.begin(), pdu.end());
-  const std::uint16_t crc = crc_bitwise(f);
+  const std::uint16_t crc = trueaxis::test::crc16_bitwise(f);
   f.push_back(static_cast<std::uint8_t>(crc));
   f.push_back(static_cast<std::uint8_t>(crc >> 8));
   return f;
@@ -265,7 +255,7 @@ class RtuTransport final : public c::Transport {
       return false;
     }
     const c::Bytes body(r.begin(), r.end() - 2);
-    const std::uint16_t crc = crc_bitwise(body);
+    const std::uint16_t crc = trueaxis::test::crc16_bitwise(body);
     if (r[0] != 1 || r[total - 2] != static_cast<std::uint8_t>(crc) || r[total - 1] != static_cast<std::uint8_t>(crc >> 8)) {
       why = "reply with a wrong address or CRC: " + c::hex(r);
       return false;

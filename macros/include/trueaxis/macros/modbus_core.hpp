@@ -47,6 +47,12 @@ namespace trueaxis::macros {
 // The largest PDU Modbus allows (MBAP length 254 minus the unit id).
 inline constexpr std::size_t kMaxPduBytes = 253;
 
+// The function codes the core serves (contract 3), for the transports too.
+inline constexpr std::uint8_t kFcReadHolding = 0x03;
+inline constexpr std::uint8_t kFcWriteSingle = 0x06;
+inline constexpr std::uint8_t kFcWriteMultiple = 0x10;
+inline constexpr std::uint8_t kFcReadWriteMultiple = 0x17;
+
 class ModbusCore {
  public:
   explicit ModbusCore(VariableAccess& vars) : vars_(vars) {}
