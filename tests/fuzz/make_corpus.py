@@ -220,7 +220,7 @@ def spindle_model():
 
 
 def store_seeds():
-    config = variables([(500, -100.0), (501, 100.0), (9009, 1234.0)])
+    config = variables([(500, -100.0), (501, 100.0), (900, 1234.0)])
     offsets = variables([(5221, 1.0), (5222, 2.0), (5223, 3.0), (5281, 0.0)])
     seeds = {
         "empty_image": b"\x01",

@@ -48,8 +48,8 @@ void put16(std::vector<std::uint8_t>& v, std::uint32_t x) {
 std::vector<std::uint8_t> random_request(Rng& rng) {
   // Not #9004: a wrong code there starts a back-off of up to 64 s (access
   // control, tests/macros/test_access_control.cpp), which would keep the end of
-  // this test from unlocking; #9009, the code itself, is refused while locked.
-  static const std::uint16_t kNearby[] = {1, 3, 26, 100, 107, 500, 506, 1001, 5281, 5301, 5321, 9000, 9001, 9009,
+  // this test from unlocking; #900, the code itself, is refused while locked.
+  static const std::uint16_t kNearby[] = {1, 3, 26, 100, 107, 500, 506, 1001, 5281, 5301, 5321, 9000, 9001, 900,
                                           9007, 12000, 12004, 12009, 12013, 16383};
   std::vector<std::uint8_t> req = {0xFF};  // unit id
   const std::uint32_t kind = rng.below(10);

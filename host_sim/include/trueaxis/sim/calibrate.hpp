@@ -31,7 +31,7 @@ struct CalibrateOptions {
   std::string machine_path;  // "" when absent
   std::string report_dir;    // "" when absent
   bool store = false;
-  double unlock_code = macros::kUnlockCode;  // --unlock-code: the machine's own (#9009)
+  double unlock_code = macros::kUnlockCode;  // --unlock-code: the machine's own (#900)
   std::string host = "127.0.0.1";
   int port = 502;
 };

@@ -27,7 +27,7 @@
 //     save fails the macro with kStorageFailure and publishes nothing.
 //  6. Extra macros (an integrator's own, or a test's) may be handed in; they
 //     are looked up after the product's macros and share their contract.
-//  7. Access control. #9004 takes the code in #9009 (a persistent
+//  7. Access control. #9004 takes the code in #900 (a persistent
 //     configuration variable, default kUnlockCode = 2718, published for
 //     commissioning only; it reads 0) or 0. A right code unlocks; 0 locks. A
 //     wrong code is refused (kBadUnlockCode), counted in #9010, and makes

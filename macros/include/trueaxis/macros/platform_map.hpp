@@ -6,11 +6,12 @@
 //  2. #100 .. #199   results of the last successful macro; read-only. Their
 //                    meaning is per macro (each macro's outputs in the JSON map).
 //  3. #500 .. #999   configuration; persistent; writable only while unlocked.
-//                    Each method owns a block (kMethodBlocks, methods.hpp).
+//                    Each method owns a block (kMethodBlocks, methods.hpp);
+//                    #900 .. #999 is the platform's (the unlock code, #900).
 //  4. #1000 .. #4999 macro-input data of the methods (point lists), one block
 //                    per method; volatile, cleared after every macro.
 //  5. #5221 .. #5326 work offsets G54 .. G59 (+0 X .. +5 C); persistent.
-//  6. #9000 .. #9009 the handshake.
+//  6. #9000 .. #9009 the handshake; #9010 the count of wrong unlock codes.
 // A number is written once, here or in its method's map file; rows are built
 // from these names.
 #pragma once
@@ -63,6 +64,8 @@ inline constexpr std::uint16_t kG59 = 5321;
 inline constexpr std::uint16_t kWorkOffsetStride = 20;  // G(n+1) = G(n) + 20
 inline constexpr std::uint16_t kWorkOffsetAxes = 6;     // X Y Z A B C
 
+inline constexpr std::uint16_t kUnlockCodeSetting = 900;
+
 inline constexpr std::uint16_t kCmd = 9000;
 inline constexpr std::uint16_t kStatus = 9001;
 inline constexpr std::uint16_t kError = 9002;
@@ -72,14 +75,13 @@ inline constexpr std::uint16_t kRunTime = 9005;
 inline constexpr std::uint16_t kInterfaceVersion = 9006;
 inline constexpr std::uint16_t kAccessFault = 9007;
 inline constexpr std::uint16_t kStepCount = 9008;
-inline constexpr std::uint16_t kUnlockCodeSetting = 9009;
 inline constexpr std::uint16_t kFailedUnlocks = 9010;
 }  // namespace var
 
 // #9001 values.
 enum class MacroState : std::uint8_t { kIdle = 0, kBusy = 1, kDone = 2, kError = 3 };
 
-// The published unlock code: the default of #9009, for commissioning only (the
+// The published unlock code: the default of #900, for commissioning only (the
 // integrator sets the machine's own, module.hpp contract 7).
 inline constexpr double kUnlockCode = 2718.0;
 inline constexpr double kInterfaceVersionValue = 1.0;
@@ -135,6 +137,8 @@ inline constexpr VarInfo kPlatformArgRows[] = {
 };
 
 inline constexpr VarInfo kPlatformRows[] = {
+  {var::kUnlockCodeSetting, 1, Access::kConfig, ValueKind::kInteger, 1.0, 9999.0, kUnlockCode, "unlock_code", "", "The code #9004 takes: set it while unlocked (persistent); it reads 0. The default 2718 is published, for commissioning only. An unlock closes by itself 300 s after the last write that succeeded, and when the connection that opened it closes."},
+
   rows::offset(var::kG54 + 0, "g54_x", "mm"), rows::offset(var::kG54 + 1, "g54_y", "mm"), rows::offset(var::kG54 + 2, "g54_z", "mm"),
   rows::offset(var::kG54 + 3, "g54_a", "deg"), rows::offset(var::kG54 + 4, "g54_b", "deg"), rows::offset(var::kG54 + 5, "g54_c", "deg"),
   rows::offset(var::kG55 + 0, "g55_x", "mm"), rows::offset(var::kG55 + 1, "g55_y", "mm"), rows::offset(var::kG55 + 2, "g55_z", "mm"),
@@ -157,7 +161,6 @@ inline constexpr VarInfo kPlatformRows[] = {
   {var::kInterfaceVersion, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, kInterfaceVersionValue, "interface_version", "", "Version of this register map."},
   {var::kAccessFault, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 255.0, 0.0, "access_fault", "", "Why the last refused register access was refused (see access_faults)."},
   {var::kStepCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "step_count", "", "Number of step() calls the last macro took (1 for a macro that finishes in one step)."},
-  {var::kUnlockCodeSetting, 1, Access::kConfig, ValueKind::kInteger, 1.0, 9999.0, kUnlockCode, "unlock_code", "", "The code #9004 takes: set it while unlocked (persistent); it reads 0. The default 2718 is published, for commissioning only. An unlock closes by itself 300 s after the last write that succeeded, and when the connection that opened it closes."},
   {var::kFailedUnlocks, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "failed_unlocks", "", "Wrong codes written to #9004 since start; each makes #9004 refuse codes for a back-off (1 s, doubling up to 64 s)."},
 };
 // clang-format on
