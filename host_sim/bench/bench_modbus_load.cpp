@@ -62,7 +62,7 @@
 #include <modbus/modbus.h>
 
 #include "loopback.hpp"
-#include "trueaxis/macros/register_codec.hpp"
+#include "trueaxis/modbus/register_codec.hpp"
 #include "trueaxis/sim/client.hpp"
 #include "trueaxis/sim/sim_process.hpp"
 
@@ -174,10 +174,10 @@ struct BareServer {
   bool start(double value, int cpu) {
     ctx = modbus_new_tcp("127.0.0.1", 0);
     if (ctx == nullptr) return false;
-    const int reg = static_cast<int>(trueaxis::macros::register_of(1));
+    const int reg = static_cast<int>(trueaxis::modbus::register_of(1));
     map = modbus_mapping_new(0, 0, reg + 4, 0);
     if (map == nullptr) return false;
-    trueaxis::macros::encode_double(value, map->tab_registers + reg);
+    trueaxis::modbus::encode_double(value, map->tab_registers + reg);
     listen_fd = modbus_tcp_listen(ctx, 1);
     if (listen_fd < 0) return false;
     sockaddr_in a{};
@@ -230,11 +230,11 @@ modbus_t* client_to(int port) {
 
 // n sequential reads of #1 (registers 4..7); the seconds taken, -1 on a failure.
 double read_block(modbus_t* ctx, int n, double expect) {
-  const int reg = static_cast<int>(trueaxis::macros::register_of(1));
+  const int reg = static_cast<int>(trueaxis::modbus::register_of(1));
   const auto t0 = Clock::now();
   for (int i = 0; i < n; ++i) {
     std::uint16_t w[4] = {};
-    if (modbus_read_registers(ctx, reg, 4, w) != 4 || trueaxis::macros::decode_double(w) != expect) return -1.0;
+    if (modbus_read_registers(ctx, reg, 4, w) != 4 || trueaxis::modbus::decode_double(w) != expect) return -1.0;
   }
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }

@@ -22,7 +22,7 @@
 #include <sys/types.h>
 #include <unistd.h>
 
-#include "trueaxis/macros/register_codec.hpp"
+#include "trueaxis/modbus/register_codec.hpp"
 
 namespace trueaxis::sim::loopback {
 
@@ -73,7 +73,7 @@ inline bool receive_exact(int fd, std::uint8_t* out, std::size_t n, int timeout_
 
 // FC3 of variable #number (4 registers): 12 bytes.
 inline Bytes read_frame(std::uint16_t tid, std::uint16_t number) {
-  const std::uint32_t reg = trueaxis::macros::register_of(number);
+  const std::uint32_t reg = trueaxis::modbus::register_of(number);
   return {static_cast<std::uint8_t>(tid >> 8), static_cast<std::uint8_t>(tid), 0, 0, 0, 6, 1, 3,
           static_cast<std::uint8_t>(reg >> 8), static_cast<std::uint8_t>(reg), 0, 4};
 }
@@ -86,7 +86,7 @@ inline bool read_reply(int fd, std::uint16_t tid, double& value, int timeout_ms 
   if (!std::equal(head, head + 9, r)) return false;
   std::uint16_t w[4];
   for (std::size_t i = 0; i < 4; ++i) w[i] = static_cast<std::uint16_t>((r[9 + 2 * i] << 8) | r[10 + 2 * i]);
-  value = trueaxis::macros::decode_double(w);
+  value = trueaxis::modbus::decode_double(w);
   return true;
 }
 

@@ -3,7 +3,7 @@
 #include <cerrno>
 #include <chrono>
 
-#include "trueaxis/macros/register_codec.hpp"
+#include "trueaxis/modbus/register_codec.hpp"
 
 namespace trueaxis::sim {
 
@@ -36,28 +36,28 @@ void VariableClient::close() {
 
 bool VariableClient::read(std::uint16_t first, std::uint16_t count, double* out) {
   std::uint16_t words[MODBUS_MAX_READ_REGISTERS];
-  const int n = count * macros::kRegistersPerVariable;
+  const int n = count * modbus::kRegistersPerVariable;
   if (ctx_ == nullptr || n > MODBUS_MAX_READ_REGISTERS) {
     error_ = EINVAL;
     return false;
   }
-  if (modbus_read_registers(ctx_, static_cast<int>(macros::register_of(first)), n, words) != n) {
+  if (modbus_read_registers(ctx_, static_cast<int>(modbus::register_of(first)), n, words) != n) {
     error_ = errno;
     return false;
   }
-  for (std::uint16_t i = 0; i < count; ++i) out[i] = macros::decode_double(words + 4 * i);
+  for (std::uint16_t i = 0; i < count; ++i) out[i] = modbus::decode_double(words + 4 * i);
   return true;
 }
 
 bool VariableClient::write(std::uint16_t first, std::uint16_t count, const double* values) {
   std::uint16_t words[MODBUS_MAX_WRITE_REGISTERS];
-  const int n = count * macros::kRegistersPerVariable;
+  const int n = count * modbus::kRegistersPerVariable;
   if (ctx_ == nullptr || n > MODBUS_MAX_WRITE_REGISTERS) {
     error_ = EINVAL;
     return false;
   }
-  for (std::uint16_t i = 0; i < count; ++i) macros::encode_double(values[i], words + 4 * i);
-  if (modbus_write_registers(ctx_, static_cast<int>(macros::register_of(first)), n, words) != n) {
+  for (std::uint16_t i = 0; i < count; ++i) modbus::encode_double(values[i], words + 4 * i);
+  if (modbus_write_registers(ctx_, static_cast<int>(modbus::register_of(first)), n, words) != n) {
     error_ = errno;
     return false;
   }

@@ -16,13 +16,13 @@ namespace {
 
 constexpr std::size_t kHeaderBytes = 6;  // transaction id, protocol id, length
 constexpr std::size_t kMinLength = 2;    // unit id + function code
-constexpr std::size_t kMaxLength = 1 + macros::kMaxPduBytes;
+constexpr std::size_t kMaxLength = 1 + modbus::kMaxPduBytes;
 
 std::size_t be16(const std::uint8_t* p) { return static_cast<std::size_t>((p[0] << 8) | p[1]); }
 
 }  // namespace
 
-ModbusTcpServer::ModbusTcpServer(macros::ModbusCore& core, Simulator& simulator, const ServerLimits& limits)
+ModbusTcpServer::ModbusTcpServer(modbus::ModbusCore& core, Simulator& simulator, const ServerLimits& limits)
     : core_(core), simulator_(simulator), limits_(limits) {
   clients_.reserve(limits_.max_clients);
   polled_.reserve(limits_.max_clients + 1);

@@ -9,7 +9,7 @@
 
 #include "trueaxis/hal/posix/file_nv_storage.hpp"
 #include "trueaxis/hal/posix/steady_clock.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 #include "trueaxis/sim/modbus_server.hpp"
@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
   }
   sim::Simulator simulator(module, face, seed, errors_on);
   sim::VariableRouter router(module, simulator);
-  macros::ModbusCore core(router);
+  modbus::ModbusCore core(router);
   sim::ModbusTcpServer server(core, simulator, limits);
 
   // Block the stop signals; ppoll unblocks them only while waiting.

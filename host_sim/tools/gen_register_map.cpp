@@ -10,7 +10,7 @@
 #include "trueaxis/macros/methods.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
-#include "trueaxis/macros/register_codec.hpp"
+#include "trueaxis/modbus/register_codec.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/sim/sim_map.hpp"
 
@@ -98,7 +98,7 @@ void json_variables(const Table& table, bool sim_only, bool& first) {
     std::printf("%s\n    {\"number\": %u, \"count\": %u, \"register\": %u, \"name\": \"%s\", \"access\": \"%s\", "
                 "\"kind\": \"%s\", \"min\": %.17g, \"max\": %.17g, \"default\": %.17g, \"unit\": \"%s\", "
                 "\"persistent\": %s, \"simulator_only\": %s,\n     \"description\": \"%s\"}",
-                first ? "" : ",", v.number, v.count, static_cast<unsigned>(m::register_of(v.number)), v.name,
+                first ? "" : ",", v.number, v.count, static_cast<unsigned>(trueaxis::modbus::register_of(v.number)), v.name,
                 access_name(v.access), kind_name(v.kind), v.min, v.max, v.default_value, v.unit,
                 m::is_persistent(v) ? "true" : "false", sim_only ? "true" : "false", escaped(v.description).c_str());
     first = false;
@@ -111,7 +111,7 @@ void print_json() {
       "  \"encoding\": {\"value\": \"IEEE-754 binary64\", \"registers_per_variable\": 4, "
       "\"register_of_variable\": \"4 * N\", \"word_order\": \"register 4N holds bits 63..48, 4N+3 bits 15..0\", "
       "\"function_codes\": [3, 16, 23], \"max_variables_per_read\": %u, \"max_variables_per_write\": %u},\n",
-      m::kMaxVariablesPerRead, m::kMaxVariablesPerWrite);
+      trueaxis::modbus::kMaxVariablesPerRead, trueaxis::modbus::kMaxVariablesPerWrite);
   std::printf("  \"unlock_code\": %d,\n", static_cast<int>(m::kUnlockCode));
   std::printf("  \"macro_status\": {\"0\": \"idle\", \"1\": \"busy\", \"2\": \"done\", \"3\": \"error\"},\n");
   std::printf("  \"variables\": [");
@@ -210,7 +210,7 @@ void markdown_rows(const Table& table) {
       std::snprintf(number, sizeof number, "#%u..#%u", v.number, v.number + v.count - 1);
     }
     std::printf("| %s | %u | %s | %s | %s | %s | %.10g | %s |\n", number,
-                static_cast<unsigned>(m::register_of(v.number)), v.name, access_name(v.access), v.unit,
+                static_cast<unsigned>(trueaxis::modbus::register_of(v.number)), v.name, access_name(v.access), v.unit,
                 range_text(v).c_str(), v.default_value, v.description);
   }
 }
@@ -224,7 +224,7 @@ void print_markdown() {
       "double). Function codes 3, 16 and 23; at most %u variables per read and %u per write. Configuration (`config`) is "
       "writable only after writing the unlock code %d to #9004. `persistent` and `config` variables survive a "
       "restart.\n\n",
-      static_cast<int>(m::kInterfaceVersionValue), m::kMaxVariablesPerRead, m::kMaxVariablesPerWrite,
+      static_cast<int>(m::kInterfaceVersionValue), trueaxis::modbus::kMaxVariablesPerRead, trueaxis::modbus::kMaxVariablesPerWrite,
       static_cast<int>(m::kUnlockCode));
   const char* header =
       "| variable | register | name | access | unit | range | default | meaning |\n"

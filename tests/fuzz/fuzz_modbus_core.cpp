@@ -20,7 +20,7 @@
 #include <cstdint>
 
 #include "fuzz_support.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
 
 namespace {
 
@@ -28,7 +28,7 @@ using trueaxis::fuzz::FreshBench;
 using trueaxis::fuzz::Input;
 using trueaxis::fuzz::ModuleBench;
 using trueaxis::fuzz::Snapshot;
-using trueaxis::macros::kMaxPduBytes;
+using trueaxis::modbus::kMaxPduBytes;
 
 constexpr int kMaxRequests = 16;
 
@@ -64,7 +64,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static unsigned char after_bytes[FreshBench::kBytes];
   ModuleBench& b = fresh.make();
   FUZZ_CHECK(b.module.start() == trueaxis::core::Status::kOk);
-  trueaxis::macros::ModbusCore core(b.module);
+  trueaxis::modbus::ModbusCore core(b.module);
 
   Input in(data, size);
   for (int r = 0; r < kMaxRequests && !in.empty(); ++r) {

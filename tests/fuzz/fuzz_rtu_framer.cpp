@@ -43,8 +43,8 @@
 
 #include "crc16_reference.hpp"
 #include "fuzz_support.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
-#include "trueaxis/macros/modbus_rtu.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_rtu.hpp"
 
 namespace {
 
@@ -72,7 +72,7 @@ class LineClock final : public trueaxis::hal::Clock {
 
 // The reading of conventions 2, 4, 5 and 7, with the reference core behind it.
 struct Reference {
-  trueaxis::macros::ModbusCore& core;
+  trueaxis::modbus::ModbusCore& core;
   std::uint64_t character_us;  // convention 2: 11 bits a character, rounded up
   std::uint64_t silence_us;    // 3.5 characters, 1750 us above 19200 baud, rounded up
   std::uint8_t address;
@@ -88,7 +88,7 @@ struct Reference {
   std::size_t reply_bytes = 0;
   int core_calls = 0;
 
-  Reference(trueaxis::macros::ModbusCore& c, std::uint32_t baud, std::uint8_t requested)
+  Reference(trueaxis::modbus::ModbusCore& c, std::uint32_t baud, std::uint8_t requested)
       : core(c),
         character_us((11ull * 1'000'000ull + baud - 1) / baud),
         silence_us(baud <= 19200 ? (35ull * 1'100'000ull + baud - 1) / baud : 1750),
@@ -184,8 +184,8 @@ struct Served {
   std::size_t n = 0;
 };
 
-void check_same(const trueaxis::macros::ModbusRtu& rtu, const Reference& ref, const Served& out) {
-  const trueaxis::macros::RtuCounters& c = rtu.counters();
+void check_same(const trueaxis::modbus::ModbusRtu& rtu, const Reference& ref, const Served& out) {
+  const trueaxis::modbus::RtuCounters& c = rtu.counters();
   FUZZ_CHECK(c.served == ref.served);
   FUZZ_CHECK(c.broadcasts == ref.broadcasts);
   FUZZ_CHECK(c.ignored_reads == ref.ignored_reads);
@@ -216,16 +216,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   ModuleBench& served_module = served_bench.make();
   FUZZ_CHECK(served_module.module.start() == trueaxis::core::Status::kOk);
-  trueaxis::macros::ModbusCore served_core(served_module.module);
+  trueaxis::modbus::ModbusCore served_core(served_module.module);
   ModuleBench& reference_module = reference_bench.make();
   FUZZ_CHECK(reference_module.module.start() == trueaxis::core::Status::kOk);
-  trueaxis::macros::ModbusCore reference_core(reference_module.module);
+  trueaxis::modbus::ModbusCore reference_core(reference_module.module);
 
   Input in(data, size);
   const std::uint32_t baud = kBauds[in.u8() & 7u];
   const std::uint8_t address = in.u8();
   LineClock clock;
-  trueaxis::macros::ModbusRtu rtu(served_core, clock, address, baud);
+  trueaxis::modbus::ModbusRtu rtu(served_core, clock, address, baud);
   Reference ref(reference_core, baud, address);
   Served out;
   std::memset(out.buffer, 0xA5, sizeof out.buffer);

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "fuzz_support.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/sim/modbus_server.hpp"
 #include "trueaxis/sim/simulator.hpp"
 #include "trueaxis/sim/variable_router.hpp"
@@ -65,7 +65,7 @@ struct SimStack {
   ModuleBench& bench;
   trueaxis::sim::Simulator simulator;
   trueaxis::sim::VariableRouter router;
-  trueaxis::macros::ModbusCore core;
+  trueaxis::modbus::ModbusCore core;
 
   explicit SimStack(ModuleBench& b)
       : bench(b), simulator(b.module, trueaxis::sim::FaceConfig{}, 1), router(b.module, simulator), core(router) {}
@@ -157,7 +157,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::size_t at = 0;
   for (const auto& [offset, length] : cut.frames) {
     const std::uint8_t* frame = &stream[offset];
-    std::uint8_t pdu[trueaxis::macros::kMaxPduBytes + 16];
+    std::uint8_t pdu[trueaxis::modbus::kMaxPduBytes + 16];
     const std::size_t pdu_bytes = reference.core.respond(frame + 7, length - 1, pdu);
     reference.simulator.after_request();
     FUZZ_CHECK(replies.size() - at >= 7 + pdu_bytes);

@@ -5,7 +5,7 @@
 #include <limits>
 #include <utility>
 
-#include "trueaxis/macros/register_codec.hpp"
+#include "trueaxis/modbus/register_codec.hpp"
 
 namespace m = trueaxis::macros;
 
@@ -39,12 +39,12 @@ class Recorder final : public m::VariableAccess {
 
 TEST_CASE("encodes #100 = 1.0 as 0x3FF0 0 0 0 at registers 400..403", "[codec]") {
   std::uint16_t w[4];
-  m::encode_double(1.0, w);
+  trueaxis::modbus::encode_double(1.0, w);
   CHECK(w[0] == 0x3FF0);
   CHECK(w[1] == 0);
   CHECK(w[2] == 0);
   CHECK(w[3] == 0);
-  CHECK(m::register_of(100) == 400);
+  CHECK(trueaxis::modbus::register_of(100) == 400);
 }
 
 TEST_CASE("puts the most significant 16 bits first", "[codec]") {
@@ -52,18 +52,18 @@ TEST_CASE("puts the most significant 16 bits first", "[codec]") {
   std::uint64_t bits;
   std::memcpy(&bits, &v, sizeof bits);
   std::uint16_t w[4];
-  m::encode_double(v, w);
+  trueaxis::modbus::encode_double(v, w);
   CHECK(w[0] == static_cast<std::uint16_t>(bits >> 48));
   CHECK(w[3] == static_cast<std::uint16_t>(bits & 0xFFFF));
-  CHECK(m::decode_double(w) == v);
+  CHECK(trueaxis::modbus::decode_double(w) == v);
 }
 
 TEST_CASE("round-trips every bit pattern class", "[codec]") {
   for (double v : {0.0, -0.0, 1e-310, std::numeric_limits<double>::max(), std::numeric_limits<double>::infinity(),
                    3.141592653589793}) {
     std::uint16_t w[4];
-    m::encode_double(v, w);
-    const double back = m::decode_double(w);
+    trueaxis::modbus::encode_double(v, w);
+    const double back = trueaxis::modbus::decode_double(w);
     CHECK(std::memcmp(&back, &v, sizeof v) == 0);
   }
 }
@@ -71,27 +71,27 @@ TEST_CASE("round-trips every bit pattern class", "[codec]") {
 TEST_CASE("refuses ranges that are not whole variables", "[codec]") {
   Recorder r;
   std::array<std::uint16_t, 128> words{};
-  CHECK(m::read_registers(r, 401, 4, words.data()) == m::AccessFault::kMisaligned);
+  CHECK(trueaxis::modbus::read_registers(r, 401, 4, words.data()) == m::AccessFault::kMisaligned);
   CHECK(r.last_fault == m::AccessFault::kMisaligned);
-  CHECK(m::read_registers(r, 400, 3, words.data()) == m::AccessFault::kMisaligned);
-  CHECK(m::read_registers(r, 400, 0, words.data()) == m::AccessFault::kMisaligned);
-  CHECK(m::write_registers(r, 402, 4, words.data()) == m::AccessFault::kMisaligned);
-  CHECK(m::write_registers(r, 400, 6, words.data()) == m::AccessFault::kMisaligned);
-  CHECK(m::read_registers(r, 400, 128, words.data()) == m::AccessFault::kMisaligned);  // 32 variables
+  CHECK(trueaxis::modbus::read_registers(r, 400, 3, words.data()) == m::AccessFault::kMisaligned);
+  CHECK(trueaxis::modbus::read_registers(r, 400, 0, words.data()) == m::AccessFault::kMisaligned);
+  CHECK(trueaxis::modbus::write_registers(r, 402, 4, words.data()) == m::AccessFault::kMisaligned);
+  CHECK(trueaxis::modbus::write_registers(r, 400, 6, words.data()) == m::AccessFault::kMisaligned);
+  CHECK(trueaxis::modbus::read_registers(r, 400, 128, words.data()) == m::AccessFault::kMisaligned);  // 32 variables
   CHECK(r.count == 0);
 }
 
 TEST_CASE("maps whole-variable ranges to variable numbers", "[codec]") {
   Recorder r;
   std::array<std::uint16_t, 124> words{};
-  CHECK(m::read_registers(r, 4 * 5281, 12, words.data()) == m::AccessFault::kNone);
+  CHECK(trueaxis::modbus::read_registers(r, 4 * 5281, 12, words.data()) == m::AccessFault::kNone);
   CHECK(r.first == 5281);
   CHECK(r.count == 3);
-  CHECK(m::decode_double(&words[8]) == 3.0);
-  CHECK(m::read_registers(r, 0, 124, words.data()) == m::AccessFault::kNone);
+  CHECK(trueaxis::modbus::decode_double(&words[8]) == 3.0);
+  CHECK(trueaxis::modbus::read_registers(r, 0, 124, words.data()) == m::AccessFault::kNone);
   CHECK(r.count == 31);
-  m::encode_double(2.5, &words[4]);
-  CHECK(m::write_registers(r, 4 * 9000, 8, words.data()) == m::AccessFault::kNone);
+  trueaxis::modbus::encode_double(2.5, &words[4]);
+  CHECK(trueaxis::modbus::write_registers(r, 4 * 9000, 8, words.data()) == m::AccessFault::kNone);
   CHECK(r.first == 9000);
   CHECK(r.values[1] == 2.5);
 }

@@ -10,7 +10,7 @@
 #include "conformance.hpp"
 #include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 
@@ -24,7 +24,7 @@ class CoreTransport final : public c::Transport {
   CoreTransport() { (void)module_.start(); }
 
   bool exchange(const c::Bytes& pdu, c::Bytes& reply, std::string&) override {
-    std::uint8_t response[m::kMaxPduBytes];
+    std::uint8_t response[trueaxis::modbus::kMaxPduBytes];
     const std::size_t n = core_.respond(pdu.data(), pdu.size(), response);
     module_.step();
     reply.assign(response, response + n);
@@ -38,7 +38,7 @@ class CoreTransport final : public c::Transport {
   trueaxis::hal::RamNvStorage nv_{nv_bytes_.data(), nv_bytes_.size()};
   trueaxis::test::FakeClock clock_;
   m::Module module_{nv_, clock_};
-  m::ModbusCore core_{module_};
+  trueaxis::modbus::ModbusCore core_{module_};
 };
 
 }  // namespace

@@ -1,4 +1,4 @@
-// The RTU framer (macros::ModbusRtu) over the real module on RAM storage, with a
+// The RTU framer (modbus::ModbusRtu) over the real module on RAM storage, with a
 // clock the test sets: CRC-16/MODBUS against a bitwise reference, the silence
 // that cuts frames (at and below 3.5 characters), a frame split at every byte,
 // broadcast, another address, a bad CRC, short and over-long frames.
@@ -12,8 +12,8 @@
 #include "fakes.hpp"
 #include "split_mix64.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
-#include "trueaxis/macros/modbus_rtu.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_rtu.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 
@@ -52,7 +52,7 @@ Bytes write_frame(std::uint8_t to, std::uint16_t variable, double value) {
   put16(b, 4);
   b.push_back(8);
   std::uint16_t words[4];
-  m::encode_double(value, words);
+  trueaxis::modbus::encode_double(value, words);
   for (std::uint16_t w : words) put16(b, w);
   return with_crc(b);
 }
@@ -64,12 +64,12 @@ struct Line {
   trueaxis::hal::RamNvStorage nv{nv_bytes.data(), nv_bytes.size()};
   trueaxis::test::FakeClock module_clock;
   m::Module module{nv, module_clock};
-  m::ModbusCore core{module};
+  trueaxis::modbus::ModbusCore core{module};
   trueaxis::test::FakeClock line_clock;
-  m::ModbusRtu rtu{core, line_clock, kSlave, kBaud};
-  std::uint32_t character = m::rtu_character_us(kBaud);
-  std::uint32_t silence = m::rtu_silence_us(kBaud);
-  std::uint8_t reply[m::kRtuMaxFrameBytes] = {};
+  trueaxis::modbus::ModbusRtu rtu{core, line_clock, kSlave, kBaud};
+  std::uint32_t character = trueaxis::modbus::rtu_character_us(kBaud);
+  std::uint32_t silence = trueaxis::modbus::rtu_silence_us(kBaud);
+  std::uint8_t reply[trueaxis::modbus::kRtuMaxFrameBytes] = {};
   Bytes replies;  // every reply byte sent so far
   int reply_count = 0;
 
@@ -114,32 +114,32 @@ struct Line {
 
 TEST_CASE("CRC-16/MODBUS: the check value, a known frame, and the bitwise reference") {
   const Bytes check = {'1', '2', '3', '4', '5', '6', '7', '8', '9'};
-  CHECK(m::crc16_modbus(check.data(), check.size()) == 0x4B37);
+  CHECK(trueaxis::modbus::crc16_modbus(check.data(), check.size()) == 0x4B37);
   CHECK(crc16_bitwise(check) == 0x4B37);
   // 01 03 00 00 00 0A is sent with CRC bytes C5 CD.
   const Bytes frame = {0x01, 0x03, 0x00, 0x00, 0x00, 0x0A};
-  CHECK(m::crc16_modbus(frame.data(), frame.size()) == 0xCDC5);
-  CHECK(m::crc16_modbus(nullptr, 0) == 0xFFFF);
+  CHECK(trueaxis::modbus::crc16_modbus(frame.data(), frame.size()) == 0xCDC5);
+  CHECK(trueaxis::modbus::crc16_modbus(nullptr, 0) == 0xFFFF);
   trueaxis::test::SplitMix64 rng(8);
   for (std::size_t length = 0; length <= 256; ++length) {
     Bytes data(length);
     for (auto& b : data) b = static_cast<std::uint8_t>(rng.next());
     INFO("length " << length);
-    CHECK(m::crc16_modbus(data.data(), data.size()) == crc16_bitwise(data));
+    CHECK(trueaxis::modbus::crc16_modbus(data.data(), data.size()) == crc16_bitwise(data));
   }
 }
 
 TEST_CASE("the silence that ends a frame: 3.5 characters up to 19200 baud, 1750 us above") {
-  CHECK(m::rtu_character_us(19200) == 573);   // 572.9 us
-  CHECK(m::rtu_silence_us(19200) == 2006);    // 2005.2 us
-  CHECK(m::rtu_silence_us(9600) == 4011);     // 4010.4 us
-  CHECK(m::rtu_silence_us(1200) == 32084);    // 32083.3 us
-  CHECK(m::rtu_silence_us(19201) == 1750);
-  CHECK(m::rtu_silence_us(38400) == 1750);
-  CHECK(m::rtu_silence_us(115200) == 1750);
+  CHECK(trueaxis::modbus::rtu_character_us(19200) == 573);   // 572.9 us
+  CHECK(trueaxis::modbus::rtu_silence_us(19200) == 2006);    // 2005.2 us
+  CHECK(trueaxis::modbus::rtu_silence_us(9600) == 4011);     // 4010.4 us
+  CHECK(trueaxis::modbus::rtu_silence_us(1200) == 32084);    // 32083.3 us
+  CHECK(trueaxis::modbus::rtu_silence_us(19201) == 1750);
+  CHECK(trueaxis::modbus::rtu_silence_us(38400) == 1750);
+  CHECK(trueaxis::modbus::rtu_silence_us(115200) == 1750);
   // Rounded up, never down: 3.5 characters of 11 bits at 19200 baud.
-  CHECK(double(m::rtu_silence_us(19200)) >= 3.5 * 11.0 * 1e6 / 19200.0);
-  CHECK(double(m::rtu_silence_us(19200)) - 1.0 < 3.5 * 11.0 * 1e6 / 19200.0);
+  CHECK(double(trueaxis::modbus::rtu_silence_us(19200)) >= 3.5 * 11.0 * 1e6 / 19200.0);
+  CHECK(double(trueaxis::modbus::rtu_silence_us(19200)) - 1.0 < 3.5 * 11.0 * 1e6 / 19200.0);
 }
 
 TEST_CASE("a read of one variable is answered with its four registers") {
@@ -199,7 +199,7 @@ TEST_CASE("a frame split at every byte by exactly 3.5 characters is two frames, 
     l.quiet(l.silence);
     CHECK(l.reply_count == 0);
     CHECK(l.module.value(1) == 0.0);
-    const m::RtuCounters& c = l.rtu.counters();
+    const trueaxis::modbus::RtuCounters& c = l.rtu.counters();
     CHECK(c.bad_crc + c.too_short + c.other_address == 2);
     CHECK(c.served == 0);
   }
@@ -222,12 +222,12 @@ TEST_CASE("two frames 3.5 characters apart: the second one's first byte closes t
 
 TEST_CASE("broadcast: a write is executed without a reply, a read is ignored") {
   Line l;
-  CHECK(l.exchange(write_frame(m::kRtuBroadcast, 1, 5.0)).empty());
+  CHECK(l.exchange(write_frame(trueaxis::modbus::kRtuBroadcast, 1, 5.0)).empty());
   CHECK(l.module.value(1) == 5.0);
   CHECK(l.rtu.counters().broadcasts == 1);
-  CHECK(l.exchange(read_frame(m::kRtuBroadcast, 1)).empty());
+  CHECK(l.exchange(read_frame(trueaxis::modbus::kRtuBroadcast, 1)).empty());
   // FC23 reads too: ignored, its write not executed.
-  Bytes fc23 = {m::kRtuBroadcast, 0x17, 0, 4, 0, 4, 0, 4, 0, 4, 8, 0x40, 0x20, 0, 0, 0, 0, 0, 0};
+  Bytes fc23 = {trueaxis::modbus::kRtuBroadcast, 0x17, 0, 4, 0, 4, 0, 4, 0, 4, 8, 0x40, 0x20, 0, 0, 0, 0, 0, 0};
   CHECK(l.exchange(with_crc(fc23)).empty());
   CHECK(l.module.value(1) == 5.0);
   CHECK(l.rtu.counters().ignored_reads == 2);
@@ -275,7 +275,7 @@ TEST_CASE("a 256-byte frame is served; 257 bytes and more are discarded, nothing
   Bytes longest = {kSlave, 0x41};
   longest.resize(254, 0xAA);  // address + a PDU of 253 bytes
   longest = with_crc(longest);
-  REQUIRE(longest.size() == m::kRtuMaxFrameBytes);
+  REQUIRE(longest.size() == trueaxis::modbus::kRtuMaxFrameBytes);
   CHECK(l.exchange(longest) == with_crc({kSlave, 0xC1, 0x01}));
 
   // A valid write padded to 257 bytes, then with its own CRC at the end.
@@ -306,9 +306,9 @@ TEST_CASE("macro 9810 through the handshake over RTU") {
   REQUIRE(status.size() == 3 + 2 + 32);
   std::uint16_t words[16];
   for (std::size_t i = 0; i < 16; ++i) words[i] = static_cast<std::uint16_t>((status[3 + 2 * i] << 8) | status[4 + 2 * i]);
-  CHECK(m::decode_double(words) == 2.0);       // done
-  CHECK(m::decode_double(words + 4) == 0.0);   // no error
-  CHECK(m::decode_double(words + 8) == 1.0);   // done_count
+  CHECK(trueaxis::modbus::decode_double(words) == 2.0);       // done
+  CHECK(trueaxis::modbus::decode_double(words + 4) == 0.0);   // no error
+  CHECK(trueaxis::modbus::decode_double(words + 8) == 1.0);   // done_count
   CHECK(l.module.value(107) == Approx(30.0).margin(1e-9));  // tilt of the face: atan(50/86.6)
 }
 
@@ -320,7 +320,7 @@ TEST_CASE("the slave address is 1..247") {
   CHECK(l.rtu.set_address(247));
   CHECK(l.exchange(read_frame(247, 1)).size() == 13);
   CHECK(l.exchange(read_frame(kSlave, 1)).empty());
-  m::ModbusRtu zero{l.core, l.line_clock, 0, kBaud};
+  trueaxis::modbus::ModbusRtu zero{l.core, l.line_clock, 0, kBaud};
   CHECK(zero.address() == 1);
 }
 

@@ -31,7 +31,7 @@
 #include "conformance.hpp"
 #include "crc16_reference.hpp"
 #include "trueaxis/macros/platform_map.hpp"
-#include "trueaxis/macros/register_codec.hpp"
+#include "trueaxis/modbus/register_codec.hpp"
 
 namespace {
 
@@ -128,13 +128,13 @@ bool read_vars(modbus_t* ctx, std::uint16_t first, int count, double* values) {
     ++g_retries;
     drain(ctx);
   }
-  for (int i = 0; i < count; ++i) values[i] = m::decode_double(words + 4 * i);
+  for (int i = 0; i < count; ++i) values[i] = trueaxis::modbus::decode_double(words + 4 * i);
   return true;
 }
 
 bool write_vars(modbus_t* ctx, std::uint16_t first, int count, const double* values) {
   std::uint16_t words[4 * 30];
-  for (int i = 0; i < count; ++i) m::encode_double(values[i], words + 4 * i);
+  for (int i = 0; i < count; ++i) trueaxis::modbus::encode_double(values[i], words + 4 * i);
   int attempt = 0;
   while (modbus_write_registers(ctx, 4 * first, 4 * count, words) != 4 * count) {
     std::fprintf(stderr, "write #%u x%d: %s\n", first, count, modbus_strerror(errno));
@@ -449,7 +449,7 @@ int main(int argc, char** argv) {
 
   // Broadcast: a write executed without a reply, a read ignored.
   std::uint16_t seven[4];
-  m::encode_double(7.0, seven);
+  trueaxis::modbus::encode_double(7.0, seven);
   std::uint8_t broadcast_write[15] = {0, 0x10, 0, 8, 0, 4, 8};  // #2, 8 data bytes
   for (int i = 0; i < 4; ++i) {
     broadcast_write[7 + 2 * i] = static_cast<std::uint8_t>(seven[i] >> 8);
@@ -469,7 +469,7 @@ int main(int argc, char** argv) {
   std::uint8_t other[15];
   std::memcpy(other, broadcast_write, sizeof other);
   other[0] = 2;
-  m::encode_double(9.0, seven);
+  trueaxis::modbus::encode_double(9.0, seven);
   other[7] = static_cast<std::uint8_t>(seven[0] >> 8);
   other[8] = static_cast<std::uint8_t>(seven[0]);
   CHECK(bytes_answered(ctx, other, 15, 300) == 0);

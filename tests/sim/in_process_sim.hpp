@@ -16,7 +16,7 @@
 #include "trueaxis/core/status.hpp"
 #include "trueaxis/hal/posix/steady_clock.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/sim/client.hpp"
 #include "trueaxis/sim/modbus_server.hpp"
@@ -40,7 +40,7 @@ class InProcessSim {
     REQUIRE(module_->start() == core::Status::kOk);
     simulator_ = std::make_unique<sim::Simulator>(*module_, sim::FaceConfig{}, 1);
     router_ = std::make_unique<sim::VariableRouter>(*module_, *simulator_);
-    core_ = std::make_unique<trueaxis::macros::ModbusCore>(*router_);
+    core_ = std::make_unique<trueaxis::modbus::ModbusCore>(*router_);
     server_ = std::make_unique<sim::ModbusTcpServer>(*core_, *simulator_);
     REQUIRE(server_->listen("127.0.0.1", 0));
     struct sigaction wake {};
@@ -78,7 +78,7 @@ class InProcessSim {
   std::unique_ptr<trueaxis::macros::Module> module_;
   std::unique_ptr<sim::Simulator> simulator_;
   std::unique_ptr<sim::VariableRouter> router_;
-  std::unique_ptr<trueaxis::macros::ModbusCore> core_;
+  std::unique_ptr<trueaxis::modbus::ModbusCore> core_;
   std::unique_ptr<sim::ModbusTcpServer> server_;
   std::thread thread_;
   sim::VariableClient client_;

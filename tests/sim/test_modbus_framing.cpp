@@ -15,7 +15,7 @@
 
 #include "raw_tcp_client.hpp"
 #include "sim_fixture.hpp"
-#include "trueaxis/macros/register_codec.hpp"
+#include "trueaxis/modbus/register_codec.hpp"
 
 namespace {
 
@@ -46,7 +46,7 @@ Bytes write_pdu(std::uint16_t number, double value) {
   put16(b, 4);
   b.push_back(8);
   std::uint16_t w[4];
-  trueaxis::macros::encode_double(value, w);
+  trueaxis::modbus::encode_double(value, w);
   for (std::uint16_t x : w) put16(b, x);
   return b;
 }
@@ -61,7 +61,7 @@ Bytes read_pdu(std::uint16_t number) {
 double value_in(const Bytes& reply) {  // the FC3 reply of read_pdu
   std::uint16_t w[4];
   for (std::size_t i = 0; i < 4; ++i) w[i] = static_cast<std::uint16_t>((reply[9 + 2 * i] << 8) | reply[10 + 2 * i]);
-  return trueaxis::macros::decode_double(w);
+  return trueaxis::modbus::decode_double(w);
 }
 
 using RawClient = trueaxis::sim::test::RawTcpClient;

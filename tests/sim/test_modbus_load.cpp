@@ -37,7 +37,7 @@
 
 #include "loopback.hpp"
 #include "sim_fixture.hpp"
-#include "trueaxis/macros/register_codec.hpp"
+#include "trueaxis/modbus/register_codec.hpp"
 
 namespace {
 
@@ -77,7 +77,7 @@ TEST_CASE("16 clients at once: FC16 write, FC3 read back and FC23 write+read of 
       while (connected.load() < kClients) std::this_thread::yield();
       if (!ok) return;
       const std::uint16_t number = kArgs[id];
-      const int reg = static_cast<int>(trueaxis::macros::register_of(number));
+      const int reg = static_cast<int>(trueaxis::modbus::register_of(number));
       for (int it = 0; it < kIterations; ++it) {
         // Client and iteration in the value; the fraction makes every bit count.
         const double sign = (it % 2 == 0) ? 1.0 : -1.0;
@@ -92,10 +92,10 @@ TEST_CASE("16 clients at once: FC16 write, FC3 read back and FC23 write+read of 
         }
         std::uint16_t w[4];
         std::uint16_t r[4] = {};
-        trueaxis::macros::encode_double(v23, w);
+        trueaxis::modbus::encode_double(v23, w);
         if (modbus_write_and_read_registers(c.raw(), reg, 4, w, reg, 4, r) != 4) {
           ++errors;
-        } else if (trueaxis::macros::decode_double(r) != v23) {
+        } else if (trueaxis::modbus::decode_double(r) != v23) {
           ++wrong;
         }
         requests += 3;

@@ -10,7 +10,7 @@
 #include "alloc_counter.hpp"
 #include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/sim/simulator.hpp"
 #include "trueaxis/sim/variable_router.hpp"
@@ -26,12 +26,12 @@ struct Core {
   trueaxis::macros::Module module{nv, clock};
   trueaxis::sim::Simulator simulator{module, trueaxis::sim::FaceConfig{}, 1};
   trueaxis::sim::VariableRouter router{module, simulator};
-  trueaxis::macros::ModbusCore core{router};
+  trueaxis::modbus::ModbusCore core{router};
 
   Core() { (void)module.start(); }
 
   Bytes run(const Bytes& pdu) {
-    std::uint8_t response[trueaxis::macros::kMaxPduBytes];
+    std::uint8_t response[trueaxis::modbus::kMaxPduBytes];
     const std::size_t n = core.respond(pdu.data(), pdu.size(), response);
     simulator.after_request();
     return Bytes(response, response + n);
@@ -100,7 +100,7 @@ TEST_CASE("FC23 answers what the module holds after the write, not the words wri
   Core c;
   Bytes pdu = {0x17, 0x8C, 0xB0, 0, 4, 0x8C, 0xB0, 0, 4, 8};  // read and write #9004
   std::uint16_t w[4];
-  trueaxis::macros::encode_double(trueaxis::macros::kUnlockCode, w);
+  trueaxis::modbus::encode_double(trueaxis::macros::kUnlockCode, w);
   for (std::uint16_t x : w) put16(pdu, x);
   CHECK(c.run(pdu) == Bytes({0x17, 8, 0x3F, 0xF0, 0, 0, 0, 0, 0, 0}));
   CHECK(c.module.unlocked());
@@ -197,7 +197,7 @@ TEST_CASE("respond() allocates nothing") {
   Core c;
   const Bytes write = fc16(4 * 5281, 12);
   const Bytes read = fc3(4 * 5281, 12);
-  std::uint8_t response[trueaxis::macros::kMaxPduBytes];
+  std::uint8_t response[trueaxis::modbus::kMaxPduBytes];
   trueaxis::test::AllocationScope scope;
   for (int i = 0; i < 10; ++i) {
     (void)c.core.respond(write.data(), write.size(), response);

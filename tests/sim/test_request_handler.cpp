@@ -1,4 +1,4 @@
-// The Modbus protocol core (macros::ModbusCore) without a socket, over the real
+// The Modbus protocol core (modbus::ModbusCore) without a socket, over the real
 // module and the simulator's variables on RAM storage: request PDUs in through
 // respond(), the exception (or none) and the registers read out of the response
 // PDU, put into a register image at the protocol addresses they were read from.
@@ -11,7 +11,7 @@
 
 #include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/sim/simulator.hpp"
 #include "trueaxis/sim/variable_router.hpp"
@@ -28,7 +28,7 @@ struct Bench {
   trueaxis::macros::Module module{nv, clock};
   trueaxis::sim::Simulator simulator{module, trueaxis::sim::FaceConfig{}, 1};
   trueaxis::sim::VariableRouter router{module, simulator};
-  trueaxis::macros::ModbusCore core{router};
+  trueaxis::modbus::ModbusCore core{router};
   std::vector<std::uint16_t> image = std::vector<std::uint16_t>(65536);
   std::vector<std::uint8_t> response;
 
@@ -37,7 +37,7 @@ struct Bench {
   // The exception of the response (kNone for a normal one); the registers a
   // served FC3 or FC23 read land in `image` at their protocol addresses.
   ModbusException run(const std::vector<std::uint8_t>& pdu) {
-    std::uint8_t out[trueaxis::macros::kMaxPduBytes];
+    std::uint8_t out[trueaxis::modbus::kMaxPduBytes];
     const std::size_t n = core.respond(pdu.data(), pdu.size(), out);
     simulator.after_request();
     response.assign(out, out + n);
@@ -80,7 +80,7 @@ std::vector<std::uint16_t> words_of(std::initializer_list<double> values) {
   std::vector<std::uint16_t> words;
   for (double v : values) {
     std::uint16_t w[4];
-    trueaxis::macros::encode_double(v, w);
+    trueaxis::modbus::encode_double(v, w);
     words.insert(words.end(), w, w + 4);
   }
   return words;
@@ -186,11 +186,11 @@ TEST_CASE("the simulator's variables are reached through the same decoder") {
         std::vector<std::uint16_t>({0, 0, 0, 0}));
   // The default face (12.5 deg at azimuth 30 deg): normal z = cos 12.5 deg.
   REQUIRE(b.run(read_pdu(4 * simvar::kTrueNormalZ, 8)) == ModbusException::kNone);
-  const double nz = trueaxis::macros::decode_double(&b.image[4 * simvar::kTrueNormalZ]);
+  const double nz = trueaxis::modbus::decode_double(&b.image[4 * simvar::kTrueNormalZ]);
   CHECK(nz == b.simulator.value(simvar::kTrueNormalZ));
   CHECK(nz == Approx(std::cos(12.5 * 3.14159265358979323846 / 180.0)).epsilon(1e-15));
   // The tilt at the table's present position, A = 2 deg, is no longer 12.5 deg.
-  const double tilt = trueaxis::macros::decode_double(&b.image[4 * simvar::kTrueTilt]);
+  const double tilt = trueaxis::modbus::decode_double(&b.image[4 * simvar::kTrueTilt]);
   CHECK(tilt == b.simulator.value(simvar::kTrueTilt));
   CHECK(std::abs(tilt - 12.5) > 0.1);
 }

@@ -14,8 +14,8 @@
 #include "trueaxis/hal/mps2/board_nv_storage.hpp"
 #include "trueaxis/hal/mps2/semihosting.hpp"
 #include "trueaxis/hal/mps2/systick_clock.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
-#include "trueaxis/macros/modbus_rtu.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_rtu.hpp"
 #include "trueaxis/macros/module.hpp"
 
 namespace {
@@ -46,10 +46,10 @@ std::size_t frame_of(const std::uint8_t* pdu, std::size_t length, std::uint8_t* 
   return 3 + length;
 }
 
-std::uint64_t instructions_per_request(const mps2::SysTickClock& clock, macros::ModbusRtu& rtu, LineClock& line,
+std::uint64_t instructions_per_request(const mps2::SysTickClock& clock, modbus::ModbusRtu& rtu, LineClock& line,
                                        const std::uint8_t* frame, std::size_t length, std::uint64_t overhead,
                                        std::size_t& reply_bytes) {
-  static std::uint8_t reply[macros::kRtuMaxFrameBytes];
+  static std::uint8_t reply[modbus::kRtuMaxFrameBytes];
   std::uint64_t samples[kRuns];
   for (std::uint64_t& s : samples) {
     line.now += 10'000;
@@ -69,15 +69,15 @@ int main() {
   static mps2::SysTickClock clock;
   static macros::Module module(storage, clock);
   static_cast<void>(module.start());
-  static macros::ModbusCore core(module);
+  static modbus::ModbusCore core(module);
   static LineClock line;
-  static macros::ModbusRtu rtu(core, line, 1, 19200);
+  static modbus::ModbusRtu rtu(core, line, 1, 19200);
   const std::uint64_t overhead = trueaxis::bench::clock_overhead(clock);
   if (!trueaxis::bench::calibrated(clock, overhead)) {
     mps2::console_write("bench_rtu: not run under -icount shift=6; no figures\n");
     return 1;
   }
-  static std::uint8_t frame[macros::kRtuMaxFrameBytes];
+  static std::uint8_t frame[modbus::kRtuMaxFrameBytes];
   struct Case {
     const char* name;
     std::uint8_t pdu[16];

@@ -25,8 +25,8 @@
 #include "trueaxis/hal/mps2/cmsdk_uart.hpp"
 #include "trueaxis/hal/mps2/semihosting.hpp"
 #include "trueaxis/hal/mps2/systick_clock.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
-#include "trueaxis/macros/modbus_rtu.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_rtu.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 
@@ -50,10 +50,10 @@ int main() {
   static mps2::SysTickClock clock;
   static macros::Module module(storage, clock);
   static_cast<void>(module.start());  // unreadable storage: the map's defaults
-  static macros::ModbusCore core(module);
-  static macros::ModbusRtu rtu(core, clock, kSlaveAddress, kBaud);
+  static modbus::ModbusCore core(module);
+  static modbus::ModbusRtu rtu(core, clock, kSlaveAddress, kBaud);
   static mps2::CmsdkUart uart(mps2::kUart0Base, kBaud, mps2::kCpuHz);
-  static std::uint8_t reply[macros::kRtuMaxFrameBytes];
+  static std::uint8_t reply[modbus::kRtuMaxFrameBytes];
 
   mps2::console_write("rtu_server: slave ");
   mps2::console_write_uint(kSlaveAddress);

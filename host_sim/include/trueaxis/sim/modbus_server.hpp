@@ -47,7 +47,7 @@
 
 #include <poll.h>
 
-#include "trueaxis/macros/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/sim/simulator.hpp"
 
 namespace trueaxis::sim {
@@ -59,11 +59,11 @@ struct ServerLimits {
 };
 
 // MBAP header (7 bytes) plus the largest PDU.
-inline constexpr std::size_t kMaxAduBytes = 7 + macros::kMaxPduBytes;
+inline constexpr std::size_t kMaxAduBytes = 7 + modbus::kMaxPduBytes;
 
 class ModbusTcpServer {
  public:
-  ModbusTcpServer(macros::ModbusCore& core, Simulator& simulator, const ServerLimits& limits = ServerLimits{});
+  ModbusTcpServer(modbus::ModbusCore& core, Simulator& simulator, const ServerLimits& limits = ServerLimits{});
   ~ModbusTcpServer();
   ModbusTcpServer(const ModbusTcpServer&) = delete;
   ModbusTcpServer& operator=(const ModbusTcpServer&) = delete;
@@ -105,7 +105,7 @@ class ModbusTcpServer {
 
   static constexpr int kAcceptPauseMs = 100;
 
-  macros::ModbusCore& core_;
+  modbus::ModbusCore& core_;
   Simulator& simulator_;
   ServerLimits limits_;
   int listen_fd_ = -1;

@@ -1,8 +1,8 @@
-#include "trueaxis/macros/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
 
 #include <algorithm>
 
-namespace trueaxis::macros {
+namespace trueaxis::modbus {
 
 namespace {
 
@@ -137,4 +137,4 @@ ModbusException ModbusCore::write_from(std::uint16_t address, std::uint16_t quan
   return modbus_exception(write_registers(vars_, address, quantity, words));
 }
 
-}  // namespace trueaxis::macros
+}  // namespace trueaxis::modbus

@@ -39,10 +39,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "trueaxis/macros/register_codec.hpp"
+#include "trueaxis/modbus/register_codec.hpp"
 #include "trueaxis/macros/variable_access.hpp"
 
-namespace trueaxis::macros {
+namespace trueaxis::modbus {
 
 // The largest PDU Modbus allows (MBAP length 254 minus the unit id).
 inline constexpr std::size_t kMaxPduBytes = 253;
@@ -81,4 +81,4 @@ class ModbusCore {
   VariableAccess& vars_;
 };
 
-}  // namespace trueaxis::macros
+}  // namespace trueaxis::modbus

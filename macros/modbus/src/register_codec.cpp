@@ -1,6 +1,6 @@
-#include "trueaxis/macros/register_codec.hpp"
+#include "trueaxis/modbus/register_codec.hpp"
 
-namespace trueaxis::macros {
+namespace trueaxis::modbus {
 
 namespace {
 
@@ -39,4 +39,4 @@ AccessFault write_registers(VariableAccess& vars, std::uint16_t address, std::ui
   return vars.write(first, n, values);
 }
 
-}  // namespace trueaxis::macros
+}  // namespace trueaxis::modbus

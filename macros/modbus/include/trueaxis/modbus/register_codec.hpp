@@ -17,7 +17,13 @@
 
 #include "trueaxis/macros/variable_access.hpp"
 
-namespace trueaxis::macros {
+namespace trueaxis::modbus {
+
+// The variable interface this room depends on, and nothing else of the module.
+using macros::AccessFault;
+using macros::ModbusException;
+using macros::VariableAccess;
+using macros::modbus_exception;
 
 inline constexpr std::uint16_t kRegistersPerVariable = 4;
 inline constexpr std::uint16_t kMaxVariablesPerRead = 31;   // 124 registers
@@ -49,4 +55,4 @@ inline double decode_double(const std::uint16_t* words) {
 [[nodiscard]] AccessFault write_registers(VariableAccess& vars, std::uint16_t address, std::uint16_t count,
                                           const std::uint16_t* words);
 
-}  // namespace trueaxis::macros
+}  // namespace trueaxis::modbus

@@ -1,8 +1,8 @@
-#include "trueaxis/macros/modbus_rtu.hpp"
+#include "trueaxis/modbus/modbus_rtu.hpp"
 
 #include <array>
 
-namespace trueaxis::macros {
+namespace trueaxis::modbus {
 
 namespace {
 
@@ -109,4 +109,4 @@ std::size_t ModbusRtu::end_frame(std::uint8_t* reply) {
   return 3 + reply_pdu;
 }
 
-}  // namespace trueaxis::macros
+}  // namespace trueaxis::modbus

@@ -42,9 +42,9 @@
 #include <cstdint>
 
 #include "trueaxis/hal/clock.hpp"
-#include "trueaxis/macros/modbus_core.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
 
-namespace trueaxis::macros {
+namespace trueaxis::modbus {
 
 inline constexpr std::size_t kRtuMaxFrameBytes = 256;
 inline constexpr std::uint8_t kRtuBroadcast = 0;
@@ -106,4 +106,4 @@ class ModbusRtu {
   std::uint8_t frame_[kRtuMaxFrameBytes] = {};
 };
 
-}  // namespace trueaxis::macros
+}  // namespace trueaxis::modbus
