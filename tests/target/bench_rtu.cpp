@@ -40,16 +40,16 @@ class LineClock final : public trueaxis::hal::Clock {
 std::size_t frame_of(const std::uint8_t* pdu, std::size_t length, std::uint8_t* frame) {
   frame[0] = 1;
   for (std::size_t i = 0; i < length; ++i) frame[1 + i] = pdu[i];
-  const std::uint16_t crc = macros::crc16_modbus(frame, 1 + length);
+  const std::uint16_t crc = trueaxis::modbus::crc16_modbus(frame, 1 + length);
   frame[1 + length] = static_cast<std::uint8_t>(crc);
   frame[2 + length] = static_cast<std::uint8_t>(crc >> 8);
   return 3 + length;
 }
 
-std::uint64_t instructions_per_request(const mps2::SysTickClock& clock, modbus::ModbusRtu& rtu, LineClock& line,
+std::uint64_t instructions_per_request(const mps2::SysTickClock& clock, trueaxis::modbus::ModbusRtu& rtu, LineClock& line,
                                        const std::uint8_t* frame, std::size_t length, std::uint64_t overhead,
                                        std::size_t& reply_bytes) {
-  static std::uint8_t reply[modbus::kRtuMaxFrameBytes];
+  static std::uint8_t reply[trueaxis::modbus::kRtuMaxFrameBytes];
   std::uint64_t samples[kRuns];
   for (std::uint64_t& s : samples) {
     line.now += 10'000;
@@ -69,15 +69,15 @@ int main() {
   static mps2::SysTickClock clock;
   static macros::Module module(storage, clock);
   static_cast<void>(module.start());
-  static modbus::ModbusCore core(module);
+  static trueaxis::modbus::ModbusCore core(module);
   static LineClock line;
-  static modbus::ModbusRtu rtu(core, line, 1, 19200);
+  static trueaxis::modbus::ModbusRtu rtu(core, line, 1, 19200);
   const std::uint64_t overhead = trueaxis::bench::clock_overhead(clock);
   if (!trueaxis::bench::calibrated(clock, overhead)) {
     mps2::console_write("bench_rtu: not run under -icount shift=6; no figures\n");
     return 1;
   }
-  static std::uint8_t frame[modbus::kRtuMaxFrameBytes];
+  static std::uint8_t frame[trueaxis::modbus::kRtuMaxFrameBytes];
   struct Case {
     const char* name;
     std::uint8_t pdu[16];

@@ -50,10 +50,10 @@ int main() {
   static mps2::SysTickClock clock;
   static macros::Module module(storage, clock);
   static_cast<void>(module.start());  // unreadable storage: the map's defaults
-  static modbus::ModbusCore core(module);
-  static modbus::ModbusRtu rtu(core, clock, kSlaveAddress, kBaud);
+  static trueaxis::modbus::ModbusCore core(module);
+  static trueaxis::modbus::ModbusRtu rtu(core, clock, kSlaveAddress, kBaud);
   static mps2::CmsdkUart uart(mps2::kUart0Base, kBaud, mps2::kCpuHz);
-  static std::uint8_t reply[modbus::kRtuMaxFrameBytes];
+  static std::uint8_t reply[trueaxis::modbus::kRtuMaxFrameBytes];
 
   mps2::console_write("rtu_server: slave ");
   mps2::console_write_uint(kSlaveAddress);
