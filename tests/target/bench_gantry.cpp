@@ -16,6 +16,12 @@
 // groups are at the module's capacities (gantry_map.hpp), the step bound's worst
 // case; sub-machines 2..4 are of the simulator's plan (3 passes of 15, circles
 // of 24): 2,029 of the session's 2,048 points.
+//
+// Last, the stack: 9823 once more (not stored), every step() called with the
+// stack below it painted, and the direct call sub_point_mm the same way; it
+// prints the most either wrote ("stack measured: ROOT N bytes", the roots of
+// tools/stack_report.py), which ctest's stack_measured_gantry holds against the
+// analysis (tests/target/stack_cross_check.py: analysed >= measured).
 #include <cmath>
 #include <cstdint>
 
@@ -23,6 +29,8 @@
 #include "split_mix64.hpp"
 #include "trueaxis/hal/mps2/board_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
+
+extern "C" std::uint32_t __stack_bottom__[];  // toolchain/mps2-an500.ld
 
 namespace {
 
@@ -71,6 +79,48 @@ class Streamer {
   bool ok_ = true;
   std::uint64_t count_ = 0;
 };
+
+// Stack painting: a window below the caller's stack pointer is filled with a
+// pattern before the call and searched for the lowest overwritten word after
+// it. Both run in the caller's frame, so the figure is the call's alone; a
+// figure of kStackWindow means the window was too small (or an exception came
+// at the deepest point: its frame is in the figure).
+constexpr std::uint32_t kStackPaint = 0x5AC4'5AC4;
+constexpr std::uintptr_t kStackWindow = 16 * 1024;
+
+__attribute__((always_inline)) inline void paint_below(std::uintptr_t sp) {
+  for (auto* p = reinterpret_cast<volatile std::uint32_t*>(sp - kStackWindow);
+       p < reinterpret_cast<volatile std::uint32_t*>(sp); ++p) {
+    *p = kStackPaint;
+  }
+}
+
+__attribute__((always_inline)) inline std::uint64_t written_below(std::uintptr_t sp) {
+  auto* p = reinterpret_cast<volatile std::uint32_t*>(sp - kStackWindow);
+  while (p < reinterpret_cast<volatile std::uint32_t*>(sp) && *p == kStackPaint) ++p;
+  return sp - reinterpret_cast<std::uintptr_t>(p);
+}
+
+// The stack one Module::step() used.
+__attribute__((noinline)) std::uint64_t stack_of_step(m::Module& module) {
+  std::uintptr_t sp;
+  asm volatile("mov %0, sp" : "=r"(sp));
+  if (sp - kStackWindow < reinterpret_cast<std::uintptr_t>(__stack_bottom__)) return kStackWindow;
+  paint_below(sp);
+  module.step();
+  return written_below(sp);
+}
+
+// The stack one gantry::sub_point_mm used.
+__attribute__((noinline)) std::uint64_t stack_of_convert(const m::Module& module, int id, const core::Vec3& p) {
+  std::uintptr_t sp;
+  asm volatile("mov %0, sp" : "=r"(sp));
+  if (sp - kStackWindow < reinterpret_cast<std::uintptr_t>(__stack_bottom__)) return kStackWindow;
+  paint_below(sp);
+  const auto r = g::sub_point_mm(module.methods().gantry, id, p);
+  const std::uint64_t used = written_below(sp);
+  return r.ok() ? used : kStackWindow;
+}
 
 void machine_groups(Streamer& s) {
   const double pads[4][2] = {{60, 60}, {5860, 60}, {5860, 2860}, {60, 2860}};
@@ -194,6 +244,27 @@ int main() {
   }
   print("point conversion (direct call gantry::sub_point_mm): ", worst, " instructions at most (bound 200)\n");
   within = within && worst <= kConvertBound;
+
+  std::uint64_t step_stack = 0, convert_stack = 0, stack_steps = 0;
+  const double compute = 9823.0;
+  if (write_n(module, var::kCmd, 1, &compute)) {
+    while (module.busy()) {
+      const std::uint64_t used = stack_of_step(module);
+      step_stack = used > step_stack ? used : step_stack;
+      ++stack_steps;
+    }
+  }
+  for (int id = 1; id <= kSubMachines; ++id) {
+    const std::uint64_t used = stack_of_convert(module, id, p);
+    convert_stack = used > convert_stack ? used : convert_stack;
+  }
+  const bool measured = module.value(var::kStatus) == static_cast<double>(m::MacroState::kDone) &&
+                        step_stack < kStackWindow && convert_stack < kStackWindow;
+  print("stack measured: step ", step_stack, " bytes (the most of 9823's ");
+  print("", stack_steps, " steps, painted)\n");
+  print("stack measured: query:sub_point_mm ", convert_stack, " bytes (painted)\n");
+  if (!measured) mps2::console_write("FAILED: the stack could not be measured\n");
+  within = within && measured;
   mps2::console_write(within ? "all within their bounds\n" : "FAILED: a figure over its bound\n");
   return within ? 0 : 1;
 }
