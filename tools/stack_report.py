@@ -96,11 +96,11 @@ ROOTS = [
          "a register read: VariableAccess::read (inline) into Module::do_read"),
     Root("access:write", r"\btrueaxis::macros::Module::do_write\(",
          "a register write: VariableAccess::write (inline) into Module::do_write"),
-    Root("protocol:respond", r"\btrueaxis::macros::ModbusCore::respond\(",
+    Root("protocol:respond", r"\btrueaxis::modbus::ModbusCore::respond\(",
          "the protocol core: one Modbus request, PDU in, response out"),
-    Root("protocol:rtu_receive", r"\btrueaxis::macros::ModbusRtu::receive\(",
+    Root("protocol:rtu_receive", r"\btrueaxis::modbus::ModbusRtu::receive\(",
          "the RTU framer fed one byte (may end a frame and answer it)"),
-    Root("protocol:rtu_poll", r"\btrueaxis::macros::ModbusRtu::poll\(",
+    Root("protocol:rtu_poll", r"\btrueaxis::modbus::ModbusRtu::poll\(",
          "the RTU framer's poll (ends a frame after the silence and answers it)"),
     Root("query:compensation_rad", r"\btrueaxis::macros::rigidity::compensation_rad\(",
          "M3's per-cycle query (real-time task)"),
@@ -132,16 +132,16 @@ INDIRECT_CALLS = [
          [r"::do_read\(uint16_t, uint16_t, double\*\)", r"::do_write\(uint16_t, uint16_t, const double\*\)",
           r"::do_note_fault\(trueaxis::macros::AccessFault\)"],
          "VariableAccess's read/write/note_fault: every implementation analysed (Module)"),
-    # The macro table (methods.hpp kMacroSources, MacroInfo::run): by type, every
-    # function of MacroFn's type, so handlers and any thunk or captureless
-    # lambda standing in for them are all targets (gcc names a template's
-    # parameters unqualified: "MacroStep trueaxis::macros::thunk(MacroContext&)
-    # [with auto F = gantry::run_build]"; a lambda's "static constexpr ... _FUN(...)"). An integrator's extra macros
-    # (Module's extra_macros) are his code: add their worst to step()'s figure.
+    # The macro table (each method descriptor's kMacros, MacroInfo::run): by
+    # type, every function of MacroThunk's type, MacroStep(MacroCall&): the
+    # thunk of each handler (gcc names a template's parameters unqualified:
+    # "MacroStep trueaxis::macros::thunk(MacroCall&) [with auto Handler = ...]"),
+    # and any captureless lambda standing in for one. An integrator's extra
+    # macros (Module's extra_macros) are his code: add their worst to step()'s figure.
     Rule(r"\btrueaxis::macros::Module::", None,
-         [r"^(static )?(constexpr )?(trueaxis::macros::)?MacroStep .*\((trueaxis::macros::)?MacroContext&\)"
+         [r"^(static )?(constexpr )?(trueaxis::macros::)?MacroStep .*\((trueaxis::macros::)?MacroCall&\)"
           r"( \[with .*\])?$"],
-         "a macro handler through the macro table (MacroFn): every function of that type",
+         "a macro handler through the macro table (MacroThunk): every function of that type",
          r"^_ZN8trueaxis6macros.*kMacros"),
 ]
 

@@ -7,7 +7,6 @@
 #include <string>
 
 #include "trueaxis/core/status.hpp"
-#include "trueaxis/macros/methods.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 #include "trueaxis/modbus/register_codec.hpp"
@@ -49,44 +48,21 @@ const char* kind_name(m::ValueKind k) {
   return "?";
 }
 
-// The streaming sessions, for the map's readers: capacity from the code.
-struct SessionDoc {
-  const char* method;
-  std::size_t capacity;
-  const char* sample;
-  unsigned clear, add, compute;
-};
-const SessionDoc kSessions[] = {
-    {"level", m::level::kSessionCapacity, "X, Y, Z (#24..#26, mm, machine frame)", 9812, 9813, 9814},
-    {"rigidity", m::rigidity::kSessionCapacity, "A, C (#1, #3, deg), ball centre X, Y, Z (#24..#26, mm)", 9830, 9831,
-     9832},
-    {"gantry", m::gantry::kSessionCapacity, "group T, Q, D (#20, #17, #7), point X, Y, Z (#24..#26, mm, tracker frame)",
-     9820, 9821, 9823},
-};
-
-// The gantry's group capacities (INTERFACE.md: "limited by capacities that the map states").
-struct GroupCapacity {
-  const char* group;
-  std::size_t points;
-};
-const GroupCapacity kGantryGroups[] = {
-    {"bed", m::gantry::kMaxPlanePoints},      {"side_1", m::gantry::kMaxPlanePoints},
-    {"side_2", m::gantry::kMaxPlanePoints},   {"gantry_K", m::gantry::kMaxPassPoints},
-    {"spN_x_K", m::gantry::kMaxPassPoints},   {"spN_y_K", m::gantry::kMaxPassPoints},
-    {"spN_z_K", m::gantry::kMaxPassPoints},   {"spN_c", m::gantry::kMaxCirclePoints},
-    {"spN_a", m::gantry::kMaxCirclePoints},
-};
-
 const char* var_name(std::uint16_t number) {
   const m::VarInfo* v = m::find_var(number);
   return v != nullptr ? v->name : "?";
 }
 
-bool method_built(const char* method) {
-  for (const m::MacroSource& src : m::kMacroSources) {
-    if (std::strcmp(src.method, method) == 0) return true;
+using Built = m::BuiltMethods;
+
+// One session's limits of `group` ("": the method's own) as JSON members.
+void json_limits(const m::SessionInfo& session, const char* group) {
+  bool first = true;
+  for (const m::SessionLimit& l : session.limits) {
+    if (std::strcmp(l.group, group) != 0) continue;
+    std::printf("%s\"%s\": %zu", first ? "" : ", ", l.name, l.value);
+    first = false;
   }
-  return false;
 }
 
 int as_int(m::AccessFault f) { return static_cast<int>(f); }
@@ -120,11 +96,10 @@ void print_json() {
   json_variables(trueaxis::sim::kSimMap, true, first);
   std::printf("\n  ],\n  \"macros\": [");
   first = true;
-  for (const m::MacroSource& src : m::kMacroSources) {
-    for (std::size_t i = 0; i < src.count; ++i) {
-      const m::MacroInfo& mi = src.macros[i];
+  for (std::size_t method = 0; method < Built::kCount; ++method) {
+    for (const m::MacroInfo& mi : Built::kMacros[method]) {
       std::printf("%s\n    {\"number\": %u, \"name\": \"%s\", \"method\": \"%s\", \"description\": \"%s\",",
-                  first ? "" : ",", mi.number, mi.name, src.method, escaped(mi.description).c_str());
+                  first ? "" : ",", mi.number, mi.name, Built::kNames[method], escaped(mi.description).c_str());
       std::printf("\n     \"inputs\": [");
       for (std::size_t k = 0; k < mi.input_count; ++k) {
         const m::InputRef& in = mi.inputs[k];
@@ -143,25 +118,31 @@ void print_json() {
   }
   std::printf("\n  ],\n  \"methods\": [");
   first = true;
-  for (const m::MethodBlock& b : m::kMethodBlocks) {
-    std::printf("%s\n    {\"name\": \"%s\", \"config_block\": [%u, %u], \"data_block\": [%u, %u], \"built\": %s",
-                first ? "" : ",", b.method, b.config_first, b.config_last, b.data_first, b.data_last,
-                method_built(b.method) ? "true" : "false");
-    for (const SessionDoc& sd : kSessions) {
-      if (std::strcmp(sd.method, b.method) == 0) {
-        std::printf(",\n     \"session\": {\"capacity\": %zu, \"sample\": \"%s\", \"clear\": %u, \"add\": %u, "
-                    "\"compute\": %u}",
-                    sd.capacity, sd.sample, sd.clear, sd.add, sd.compute);
+  for (std::size_t method = 0; method < Built::kCount; ++method) {
+    const m::MethodBlock& b = Built::kBlocks[method];
+    const m::StatusBlock& codes = Built::kStatusBlocks[method];
+    std::printf("%s\n    {\"name\": \"%s\", \"config_block\": [%u, %u], \"data_block\": [%u, %u], \"built\": true, "
+                "\"status_block\": [%u, %u]",
+                first ? "" : ",", Built::kNames[method], b.config_first, b.config_last, b.data_first, b.data_last,
+                codes.first, codes.last);
+    const m::SessionInfo& sd = Built::kSessions[method];
+    if (sd.capacity > 0) {
+      std::printf(",\n     \"session\": {\"capacity\": %zu, \"capacity_counts\": \"%s\", \"sample\": \"%s\", "
+                  "\"clear\": %u, \"add\": %u, \"compute\": %u}",
+                  sd.capacity, sd.capacity_unit, escaped(sd.sample).c_str(), sd.clear, sd.add, sd.compute);
+    }
+    bool grouped = false;
+    for (const m::SessionLimit& l : sd.limits) {
+      if (l.group[0] == '\0') {
+        std::printf(", \"%s\": %zu", l.name, l.value);
+      } else if (!grouped) {
+        grouped = true;  // one group per method today (gantry's group_capacity)
+        std::printf(",\n     \"%s\": {", l.group);
+        json_limits(sd, l.group);
+        std::printf("}");
       }
     }
-    if (std::strcmp(b.method, "gantry") == 0) {
-      std::printf(",\n     \"group_capacity\": {");
-      for (std::size_t i = 0; i < sizeof kGantryGroups / sizeof kGantryGroups[0]; ++i) {
-        std::printf("%s\"%s\": %zu", i == 0 ? "" : ", ", kGantryGroups[i].group, kGantryGroups[i].points);
-      }
-      std::printf("}, \"passes\": %zu, \"sub_machines\": %zu", static_cast<std::size_t>(m::gantry::kMaxPasses),
-                  trueaxis::core::kMaxSubMachines);
-    }
+    if (Built::kHasTable[method]) std::printf(", \"stores_table\": true");
     std::printf("}");
     first = false;
   }
@@ -176,7 +157,7 @@ void print_json() {
               m::kRequiredStorageBytes, static_cast<unsigned>(m::Module::kStepBoundInstructions));
   std::printf("\n  \"errors\": [");
   first = true;
-  for (const core::StatusInfo& s : core::kStatusTable) {
+  for (const core::StatusInfo& s : m::kStatusTable) {
     std::printf("%s\n    {\"code\": %d, \"name\": \"%s\", \"message\": \"%s\"}", first ? "" : ",",
                 static_cast<int>(s.status), s.name, escaped(s.message).c_str());
     first = false;
@@ -234,38 +215,34 @@ void print_markdown() {
   std::printf("\n## Simulator-only variables\n\nServed by `trueaxis-sim` only; never by the module in a "
               "controller.\n\n%s", header);
   markdown_rows(trueaxis::sim::kSimMap);
-  std::printf("\n## Methods and their blocks\n\nEach method defines variables only inside its blocks; blocks of "
-              "methods not built yet are reserved.\n\n| method | configuration | data | built | session |\n"
-              "|---|---|---|---|---|\n");
-  for (const m::MethodBlock& b : m::kMethodBlocks) {
+  std::printf("\n## Methods and their blocks\n\nEach method defines variables only inside its blocks and new "
+              "status codes only inside its block of codes; the others are not defined in this module.\n\n"
+              "| method | configuration | data | status codes | session |\n|---|---|---|---|---|\n");
+  for (std::size_t method = 0; method < Built::kCount; ++method) {
+    const m::MethodBlock& b = Built::kBlocks[method];
+    const m::SessionInfo& sd = Built::kSessions[method];
     std::string session = "";
-    for (const SessionDoc& sd : kSessions) {
-      if (std::strcmp(sd.method, b.method) == 0) {
-        char buf[200];
-        std::snprintf(buf, sizeof buf, "%zu samples of %s; clear %u, add %u, compute %u", sd.capacity, sd.sample,
-                      sd.clear, sd.add, sd.compute);
-        session = buf;
-      }
+    if (sd.capacity > 0) {
+      char buf[300];
+      std::snprintf(buf, sizeof buf, "%zu %s of %s; clear %u, add %u, compute %u", sd.capacity, sd.capacity_unit,
+                    sd.sample, sd.clear, sd.add, sd.compute);
+      session = buf;
     }
-    if (std::strcmp(b.method, "gantry") == 0) {
-      char buf[200];
-      std::snprintf(buf, sizeof buf, "; at most %zu points per plane, %zu per pass, %zu per circle, %zu passes per axis",
-                    static_cast<std::size_t>(m::gantry::kMaxPlanePoints),
-                    static_cast<std::size_t>(m::gantry::kMaxPassPoints),
-                    static_cast<std::size_t>(m::gantry::kMaxCirclePoints),
-                    static_cast<std::size_t>(m::gantry::kMaxPasses));
+    for (const m::SessionLimit& l : sd.limits) {
+      char buf[120];
+      std::snprintf(buf, sizeof buf, "; %s%s%s %zu", l.group, l.group[0] ? " " : "", l.name, l.value);
       session += buf;
     }
-    std::printf("| %s | #%u..#%u | #%u..#%u | %s | %s |\n", b.method, b.config_first, b.config_last, b.data_first,
-                b.data_last, method_built(b.method) ? "yes" : "reserved", session.c_str());
+    std::printf("| %s | #%u..#%u | #%u..#%u | %u..%u | %s |\n", Built::kNames[method], b.config_first, b.config_last,
+                b.data_first, b.data_last, Built::kStatusBlocks[method].first, Built::kStatusBlocks[method].last,
+                session.c_str());
   }
   std::printf("\n## Macros\n\nEvery macro runs in steps of at most %u Cortex-M7 instructions "
               "(#9008 tells how many steps the last one took).\n",
               static_cast<unsigned>(m::Module::kStepBoundInstructions));
-  for (const m::MacroSource& src : m::kMacroSources) {
-    for (std::size_t i = 0; i < src.count; ++i) {
-      const m::MacroInfo& mi = src.macros[i];
-      std::printf("\n### %u %s (%s)\n\n%s\n\n| | variables |\n|---|---|\n", mi.number, mi.name, src.method,
+  for (std::size_t method = 0; method < Built::kCount; ++method) {
+    for (const m::MacroInfo& mi : Built::kMacros[method]) {
+      std::printf("\n### %u %s (%s)\n\n%s\n\n| | variables |\n|---|---|\n", mi.number, mi.name, Built::kNames[method],
                   mi.description);
       for (std::size_t k = 0; k < mi.input_count; ++k) {
         const m::InputRef& in = mi.inputs[k];
@@ -290,7 +267,7 @@ void print_markdown() {
     std::printf("| %u | %s | %u | %zu |\n", r.key, r.name, r.layout_version, r.capacity_bytes);
   }
   std::printf("\n## Error codes (#9002)\n\n| code | name | message |\n|---|---|---|\n");
-  for (const core::StatusInfo& s : core::kStatusTable) {
+  for (const core::StatusInfo& s : m::kStatusTable) {
     std::printf("| %d | %s | %s |\n", static_cast<int>(s.status), s.name, s.message);
   }
   std::printf("\n## Refused register accesses (#9007 and the Modbus exception)\n\n"

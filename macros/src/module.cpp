@@ -2,6 +2,8 @@
 
 #include "trueaxis/macros/record_codec.hpp"
 
+#include <tuple>
+
 namespace trueaxis::macros {
 
 namespace {
@@ -27,16 +29,20 @@ struct SlotRun {
   std::size_t count;
 };
 
+// Slot runs of the variables cleared after every macro (kReadWrite rows), merged
+// where adjacent (slots follow the platform, then each method: not map order).
 constexpr std::size_t readwrite_run_count() {
   std::size_t runs = 0;
-  std::size_t end = kVariableCount + 1;
-  std::size_t slot = 0;
-  for (const VarInfo& v : kRegisterMap) {
-    if (v.access == Access::kReadWrite) {
-      if (slot != end) ++runs;
-      end = slot + v.count;
+  for (std::size_t slot = 0; slot < kVariableCount; ++slot) {
+    bool rw = false;
+    bool rw_before = false;
+    for (const VarInfo& v : kRegisterMap) {
+      if (v.access != Access::kReadWrite) continue;
+      const std::size_t first = slot_of(v.number);
+      rw = rw || (slot >= first && slot < first + v.count);
+      rw_before = rw_before || (slot > 0 && slot - 1 >= first && slot - 1 < first + v.count);
     }
-    slot += v.count;
+    if (rw && !rw_before) ++runs;
   }
   return runs;
 }
@@ -44,16 +50,18 @@ constexpr std::size_t readwrite_run_count() {
 constexpr std::array<SlotRun, readwrite_run_count()> readwrite_runs() {
   std::array<SlotRun, readwrite_run_count()> runs{};
   std::size_t n = 0;
-  std::size_t slot = 0;
-  for (const VarInfo& v : kRegisterMap) {
-    if (v.access == Access::kReadWrite) {
-      if (n > 0 && runs[n - 1].first + runs[n - 1].count == slot) {
-        runs[n - 1].count += v.count;
-      } else {
-        runs[n++] = {slot, v.count};
-      }
+  for (std::size_t slot = 0; slot < kVariableCount; ++slot) {
+    bool rw = false;
+    for (const VarInfo& v : kRegisterMap) {
+      const std::size_t first = slot_of(v.number);
+      rw = rw || (v.access == Access::kReadWrite && slot >= first && slot < first + v.count);
     }
-    slot += v.count;
+    if (!rw) continue;
+    if (n > 0 && runs[n - 1].first + runs[n - 1].count == slot) {
+      ++runs[n - 1].count;
+    } else {
+      runs[n++] = {slot, 1};
+    }
   }
   return runs;
 }
@@ -95,11 +103,21 @@ Module::Module(hal::NvStorage& storage, hal::Clock& clock, const MacroInfo* extr
     : clock_(clock),
       extra_macros_(extra_macros),
       extra_count_(extra_count),
-      store_(storage, kRecordSpecs, kRecordCount, store_scratch_, sizeof store_scratch_) {
-  std::size_t slot = 0;
+      store_(storage, kRecordSpecs.data(), kRecordCount, store_scratch_, sizeof store_scratch_),
+      call_{values_, staged_, record_, Arena(sessions_), Arena(work_), services_, store_} {
   for (const VarInfo& v : kRegisterMap) {
-    for (std::uint16_t i = 0; i < v.count; ++i) values_[slot++] = v.default_value;
+    for (std::uint16_t i = 0; i < v.count; ++i) values_[slot_of(v.number) + i] = v.default_value;
   }
+  record_.bytes = record_bytes_;
+  record_.capacity = sizeof record_bytes_;
+  record_.specs = kRecordSpecs.data();
+  record_.spec_count = kRecordCount;
+  BuiltMethods::for_each([this](auto index, auto tag) {
+    using M = typename decltype(tag)::Type;
+    auto& state = std::get<typename M::State>(states_);
+    state_of_[decltype(index)::value] = &state;
+    if constexpr (detail::HasProvide<M>::value) M::provide(state, services_);
+  });
 }
 
 core::Status Module::start() {
@@ -109,14 +127,26 @@ core::Status Module::start() {
   const core::Status s = store_.mount();
   load_variables(RecordKey::kConfig);
   load_variables(RecordKey::kWorkOffsets);
-  for (const RecordKey key : kTableRecords) {
-    std::size_t length = 0;
-    if (store_.load(record_key(key), record_.bytes, sizeof record_.bytes, length) == core::Status::kOk) {
-      on_table_loaded(methods_, key, record_.bytes, length);
-    }
-    if (store_.damaged(record_key(key))) on_table_damaged(methods_, key);
-  }
+  load_tables();
   return s;
+}
+
+// Each built method's stored table: decoded in the work arena (no macro runs
+// yet), then made live; a record that failed its CRC is told apart.
+void Module::load_tables() {
+  BuiltMethods::for_each([this](auto, auto tag) {
+    using M = typename decltype(tag)::Type;
+    if constexpr (detail::has_table<M>()) {
+      auto& table = M::table(std::get<typename M::State>(states_));
+      const std::uint8_t key = M::Table::kRecord.key;
+      std::size_t length = 0;
+      if (store_.load(key, record_bytes_, sizeof record_bytes_, length) == core::Status::kOk) {
+        Arena work(work_);
+        table.load(record_bytes_, length, work.open<typename M::Table::Type>());
+      }
+      if (store_.damaged(key)) table.damaged();
+    }
+  });
 }
 
 // Entries are looked up by number: a later map that adds variables still loads
@@ -184,11 +214,11 @@ AccessFault Module::check_unlock(double value) const {
   if (!std::isfinite(value)) return AccessFault::kNotFinite;
   if (value == 0.0) return AccessFault::kNone;  // locking is always allowed
   if (clock_.now_us() < backoff_until_us_) return AccessFault::kUnlockBackoff;
-  return value == values_[slot_of(var::kUnlockCodeSetting)] ? AccessFault::kNone : AccessFault::kBadUnlockCode;
+  return value == values_[slot<var::kUnlockCodeSetting>()] ? AccessFault::kNone : AccessFault::kBadUnlockCode;
 }
 
 void Module::failed_unlock() {
-  set(var::kFailedUnlocks, value(var::kFailedUnlocks) + 1.0);
+  at<var::kFailedUnlocks>() = at<var::kFailedUnlocks>() + 1.0;
   failed_in_row_ = failed_in_row_ < 7 ? failed_in_row_ + 1 : 7;
   const std::uint64_t backoff = std::uint64_t{1'000'000} << (failed_in_row_ - 1);
   backoff_until_us_ = clock_.now_us() + (backoff < kMaxBackoffUs ? backoff : kMaxBackoffUs);
@@ -243,22 +273,23 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
     if (access == Access::kCommand && values[i] != 0.0) {  // 0 runs nothing and changes no state
       pending_ = static_cast<std::uint16_t>(values[i]);
       phase_ = Phase::kStart;
-      set(var::kStatus, state_value(MacroState::kBusy));
-      set(var::kError, 0.0);
+      at<var::kStatus>() = state_value(MacroState::kBusy);
+      at<var::kError>() = 0.0;
     }
   }
   last_write_us_ = clock_.now_us();
   return AccessFault::kNone;
 }
 
-void Module::do_note_fault(AccessFault f) { set(var::kAccessFault, static_cast<double>(static_cast<int>(f))); }
+void Module::do_note_fault(AccessFault f) { at<var::kAccessFault>() = static_cast<double>(static_cast<int>(f)); }
 
-const MacroInfo* Module::lookup(std::uint16_t number) const {
-  const MacroInfo* m = find_macro(number);
-  for (std::size_t i = 0; m == nullptr && i < extra_count_; ++i) {
-    if (extra_macros_[i].number == number) m = &extra_macros_[i];
+MacroEntry Module::lookup(std::uint16_t number) const {
+  const MacroEntry built = find_macro_entry(number);
+  if (built.info != nullptr) return built;
+  for (std::size_t i = 0; i < extra_count_; ++i) {
+    if (extra_macros_[i].number == number) return {&extra_macros_[i], BuiltMethods::kCount};
   }
-  return m;
+  return {nullptr, 0};
 }
 
 void Module::step() {
@@ -268,21 +299,25 @@ void Module::step() {
     started_us_ = clock_.now_us();
     steps_ = 0;
     running_ = lookup(pending_);
-    if (running_ == nullptr) {
+    if (running_.info == nullptr) {
       ++steps_;
       finish(core::Status::kUnknownMacro);
       return;
     }
     for (std::size_t i = 0; i < kResultSlots; ++i) staged_[i] = values_[kResultSlot + i];
     record_.staged = false;
+    call_.on_success = nullptr;
     phase_ = Phase::kRunning;
     first_step = true;
   }
   ++steps_;
 
   if (phase_ == Phase::kRunning) {
-    MacroContext ctx(values_, staged_, methods_, record_, store_, first_step);
-    const MacroStep r = running_->run(ctx);
+    const bool extra = running_.method >= BuiltMethods::kCount;
+    call_.own = extra ? nullptr : values_ + BuiltMethods::kSlotBase[running_.method];
+    call_.state = extra ? nullptr : state_of_[running_.method];
+    call_.first_step = first_step;
+    const MacroStep r = running_.info->run(call_);
     if (r.more) return;
     if (r.status != core::Status::kOk) {
       finish(r.status);
@@ -298,11 +333,11 @@ void Module::step() {
   }
 
   // Phase::kCommitting: the table first, then the results.
-  if (store_.save(static_cast<std::uint8_t>(record_.key), record_.bytes, record_.length) != core::Status::kOk) {
+  if (store_.save(record_.key, record_.bytes, record_.length) != core::Status::kOk) {
     finish(core::Status::kStorageFailure);
     return;
   }
-  on_table_committed(methods_, record_.key);
+  if (record_.commit != nullptr) record_.commit(record_.table);
   publish_results();
   finish(core::Status::kOk);
 }
@@ -313,16 +348,20 @@ void Module::publish_results() {
 
 void Module::finish(core::Status status) {
   const bool ok = status == core::Status::kOk;
-  set(var::kStatus, state_value(ok ? MacroState::kDone : MacroState::kError));
-  set(var::kError, static_cast<double>(static_cast<int>(status)));
-  set(var::kDoneCount, value(var::kDoneCount) + 1.0);
-  set(var::kRunTime, static_cast<double>(clock_.now_us() - started_us_));
-  set(var::kStepCount, static_cast<double>(steps_));
+  if (ok && call_.on_success != nullptr) *call_.on_success = true;
+  call_.on_success = nullptr;
+  at<var::kStatus>() = state_value(ok ? MacroState::kDone : MacroState::kError);
+  at<var::kError>() = static_cast<double>(static_cast<int>(status));
+  at<var::kDoneCount>() = at<var::kDoneCount>() + 1.0;
+  at<var::kRunTime>() = static_cast<double>(clock_.now_us() - started_us_);
+  at<var::kStepCount>() = static_cast<double>(steps_);
   for (const SlotRun& run : kReadWriteRuns) {
     for (std::size_t k = 0; k < run.count; ++k) values_[run.first + k] = 0.0;
   }
   record_.staged = false;
-  running_ = nullptr;
+  record_.commit = nullptr;
+  record_.table = nullptr;
+  running_ = {nullptr, 0};
   phase_ = Phase::kStart;
   pending_ = 0;
 }

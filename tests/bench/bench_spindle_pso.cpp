@@ -16,6 +16,7 @@
 #include "particle_swarm.hpp"
 #include "trueaxis/core/levenberg_marquardt.hpp"
 #include "trueaxis/core/spindle_model.hpp"
+#include "trueaxis/macros/register_map.hpp"
 
 namespace {
 
@@ -202,7 +203,7 @@ int main() {
   core::SpindleFit fit;
   const core::Status status = core::fit_spindle(s.data(), n, kGeometry, fit);
   if (status != core::Status::kOk) {
-    std::printf("fit_spindle failed: %s\n", core::status_name(status));
+    std::printf("fit_spindle failed: %s\n", trueaxis::macros::status_name(status));
     return 1;
   }
   std::vector<double> lm_times;
@@ -233,14 +234,14 @@ int main() {
   }
   const core::Result<SpindleParams> start = core::spindle_start(bins, kGeometry);
   if (!start.ok()) {
-    std::printf("spindle_start failed: %s\n", core::status_name(start.status()));
+    std::printf("spindle_start failed: %s\n", trueaxis::macros::status_name(start.status()));
     return 1;
   }
   const LmRun cs = timed_central(start.value(), s, target);
   const LmRun cc = timed_central(0.5 * (lower + upper), s, target);
   for (const LmRun* r : {&cs, &cc}) {
     if (r->status != core::Status::kOk) {
-      std::printf("central-difference LM failed: %s\n", core::status_name(r->status));
+      std::printf("central-difference LM failed: %s\n", trueaxis::macros::status_name(r->status));
       return 1;
     }
   }

@@ -61,7 +61,7 @@ void write_slot(Input& in, Image& image) {
   const std::uint8_t damage = in.u8();
   const std::uint32_t sequence = in.u32();
   const std::uint16_t length = in.u16();
-  const std::size_t offset = KeyedStore::slot_offset(kRecordSpecs, record, index % 2);
+  const std::size_t offset = KeyedStore::slot_offset(kRecordSpecs.data(), record, index % 2);
   const std::size_t room = KeyedStore::slot_bytes(kRecordSpecs[record]) - KeyedStore::kHeaderBytes;
   std::uint8_t* slot = image.data() + offset;
 
@@ -120,7 +120,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
   image = original;
   trueaxis::hal::RamNvStorage storage(image.data(), image.size());
-  KeyedStore store(storage, kRecordSpecs, kRecordCount, scratch.data(), scratch.size());
+  KeyedStore store(storage, kRecordSpecs.data(), kRecordCount, scratch.data(), scratch.size());
   FUZZ_CHECK(store.mount() == Status::kOk);
   load_all(store, loaded);
 
@@ -130,7 +130,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     next.length = next.length < kRecordSpecs[i].capacity_bytes ? next.length + 1 : next.length - 1;
     for (std::size_t k = 0; k < next.length; ++k) next.bytes[k] = static_cast<std::uint8_t>(~next.bytes[k]);
     FUZZ_CHECK(store.save(kRecordSpecs[i].key, next.bytes.data(), next.length) == Status::kOk);
-    KeyedStore again(storage, kRecordSpecs, kRecordCount, scratch.data(), scratch.size());
+    KeyedStore again(storage, kRecordSpecs.data(), kRecordCount, scratch.data(), scratch.size());
     FUZZ_CHECK(again.mount() == Status::kOk);
     load_all(again, reloaded);
     for (std::size_t j = 0; j < kRecordCount; ++j) FUZZ_CHECK(same(reloaded[j], j == i ? next : loaded[j]));

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "fakes.hpp"
-#include "trueaxis/macros/macro_context.hpp"
+#include "trueaxis/macros/method_context.hpp"
 #include "trueaxis/macros/module.hpp"
 
 namespace {
@@ -22,14 +22,14 @@ using F = trueaxis::macros::AccessFault;
 
 // A test macro that stages a small spindle-model record (any bytes: the module
 // commits without decoding).
-m::MacroStep stage_table(m::MacroContext& ctx) {
-  std::uint8_t* bytes = ctx.stage_record(m::RecordKey::kSpindleModel, 16);
+m::MacroStep stage_table(m::PlatformContext& ctx) {
+  std::uint8_t* bytes = ctx.stage_record(m::spindle::ModelRecord::kRecord.key, 16);
   if (bytes == nullptr) return m::done(Status::kTableInvalid);
   for (std::uint8_t i = 0; i < 16; ++i) bytes[i] = i;
   return m::done(Status::kOk);
 }
 constexpr m::OutputInfo kNoOutputs[] = {{100, "x", "", "unused"}};
-const m::MacroInfo kStageMacro[] = {m::macro(9990, &stage_table, "stage", "stage a record", kNoOutputs)};
+const m::MacroInfo kStageMacro[] = {m::macro<&stage_table>(9990, "stage", "stage a record", kNoOutputs)};
 
 struct Rig {
   trueaxis::test::FlakyStorage storage;

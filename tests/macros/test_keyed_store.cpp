@@ -243,13 +243,13 @@ TEST_CASE("a save writes only its own key's slots, in one write once both hold a
   static std::array<std::uint8_t, m::kStoreScratchBytes> scratch{};
   bytes.fill(0);
   t::PowerCutStorage storage(bytes.data(), bytes.size());
-  KeyedStore store(storage, m::kRecordSpecs, m::kRecordCount, scratch.data(), scratch.size());
+  KeyedStore store(storage, m::kRecordSpecs.data(), m::kRecordCount, scratch.data(), scratch.size());
   REQUIRE(store.mount() == Status::kOk);
   for (std::size_t i = 0; i < m::kRecordCount; ++i) {
     const m::RecordSpec& spec = m::kRecordSpecs[i];
     const Bytes payload = pattern(spec.capacity_bytes, static_cast<std::uint8_t>(i));
-    const std::size_t lo = KeyedStore::slot_offset(m::kRecordSpecs, i, 0);
-    const std::size_t hi = KeyedStore::slot_offset(m::kRecordSpecs, i, 2);
+    const std::size_t lo = KeyedStore::slot_offset(m::kRecordSpecs.data(), i, 0);
+    const std::size_t hi = KeyedStore::slot_offset(m::kRecordSpecs.data(), i, 2);
     for (int repeat = 0; repeat < 3; ++repeat) {
       const auto before = bytes;
       storage.reset_counters();

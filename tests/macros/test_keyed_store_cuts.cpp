@@ -105,11 +105,11 @@ TEST_CASE("a cut at any byte of a work-offset save keeps every product record", 
   std::array<std::uint8_t, 360> offsets{};
   t::SplitMix64 rng(0x5EED'0202);
   t::PowerCutStorage storage(bytes.data(), bytes.size());
-  fill(rng, storage, m::kRecordSpecs, scratch.data(), scratch.size(), 1, before);
+  fill(rng, storage, m::kRecordSpecs.data(), scratch.data(), scratch.size(), 1, before);
   t::fill_random(rng, offsets.data(), offsets.size());
   for (const t::Fault fault : t::kFaults) {
     std::size_t failed_at = 0;
-    const t::Verdict v = t::cut_every_byte(bytes.data(), bytes.size(), snapshot.data(), m::kRecordSpecs,
+    const t::Verdict v = t::cut_every_byte(bytes.data(), bytes.size(), snapshot.data(), m::kRecordSpecs.data(),
                                            scratch.data(), scratch.size(), before, 1, offsets.data(),
                                            offsets.size(), fault, rng.next(), failed_at);
     INFO(fault_name(fault) << ", cut at byte " << failed_at);

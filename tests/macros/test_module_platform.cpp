@@ -21,7 +21,7 @@ namespace {
 
 // Extra macros a test hands the module, as an integrator could.
 int g_steps_seen = 0;
-m::MacroStep three_steps(m::MacroContext& ctx) {
+m::MacroStep three_steps(m::PlatformContext& ctx) {
   if (ctx.first_step()) g_steps_seen = 0;
   ++g_steps_seen;
   if (g_steps_seen < 3) return m::more();
@@ -33,8 +33,8 @@ constexpr std::size_t kTableValues = 300;
 
 // Stages a 300-value table v_i = A + i as the rigidity record; fails instead
 // when Q = 1 (after staging), to show a failed macro commits nothing.
-m::MacroStep stage_table(m::MacroContext& ctx) {
-  std::uint8_t* bytes = ctx.stage_record(m::RecordKey::kRigidityTable, 8 * kTableValues);
+m::MacroStep stage_table(m::PlatformContext& ctx) {
+  std::uint8_t* bytes = ctx.stage_record(m::RigidityTableRecord::kRecord.key, 8 * kTableValues);
   if (bytes == nullptr) return m::done(Status::kStorageFailure);
   for (std::size_t i = 0; i < kTableValues; ++i) m::put_f64(bytes + 8 * i, ctx.in<v::kArgA>() + static_cast<double>(i));
   if (ctx.in<v::kArgQ>() == 1.0) return m::done(Status::kArgumentOutOfRange);
@@ -43,10 +43,10 @@ m::MacroStep stage_table(m::MacroContext& ctx) {
 }
 
 // Reads the stored rigidity record: #100 its number of values, #101 value Q.
-m::MacroStep read_table(m::MacroContext& ctx) {
+m::MacroStep read_table(m::PlatformContext& ctx) {
   static std::uint8_t bytes[m::kMaxRecordPayloadBytes];
   std::size_t length = 0;
-  const Status s = ctx.load_record(m::RecordKey::kRigidityTable, bytes, sizeof bytes, length);
+  const Status s = ctx.load_record(m::RigidityTableRecord::kRecord.key, bytes, sizeof bytes, length);
   if (s != Status::kOk) return m::done(s);
   if (length == 0) return m::done(Status::kNoTable);
   const auto q = static_cast<std::size_t>(ctx.in<v::kArgQ>());
@@ -57,9 +57,9 @@ m::MacroStep read_table(m::MacroContext& ctx) {
 
 constexpr m::OutputInfo kTestOutputs[] = {{100, "test", "", "Test output."}};
 constexpr m::MacroInfo kTestMacros[] = {
-    m::macro(9901, &three_steps, "three_steps", "Takes three steps.", kTestOutputs),
-    m::macro(9902, &stage_table, "stage_table", "Stages a 300-value table.", kTestOutputs),
-    m::macro(9903, &read_table, "read_table", "Reads the stored table.", kTestOutputs),
+    m::macro<&three_steps>(9901, "three_steps", "Takes three steps.", kTestOutputs),
+    m::macro<&stage_table>(9902, "stage_table", "Stages a 300-value table.", kTestOutputs),
+    m::macro<&read_table>(9903, "read_table", "Reads the stored table.", kTestOutputs),
 };
 
 struct TableRig {
@@ -82,11 +82,11 @@ struct TableRig {
 };
 
 // Bytes [first, end) of a record's two slots in the storage layout.
-std::pair<std::size_t, std::size_t> region_of(m::RecordKey key) {
+std::pair<std::size_t, std::size_t> region_of(std::uint8_t key) {
   std::size_t at = 0;
   for (const m::RecordSpec& spec : m::kRecordSpecs) {
     const std::size_t n = 2 * m::KeyedStore::slot_bytes(spec);
-    if (spec.key == static_cast<std::uint8_t>(key)) return {at, at + n};
+    if (spec.key == key) return {at, at + n};
     at += n;
   }
   return {0, 0};
@@ -134,7 +134,7 @@ TEST_CASE("a 300-value table staged by one macro is committed once and survives 
   CHECK(rig.get(v::kStatus) == 2.0);
   CHECK(rig.get(v::kStepCount) == 2.0);
   CHECK(rig.get(100) == 1.0);
-  const auto [first, end] = region_of(m::RecordKey::kRigidityTable);
+  const auto [first, end] = region_of(m::RigidityTableRecord::kRecord.key);
   CHECK(rig.storage.written_first >= first);
   CHECK(rig.storage.written_end <= end);
   CHECK(rig.storage.written_bytes >= 8 * kTableValues);
@@ -196,8 +196,8 @@ TEST_CASE("a table is refused while locked, and a failed macro or save commits n
 TEST_CASE("a work-offset write rewrites only the work-offset record, a config write only the config record",
           "[module][persist]") {
   Rig rig;
-  const auto offsets = region_of(m::RecordKey::kWorkOffsets);
-  const auto config = region_of(m::RecordKey::kConfig);
+  const auto offsets = region_of(static_cast<std::uint8_t>(m::RecordKey::kWorkOffsets));
+  const auto config = region_of(static_cast<std::uint8_t>(m::RecordKey::kConfig));
   REQUIRE(offsets.second > offsets.first);
   REQUIRE(config.second > config.first);
 
@@ -283,7 +283,7 @@ TEST_CASE("a start that cannot read one record loads the others, and a write kee
     REQUIRE(first.write(v::kAMax, 1, &a_max) == F::kNone);
     REQUIRE(first.write(v::kG57, 1, &g57) == F::kNone);
   }
-  const auto offsets = region_of(m::RecordKey::kWorkOffsets);
+  const auto offsets = region_of(static_cast<std::uint8_t>(m::RecordKey::kWorkOffsets));
   storage.unreadable_first = offsets.first;
   storage.unreadable_end = offsets.first + 1;
   {

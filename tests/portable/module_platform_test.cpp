@@ -28,23 +28,23 @@ void blank_storage() {
 }
 
 int g_steps = 0;
-m::MacroStep four_steps(m::MacroContext& ctx) {
+m::MacroStep four_steps(m::PlatformContext& ctx) {
   if (ctx.first_step()) g_steps = 0;
   return ++g_steps < 4 ? m::more() : m::done(Status::kOk);
 }
 
 constexpr std::size_t kValues = 300;
-m::MacroStep stage_300(m::MacroContext& ctx) {
-  std::uint8_t* bytes = ctx.stage_record(m::RecordKey::kRigidityTable, 8 * kValues);
+m::MacroStep stage_300(m::PlatformContext& ctx) {
+  std::uint8_t* bytes = ctx.stage_record(m::RigidityTableRecord::kRecord.key, 8 * kValues);
   if (bytes == nullptr) return m::done(Status::kStorageFailure);
   for (std::size_t i = 0; i < kValues; ++i) m::put_f64(bytes + 8 * i, ctx.in<var::kArgA>() * static_cast<double>(i));
   return m::done(Status::kOk);
 }
 
 std::uint8_t g_record[m::kMaxRecordPayloadBytes];
-m::MacroStep read_back(m::MacroContext& ctx) {
+m::MacroStep read_back(m::PlatformContext& ctx) {
   std::size_t length = 0;
-  const Status s = ctx.load_record(m::RecordKey::kRigidityTable, g_record, sizeof g_record, length);
+  const Status s = ctx.load_record(m::RigidityTableRecord::kRecord.key, g_record, sizeof g_record, length);
   if (s != Status::kOk) return m::done(s);
   ctx.out<100>(static_cast<double>(length / 8));
   ctx.out<101>(length >= 8 * kValues ? m::get_f64(g_record + 8 * (kValues - 1)) : -1.0);
@@ -53,9 +53,9 @@ m::MacroStep read_back(m::MacroContext& ctx) {
 
 constexpr m::OutputInfo kOut[] = {{100, "n", "", "test"}, {101, "last", "", "test"}};
 constexpr m::MacroInfo kExtra[] = {
-    m::macro(9901, &four_steps, "four_steps", "", kOut),
-    m::macro(9902, &stage_300, "stage_300", "", kOut),
-    m::macro(9903, &read_back, "read_back", "", kOut),
+    m::macro<&four_steps>(9901, "four_steps", "", kOut),
+    m::macro<&stage_300>(9902, "stage_300", "", kOut),
+    m::macro<&read_back>(9903, "read_back", "", kOut),
 };
 
 double read1(Module& mod, std::uint16_t n) {

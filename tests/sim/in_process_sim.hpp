@@ -93,8 +93,8 @@ inline double read_var(sim::VariableClient& client, std::uint16_t number) {
 }
 
 inline std::string module_error(core::Status s) {
-  return "module error " + std::to_string(static_cast<int>(s)) + " " + trueaxis::core::status_name(s) + ": " +
-         trueaxis::core::status_message(s);
+  return "module error " + std::to_string(static_cast<int>(s)) + " " + trueaxis::macros::status_name(s) + ": " +
+         trueaxis::macros::status_message(s);
 }
 
 }  // namespace trueaxis::test

@@ -157,7 +157,7 @@ std::string csv_where(const std::vector<Row>& rows, Keep keep) {
 
 std::string module_error(Status s) {
   return "trueaxis-calibrate: module error " + std::to_string(static_cast<int>(s)) + " " +
-         trueaxis::core::status_name(s) + ": " + trueaxis::core::status_message(s);
+         trueaxis::macros::status_name(s) + ": " + trueaxis::macros::status_message(s);
 }
 
 }  // namespace
@@ -419,14 +419,14 @@ TEST_CASE("calibrate rigidity: a stored table whose CRC fails is not used after 
   stop();
 
   std::size_t index = 0;
-  while (m::kRecordSpecs[index].key != m::record_key(m::RecordKey::kRigidityTable)) ++index;
-  const std::size_t slot[2] = {m::KeyedStore::slot_offset(m::kRecordSpecs, index, 0),
-                               m::KeyedStore::slot_offset(m::kRecordSpecs, index, 1)};
+  while (m::kRecordSpecs[index].key != m::RigidityTableRecord::kRecord.key) ++index;
+  const std::size_t slot[2] = {m::KeyedStore::slot_offset(m::kRecordSpecs.data(), index, 0),
+                               m::KeyedStore::slot_offset(m::kRecordSpecs.data(), index, 1)};
   std::string bytes = slurp(nv);
   REQUIRE(bytes.size() == m::kRequiredStorageBytes);
   for (std::size_t s : slot) {
     REQUIRE(bytes.compare(s, 4, "TAK1") == 0);
-    REQUIRE(static_cast<unsigned char>(bytes[s + 4]) == m::record_key(m::RecordKey::kRigidityTable));
+    REQUIRE(static_cast<unsigned char>(bytes[s + 4]) == m::RigidityTableRecord::kRecord.key);
   }
   const auto flip = [&](std::size_t offset) {
     bytes[offset] = static_cast<char>(bytes[offset] ^ 0x10);

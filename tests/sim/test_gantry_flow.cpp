@@ -27,6 +27,14 @@ using core::Status;
 using core::Vec3;
 using F = m::AccessFault;
 
+// The method's session in the module's shared session arena (it must hold it).
+const trueaxis::macros::gantry::PointSession& session_of(const trueaxis::macros::Module& module) {
+  const auto* s = module.session<trueaxis::macros::gantry::Method>();
+  REQUIRE(s != nullptr);
+  return *s;
+}
+
+
 constexpr double kDone = 2.0;
 constexpr double kError = 3.0;
 
@@ -106,7 +114,7 @@ TEST_CASE("9823 through the registers gives the core's frames bit for bit", "[ga
   const Fixture f;
   Rig rig;
   stream(rig, f, {0, 1, 2, 3});
-  CHECK(rig.get(v::kGantrySessionCount) == static_cast<double>(rig.module.methods().gantry.session.size()));
+  CHECK(rig.get(v::kGantrySessionCount) == static_cast<double>(session_of(rig.module).size()));
   REQUIRE(build(rig, false) == kDone);
   CHECK(rig.get(v::kGantryBuilt) == 4.0);
 
@@ -157,7 +165,7 @@ TEST_CASE("9825 and the direct call agree with the truth within the stated uncer
       const Vec3 truth = (s.R.transpose() * (p_l - s.origin)).cast<double>();
       REQUIRE(rig.convert(s.id, p) == kDone);
       const Vec3 by_macro = rig.out3(v::kGantryPointX);
-      const auto direct = g::sub_point_mm(rig.module.methods().gantry, s.id, p);
+      const auto direct = g::sub_point_mm(rig.module.state<m::gantry::Method>(), s.id, p);
       REQUIRE(direct.ok());
       CHECK(direct.value() == by_macro);
       // 1 sigma of the point: the origin's, and the frame's turn over the lever arm.
@@ -223,7 +231,7 @@ TEST_CASE("bad points and parameters get their own codes and change nothing", "[
     REQUIRE(rig.module.write(v::kArgX, 3, xyz) == F::kNone);
     const Status s = rig.refuse(9821);
     CHECK(rig.out3(v::kGantrySessionCount) == outputs);
-    CHECK(rig.module.methods().gantry.session.size() == 1);
+    CHECK(session_of(rig.module).size() == 1);
     return s;
   };
   const Vec3 p(10, 20, 30);
@@ -242,14 +250,14 @@ TEST_CASE("bad points and parameters get their own codes and change nothing", "[
   const double far_point[3] = {0, 0, std::nextafter(1e5, 2e5)};
   CHECK(rig.module.write(v::kArgX, 3, nan_point) == F::kNotFinite);
   CHECK(rig.module.write(v::kArgX, 3, far_point) == F::kOutOfRange);
-  CHECK(rig.module.methods().gantry.session.size() == 1);
+  CHECK(session_of(rig.module).size() == 1);
   REQUIRE(rig.add(0, g::GroupKind::kBed, 0, Vec3(0, 0, 1e5)) == kDone);  // the bound itself is accepted
   REQUIRE(rig.add(1, g::GroupKind::kXPass, g::kMaxPasses, p) == kDone);  // the last pass number too
   // The bed again after another group: not contiguous.
   rig.put(v::kArgT, 0);
   rig.put(v::kArgQ, 1);
   CHECK(rig.refuse(9821) == Status::kGroupNotContiguous);
-  CHECK(rig.module.methods().gantry.session.size() == 3);
+  CHECK(session_of(rig.module).size() == 3);
 
   SECTION("9822: a bad sub-machine, swing or direction") {
     CHECK(rig.parameters(1, 250, Vec3(0, 0, -1)) == kDone);
@@ -268,7 +276,7 @@ TEST_CASE("bad points and parameters get their own codes and change nothing", "[
     CHECK(rig.module.write(v::kArgI, 3, inf_tool) == F::kNotFinite);
     const double nan_swing = NAN;
     CHECK(rig.module.write(v::kArgD, 1, &nan_swing) == F::kNotFinite);
-    CHECK(rig.module.methods().gantry.session.parameters(1).swing_mm == 250.0);
+    CHECK(session_of(rig.module).parameters(1).swing_mm == 250.0);
     CHECK(rig.parameters(1, 0.0, Vec3(0, 0, -1)) == kDone);  // a swing of 0 is a wrist-centred program frame
   }
 }
@@ -289,7 +297,7 @@ TEST_CASE("each group holds exactly its capacity, the session exactly 2048 point
   CHECK(rig.add(2, g::GroupKind::kYPass, 3, Vec3(0, 0, 0)) == kError);
   CHECK(rig.get(v::kError) == static_cast<double>(Status::kTooManyPoints));
   // Fill to exactly 2048 with whole passes, then one more point anywhere.
-  std::size_t count = rig.module.methods().gantry.session.size();
+  std::size_t count = session_of(rig.module).size();
   for (int sub = 3; sub <= 8 && count < g::kSessionCapacity; ++sub) {
     for (int axis = 0; axis < 3 && count < g::kSessionCapacity; ++axis) {
       for (int k = 1; k <= g::kMaxPasses && count < g::kSessionCapacity; ++k) {
@@ -299,7 +307,7 @@ TEST_CASE("each group holds exactly its capacity, the session exactly 2048 point
       }
     }
   }
-  REQUIRE(rig.module.methods().gantry.session.size() == g::kSessionCapacity);
+  REQUIRE(session_of(rig.module).size() == g::kSessionCapacity);
   CHECK(rig.get(v::kGantrySessionCount) == static_cast<double>(g::kSessionCapacity));
   CHECK(rig.add(8, g::GroupKind::kACircle, 0, Vec3(0, 0, 0)) == kError);
   CHECK(rig.get(v::kError) == static_cast<double>(Status::kSessionFull));
@@ -390,7 +398,7 @@ TEST_CASE("9825's own refusals keep its outputs", "[gantry][flow][errors]") {
   Rig rig;
   CHECK(rig.convert(1, Vec3(0, 0, 0)) == kError);
   CHECK(rig.get(v::kError) == static_cast<double>(Status::kNoTable));
-  CHECK(g::sub_point_mm(rig.module.methods().gantry, 1, Vec3(0, 0, 0)).status() == Status::kNoTable);
+  CHECK(g::sub_point_mm(rig.module.state<m::gantry::Method>(), 1, Vec3(0, 0, 0)).status() == Status::kNoTable);
   stream(rig, f, {0});
   REQUIRE(build(rig, true) == kDone);
   REQUIRE(rig.convert(1, Vec3(1, 2, 3)) == kDone);
@@ -407,9 +415,9 @@ TEST_CASE("9825's own refusals keep its outputs", "[gantry][flow][errors]") {
   CHECK(refused(9, Vec3(1, 2, 3)) == Status::kArgumentOutOfRange);
   CHECK(refused(1.5, Vec3(1, 2, 3)) == Status::kArgumentOutOfRange);
   CHECK(refused(2, Vec3(1, 2, 3)) == Status::kNoTable);  // not stored
-  CHECK(g::sub_point_mm(rig.module.methods().gantry, 0, Vec3(0, 0, 0)).status() == Status::kArgumentOutOfRange);
-  CHECK(g::sub_point_mm(rig.module.methods().gantry, 9, Vec3(0, 0, 0)).status() == Status::kArgumentOutOfRange);
-  CHECK(g::sub_point_mm(rig.module.methods().gantry, 8, Vec3(0, 0, 0)).status() == Status::kNoTable);
+  CHECK(g::sub_point_mm(rig.module.state<m::gantry::Method>(), 0, Vec3(0, 0, 0)).status() == Status::kArgumentOutOfRange);
+  CHECK(g::sub_point_mm(rig.module.state<m::gantry::Method>(), 9, Vec3(0, 0, 0)).status() == Status::kArgumentOutOfRange);
+  CHECK(g::sub_point_mm(rig.module.state<m::gantry::Method>(), 8, Vec3(0, 0, 0)).status() == Status::kNoTable);
 }
 
 TEST_CASE("a damaged or undecodable record says so at 9825, not no_table", "[gantry][flow][errors]") {
@@ -418,8 +426,8 @@ TEST_CASE("a damaged or undecodable record says so at 9825, not no_table", "[gan
   stream(rig, f, {0});
   REQUIRE(build(rig, true) == kDone);
   std::size_t index = 0;
-  while (m::kRecordSpecs[index].key != m::record_key(m::RecordKey::kGantryFrames)) ++index;
-  const std::size_t slot = m::KeyedStore::slot_offset(m::kRecordSpecs, index, 0);
+  while (m::kRecordSpecs[index].key != m::gantry::FramesRecord::kRecord.key) ++index;
+  const std::size_t slot = m::KeyedStore::slot_offset(m::kRecordSpecs.data(), index, 0);
 
   SECTION("a bit lost: table_damaged, until frames are stored again") {
     rig.nv[slot + m::KeyedStore::kHeaderBytes + 300] ^= 0x10;
@@ -437,13 +445,13 @@ TEST_CASE("a damaged or undecodable record says so at 9825, not no_table", "[gan
   SECTION("a good CRC over bytes that do not decode: table_invalid") {
     Rig second;
     std::uint8_t scratch[m::kStoreScratchBytes];
-    m::KeyedStore store(second.storage, m::kRecordSpecs, m::kRecordCount, scratch, sizeof scratch);
+    m::KeyedStore store(second.storage, m::kRecordSpecs.data(), m::kRecordCount, scratch, sizeof scratch);
     REQUIRE(store.mount() == Status::kOk);
     const std::uint8_t garbage[core::kGantryTableBytes] = {1, 0, 1};
-    REQUIRE(store.save(m::record_key(m::RecordKey::kGantryFrames), garbage, sizeof garbage) == Status::kOk);
+    REQUIRE(store.save(m::gantry::FramesRecord::kRecord.key, garbage, sizeof garbage) == Status::kOk);
     REQUIRE(second.module.start() == Status::kOk);
     CHECK(second.convert(1, Vec3(0, 0, 0)) == kError);
     CHECK(second.get(v::kError) == static_cast<double>(Status::kTableInvalid));
-    CHECK(g::sub_point_mm(second.module.methods().gantry, 1, Vec3(0, 0, 0)).status() == Status::kTableInvalid);
+    CHECK(g::sub_point_mm(second.module.state<m::gantry::Method>(), 1, Vec3(0, 0, 0)).status() == Status::kTableInvalid);
   }
 }

@@ -27,6 +27,14 @@ using core::Status;
 using core::Vec3;
 using F = m::AccessFault;
 
+// The method's session in the module's shared session arena (it must hold it).
+const trueaxis::macros::rigidity::RigiditySession& session_of(const trueaxis::macros::Module& module) {
+  const auto* s = module.session<trueaxis::macros::rigidity::Method>();
+  REQUIRE(s != nullptr);
+  return *s;
+}
+
+
 constexpr double kArcsec = sim::kArcsecPerRad;
 const std::vector<double> kPosesDeg = {-90, -60, -30, 0, 30, 60, 90};
 
@@ -128,9 +136,9 @@ TEST_CASE("compensation brings the table's orientation error under 5 % and a poi
   for (std::uint64_t seed = 100; seed < 110; ++seed) {  // ten calibrations, each measured anew
     Rig rig;
     REQUIRE(measure_and_build(rig, mc, sim::kDefaultBallSigmaMm, seed, true) == 2.0);
-    const m::rigidity::State& state = rig.module.methods().rigidity;
+    const m::rigidity::State& state = rig.module.state<m::rigidity::Method>();
     core::RigidityTable table;
-    REQUIRE(state.live.read([&](const core::RigidityTable& t) { table = t; }));
+    REQUIRE(state.table.read([&](const core::RigidityTable& t) { table = t; }));
     const auto frames_at = [&](double a, double c) {
       const auto f = core::rigidity_frames(table, a, c, core::Blend::kCubicNotAKnot, false);
       REQUIRE(f.ok());
@@ -188,7 +196,7 @@ TEST_CASE("9833 and the direct call read the stored table, across a restart", "[
     rig.put(v::kArgA, 45.0);
     rig.put(v::kArgQ, blend);
     REQUIRE(rig.run(9833) == 2.0);
-    const auto direct = m::rigidity::compensation_rad(rig.module.methods().rigidity, 45.0,
+    const auto direct = m::rigidity::compensation_rad(rig.module.state<m::rigidity::Method>(), 45.0,
                                                       static_cast<core::Blend>(static_cast<int>(blend)), false);
     REQUIRE(direct.ok());
     CHECK(rig.out3(v::kRigidityRotvecX) == direct.value() * kArcsec);
@@ -231,7 +239,7 @@ TEST_CASE("9833 and the direct call read the stored table, across a restart", "[
   // The same storage after a restart: the stored table is live again.
   m::Module second(rig.storage, rig.clock);
   REQUIRE(second.start() == Status::kOk);
-  const auto again = m::rigidity::compensation_rad(second.methods().rigidity, 90.0, core::Blend::kLinear, false);
+  const auto again = m::rigidity::compensation_rad(second.state<m::rigidity::Method>(), 90.0, core::Blend::kLinear, false);
   REQUIRE(again.ok());
   CHECK(again.value() * kArcsec == clamped);
 }
@@ -241,9 +249,9 @@ TEST_CASE("a stored table that fails its CRC or does not decode says so, not no_
   Rig rig;
   REQUIRE(measure_and_build(rig, mc, sim::kDefaultBallSigmaMm, 4, true) == 2.0);
   std::size_t index = 0;
-  while (m::kRecordSpecs[index].key != m::record_key(m::RecordKey::kRigidityTable)) ++index;
+  while (m::kRecordSpecs[index].key != m::RigidityTableRecord::kRecord.key) ++index;
   // The first save of the table went to slot 0, its only copy.
-  const std::size_t slot = m::KeyedStore::slot_offset(m::kRecordSpecs, index, 0);
+  const std::size_t slot = m::KeyedStore::slot_offset(m::kRecordSpecs.data(), index, 0);
   const auto expect_everywhere = [](Rig& r, Status status) {
     r.put(v::kArgA, 10.0);
     CHECK(r.run(9833) == 3.0);
@@ -255,7 +263,7 @@ TEST_CASE("a stored table that fails its CRC or does not decode says so, not no_
     r.put(v::kArgA, 10.0);
     CHECK(r.run(9835) == 3.0);
     CHECK(r.get(v::kError) == static_cast<double>(status));
-    CHECK(m::rigidity::compensation_rad(r.module.methods().rigidity, 10.0, core::Blend::kLinear, false).status() ==
+    CHECK(m::rigidity::compensation_rad(r.module.state<m::rigidity::Method>(), 10.0, core::Blend::kLinear, false).status() ==
           status);
   };
 
@@ -272,10 +280,10 @@ TEST_CASE("a stored table that fails its CRC or does not decode says so, not no_
   SECTION("a record with a good CRC whose table does not decode: table_invalid") {
     Rig second;
     std::uint8_t scratch[m::kStoreScratchBytes];
-    m::KeyedStore store(second.storage, m::kRecordSpecs, m::kRecordCount, scratch, sizeof scratch);
+    m::KeyedStore store(second.storage, m::kRecordSpecs.data(), m::kRecordCount, scratch, sizeof scratch);
     REQUIRE(store.mount() == Status::kOk);
     const std::uint8_t garbage[64] = {1, 2, 3};
-    REQUIRE(store.save(m::record_key(m::RecordKey::kRigidityTable), garbage, sizeof garbage) == Status::kOk);
+    REQUIRE(store.save(m::RigidityTableRecord::kRecord.key, garbage, sizeof garbage) == Status::kOk);
     REQUIRE(second.module.start() == Status::kOk);
     expect_everywhere(second, Status::kTableInvalid);
   }
@@ -290,7 +298,7 @@ TEST_CASE("a failed build stores nothing and keeps the live table", "[rigidity][
   Rig rig;
   REQUIRE(measure_and_build(rig, mc, sim::kDefaultBallSigmaMm, 5, true) == 2.0);
   const auto before = rig.nv;
-  const auto live_before = m::rigidity::compensation_rad(rig.module.methods().rigidity, 30.0, core::Blend::kLinear, false);
+  const auto live_before = m::rigidity::compensation_rad(rig.module.state<m::rigidity::Method>(), 30.0, core::Blend::kLinear, false);
   REQUIRE(live_before.ok());
 
   SECTION("two poses only") {
@@ -316,7 +324,7 @@ TEST_CASE("a failed build stores nothing and keeps the live table", "[rigidity][
     CHECK(rig.get(v::kError) == static_cast<double>(Status::kTableLocked));
   }
   CHECK(rig.nv == before);
-  const auto live_after = m::rigidity::compensation_rad(rig.module.methods().rigidity, 30.0, core::Blend::kLinear, false);
+  const auto live_after = m::rigidity::compensation_rad(rig.module.state<m::rigidity::Method>(), 30.0, core::Blend::kLinear, false);
   REQUIRE(live_after.ok());
   CHECK(live_after.value() == live_before.value());
 }
@@ -390,7 +398,7 @@ TEST_CASE("the rigidity session takes exactly its capacity and refuses the next 
   CHECK(add(512) == 3.0);
   CHECK(rig.get(v::kError) == static_cast<double>(Status::kSessionFull));
   CHECK(rig.get(v::kRigiditySessionCount) == 512.0);  // the outputs of the last success
-  CHECK(rig.module.methods().rigidity.samples.size() == m::rigidity::kSessionCapacity);
+  CHECK(session_of(rig.module).size() == m::rigidity::kSessionCapacity);
   REQUIRE(rig.run(9830) == 2.0);
   CHECK(rig.get(v::kRigiditySessionCount) == 0.0);
   CHECK(add(0) == 2.0);

@@ -26,6 +26,14 @@ using core::Status;
 using core::Vec3;
 using F = m::AccessFault;
 
+// The method's session in the module's shared session arena (it must hold it).
+const trueaxis::core::SpindleBins& session_of(const trueaxis::macros::Module& module) {
+  const auto* s = module.session<trueaxis::macros::spindle::Method>();
+  REQUIRE(s != nullptr);
+  return *s;
+}
+
+
 constexpr double kDone = 2.0;
 constexpr double kError = 3.0;
 constexpr double kArcsec = core::kPi / (180.0 * 3600.0);
@@ -155,7 +163,7 @@ TEST_CASE("9840..9845: the module identifies, stores and answers as the core com
       CHECK(rig.get(v::kSpindleThetaE) == c.value().theta_e_rad * (180.0 * 3600.0 / core::kPi));
       CHECK(rig.get(v::kSpindleDE) == c.value().d_e_mm);
       CHECK(rig.out3(v::kSpindleTipX) == c.value().tip_error_mm);
-      const auto direct = sp::tool_tip_correction(rig.module.methods().spindle, phi, tool);
+      const auto direct = sp::tool_tip_correction(rig.module.state<m::spindle::Method>(), phi, tool);
       REQUIRE(direct.ok());
       CHECK(direct.value().tip_error_mm == c.value().tip_error_mm);
       // 9844 on the stored model and on the last identification: the same values, with sigmas.
@@ -200,10 +208,10 @@ TEST_CASE("9840..9845: the module identifies, stores and answers as the core com
     const double too_long = 1e5 * (1 + 1e-15);
     CHECK(rig.module.write(v::kArgZ, 1, &too_long) != F::kNone);  // refused at the write
     CHECK(rig.results() == kept);
-    CHECK(sp::tool_tip_correction(rig.module.methods().spindle, 10, too_long).status() == Status::kArgumentOutOfRange);
-    CHECK(sp::tool_tip_correction(rig.module.methods().spindle, 10, 1e5).ok());
-    CHECK(sp::tool_tip_correction(rig.module.methods().spindle, 10, -0.0).ok());
-    CHECK(sp::tool_tip_correction(rig.module.methods().spindle, NAN, 1).status() == Status::kNotFinite);
+    CHECK(sp::tool_tip_correction(rig.module.state<m::spindle::Method>(), 10, too_long).status() == Status::kArgumentOutOfRange);
+    CHECK(sp::tool_tip_correction(rig.module.state<m::spindle::Method>(), 10, 1e5).ok());
+    CHECK(sp::tool_tip_correction(rig.module.state<m::spindle::Method>(), 10, -0.0).ok());
+    CHECK(sp::tool_tip_correction(rig.module.state<m::spindle::Method>(), NAN, 1).status() == Status::kNotFinite);
   }
 }
 
@@ -226,7 +234,7 @@ TEST_CASE("every refusal of 9841 and 9842 keeps the outputs, the session and the
       rig.put(v::kArgT, ball);
       CHECK(rig.refuse(9841) == Status::kArgumentOutOfRange);
     }
-    CHECK(rig.module.methods().spindle.bins.samples() == 288);
+    CHECK(session_of(rig.module).samples() == 288);
     unchanged();
   }
   SECTION("9841: a non-finite coordinate is refused at the write") {
@@ -302,8 +310,8 @@ TEST_CASE("a damaged or undecodable spindle record says so at 9843", "[spindle][
   rig.stream(s);
   REQUIRE(rig.build(true) == kDone);
   std::size_t index = 0;
-  while (m::kRecordSpecs[index].key != m::record_key(m::RecordKey::kSpindleModel)) ++index;
-  const std::size_t slot = m::KeyedStore::slot_offset(m::kRecordSpecs, index, 0);
+  while (m::kRecordSpecs[index].key != m::spindle::ModelRecord::kRecord.key) ++index;
+  const std::size_t slot = m::KeyedStore::slot_offset(m::kRecordSpecs.data(), index, 0);
   SECTION("a bit lost: table_damaged, until a model is stored again") {
     rig.nv[slot + m::KeyedStore::kHeaderBytes + 100] ^= 0x04;
     Rig second;
@@ -318,10 +326,10 @@ TEST_CASE("a damaged or undecodable spindle record says so at 9843", "[spindle][
   SECTION("a good CRC over bytes that do not decode: table_invalid") {
     Rig second;
     std::uint8_t scratch[m::kStoreScratchBytes];
-    m::KeyedStore store(second.storage, m::kRecordSpecs, m::kRecordCount, scratch, sizeof scratch);
+    m::KeyedStore store(second.storage, m::kRecordSpecs.data(), m::kRecordCount, scratch, sizeof scratch);
     REQUIRE(store.mount() == Status::kOk);
     const std::uint8_t garbage[core::kSpindleModelBytes] = {1, 0, 1};
-    REQUIRE(store.save(m::record_key(m::RecordKey::kSpindleModel), garbage, sizeof garbage) == Status::kOk);
+    REQUIRE(store.save(m::spindle::ModelRecord::kRecord.key, garbage, sizeof garbage) == Status::kOk);
     REQUIRE(second.module.start() == Status::kOk);
     CHECK(second.correction(0, 100) == kError);
     CHECK(second.get(v::kError) == static_cast<double>(Status::kTableInvalid));

@@ -117,7 +117,7 @@ __attribute__((noinline)) std::uint64_t stack_of_convert(const m::Module& module
   asm volatile("mov %0, sp" : "=r"(sp));
   if (sp - kStackWindow < reinterpret_cast<std::uintptr_t>(__stack_bottom__)) return kStackWindow;
   paint_below(sp);
-  const auto r = g::sub_point_mm(module.methods().gantry, id, p);
+  const auto r = g::sub_point_mm(module.state<m::gantry::Method>(), id, p);
   const std::uint64_t used = written_below(sp);
   return r.ok() ? used : kStackWindow;
 }
@@ -214,7 +214,7 @@ int main() {
   const core::Vec3 p(2500.0, 1200.0, 400.0);
   for (int id = 1; id <= kSubMachines; ++id) {
     const core::Vec3 expected = p - (wrist(id) - core::Vec3(0, 0, kSwingMm));
-    const auto r = g::sub_point_mm(module.methods().gantry, id, p);
+    const auto r = g::sub_point_mm(module.state<m::gantry::Method>(), id, p);
     if (!r.ok()) return 5;
     worst_mm = std::fmax(worst_mm, (r.value() - expected).norm());
   }
@@ -234,7 +234,7 @@ int main() {
     std::uint64_t samples[5];
     for (std::uint64_t& sample : samples) {
       const std::uint64_t t0 = clock.ticks();
-      const auto r = g::sub_point_mm(module.methods().gantry, id, p);
+      const auto r = g::sub_point_mm(module.state<m::gantry::Method>(), id, p);
       const std::uint64_t t1 = clock.ticks();
       if (!r.ok()) return 6;
       sample = t1 - t0 - overhead;

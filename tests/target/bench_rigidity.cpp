@@ -126,7 +126,7 @@ int main() {
       std::uint64_t samples[5];
       for (std::uint64_t& s : samples) {
         const std::uint64_t t0 = clock.ticks();
-        const auto r = m::rigidity::compensation_rad(module.methods().rigidity, as[i], static_cast<core::Blend>(b), false);
+        const auto r = m::rigidity::compensation_rad(module.state<m::rigidity::Method>(), as[i], static_cast<core::Blend>(b), false);
         const std::uint64_t t1 = clock.ticks();
         if (!r.ok()) return 5;
         s = t1 - t0 - overhead;

@@ -102,7 +102,7 @@ int main() {
   double worst_nm = 0.0;
   const core::SpindleAxes axes = core::spindle_axes(p);
   for (int deg = 0; deg < 360; deg += 30) {
-    const auto r = sp::tool_tip_correction(module.methods().spindle, deg, 250.0);
+    const auto r = sp::tool_tip_correction(module.state<m::spindle::Method>(), deg, 250.0);
     const auto t = core::spindle_correction(axes, kGeometry.gauge_mm, 250.0, core::deg_to_rad(deg));
     if (!r.ok() || !t.ok()) return 5;
     worst_nm = std::fmax(worst_nm, (r.value().tip_error_mm - t.value().tip_error_mm).norm() * 1e6);
@@ -123,7 +123,7 @@ int main() {
     std::uint64_t samples[5];
     for (std::uint64_t& sample : samples) {
       const std::uint64_t t0 = clock.ticks();
-      const auto r = sp::tool_tip_correction(module.methods().spindle, deg + 0.3, 100.0);
+      const auto r = sp::tool_tip_correction(module.state<m::spindle::Method>(), deg + 0.3, 100.0);
       const std::uint64_t t1 = clock.ticks();
       if (!r.ok()) return 6;
       sample = t1 - t0 - overhead;

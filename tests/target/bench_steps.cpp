@@ -27,15 +27,15 @@ using trueaxis::bench::ticks_to_instructions;
 using trueaxis::macros::AccessFault;
 
 // Stages the largest record there is, for the commit step.
-m::MacroStep stage_largest(m::MacroContext& ctx) {
-  std::uint8_t* bytes = ctx.stage_record(m::RecordKey::kRigidityTable, m::kMaxRecordPayloadBytes);
+m::MacroStep stage_largest(m::PlatformContext& ctx) {
+  std::uint8_t* bytes = ctx.stage_record(m::RigidityTableRecord::kRecord.key, m::kMaxRecordPayloadBytes);
   if (bytes == nullptr) return m::done(trueaxis::core::Status::kStorageFailure);
   for (std::size_t i = 0; i + 8 <= m::kMaxRecordPayloadBytes; i += 8) m::put_f64(bytes + i, static_cast<double>(i));
   return m::done(trueaxis::core::Status::kOk);
 }
 constexpr m::OutputInfo kNoOutputs[] = {{100, "none", "", "Nothing."}};
 constexpr m::MacroInfo kBenchMacros[] = {
-    m::macro(9990, &stage_largest, "stage_largest", "Stages the largest record.", kNoOutputs)};
+    m::macro<&stage_largest>(9990, "stage_largest", "Stages the largest record.", kNoOutputs)};
 
 struct Worst {
   std::uint64_t steps = 0;

@@ -219,22 +219,22 @@ class Names(unittest.TestCase):
         self.assertEqual(sr.short_name("void f()"), "f()")
 
     def test_macro_table_rule_matches_handlers_and_thunks(self):
-        # gcc 12's names of a handler, template thunks and a captureless lambda
-        # of MacroFn's type (taken from a compiled example), and of functions
-        # that are not of that type.
+        # gcc 12's names of the thunks of MacroThunk's type, MacroStep(MacroCall&)
+        # (taken from the Cortex-M7 build), and of a captureless lambda of that
+        # type, and of functions that are not of that type (the handlers
+        # themselves take their context and state).
         (pattern,) = next(r for r in sr.INDIRECT_CALLS if r.tables).targets
         of_type = [
-            "trueaxis::macros::MacroStep trueaxis::macros::gantry::run_build(trueaxis::macros::MacroContext&)",
-            "trueaxis::macros::MacroStep trueaxis::macros::thunk(MacroContext&) [with auto F = gantry::run_build]",
-            "trueaxis::macros::MacroStep trueaxis::macros::thunk2(MacroContext&) [with S = gantry::State; "
-            "MacroStep (* F)(MacroContext&, S&) = gantry::run_build]",
-            "static constexpr trueaxis::macros::MacroStep trueaxis::macros::<lambda(trueaxis::macros::MacroContext&)>"
-            "::_FUN(trueaxis::macros::MacroContext&)"]
+            "trueaxis::macros::MacroStep trueaxis::macros::thunk(MacroCall&) [with auto Handler = rigidity::run_build]",
+            "trueaxis::macros::MacroStep trueaxis::macros::thunk(trueaxis::macros::MacroCall&) "
+            "[with auto Handler = level::run_level_3pt]",
+            "static constexpr trueaxis::macros::MacroStep trueaxis::macros::<lambda(trueaxis::macros::MacroCall&)>"
+            "::_FUN(trueaxis::macros::MacroCall&)"]
         not_of_type = [
-            "trueaxis::macros::MacroStep trueaxis::macros::gantry::run_build(trueaxis::macros::MacroContext&, State&)",
-            "trueaxis::macros::MacroStep trueaxis::macros::call(int, MacroContext&)",
-            "trueaxis::macros::MacroStep trueaxis::macros::<lambda(trueaxis::macros::MacroContext&)>::operator()"
-            "(trueaxis::macros::MacroContext&) const"]
+            "trueaxis::macros::MacroStep trueaxis::macros::rigidity::run_build(Context&, State&)",
+            "trueaxis::macros::MacroStep trueaxis::macros::call(int, MacroCall&)",
+            "trueaxis::macros::MacroStep trueaxis::macros::<lambda(trueaxis::macros::MacroCall&)>::operator()"
+            "(trueaxis::macros::MacroCall&) const"]
         for label in of_type:
             self.assertRegex(label, pattern)
         for label in not_of_type:

@@ -8,8 +8,8 @@ namespace trueaxis::sim {
 
 std::string module_error_text(int code) {
   const auto status = static_cast<core::Status>(code);
-  return "module error " + std::to_string(code) + " " + core::status_name(status) + ": " +
-         core::status_message(status);
+  return "module error " + std::to_string(code) + " " + macros::status_name(status) + ": " +
+         macros::status_message(status);
 }
 
 bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail) {

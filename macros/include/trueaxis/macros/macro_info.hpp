@@ -1,13 +1,15 @@
 // What the module knows of a macro: its number, its handler, and the inputs
 // and outputs the JSON map publishes.
 //
-// Contract of a handler (MacroFn)
-//  1. It reads variables through MacroContext::in<N>() and writes results only
-//     through MacroContext::out<N>(), which stages them; it may stage one
-//     persistent record (a calibration table) through MacroContext.
+// Contract of a handler
+//  1. A method's handler is `MacroStep run_x(Context& ctx, State& state)`:
+//     Context is its method's MethodContext (method_context.hpp), State its
+//     method's own state, nothing of any other method. It reads variables
+//     through ctx.in<N>() and writes results only through ctx.out<N>(), which
+//     stages them; it may stage one persistent record (a calibration table).
 //  2. It does a bounded amount of work per call. It returns more() to be called
 //     again at the next Module::step() (the macro stays busy), or done(status).
-//     MacroContext::first_step() tells the first call.
+//     ctx.first_step() tells the first call.
 //  3. The module copies the staged results into #100..#199, and commits the
 //     staged record, only when the macro ends with kOk (the record first: if
 //     its save fails the macro fails with kStorageFailure and nothing is
@@ -15,6 +17,9 @@
 //     every stored table stays as it was, unless the handler's contract says
 //     otherwise (a clear macro clears its session).
 //  4. Each handler's comment lists its inputs, outputs and status codes.
+//  5. The module calls every handler through a MacroThunk, one per handler,
+//     made by macro<&handler>(...) (method_context.hpp): the thunk builds the
+//     method's context and hands the handler its state.
 #pragma once
 
 #include <cstddef>
@@ -25,7 +30,7 @@
 
 namespace trueaxis::macros {
 
-class MacroContext;
+struct MacroCall;
 
 struct MacroStep {
   // A status alone is a finished step: done(status).
@@ -36,11 +41,12 @@ struct MacroStep {
 constexpr MacroStep done(core::Status s) { return {s, false}; }
 constexpr MacroStep more() { return {core::Status::kOk, true}; }
 
-using MacroFn = MacroStep (*)(MacroContext&);
+// Contract 5: what the module calls.
+using MacroThunk = MacroStep (*)(MacroCall&);
 
 struct MacroInfo {
   std::uint16_t number;
-  MacroFn run;
+  MacroThunk run;
   const char* name;
   const char* description;
   const InputRef* inputs;
@@ -48,17 +54,5 @@ struct MacroInfo {
   const OutputInfo* outputs;
   std::size_t output_count;
 };
-
-template <std::size_t NI, std::size_t NO>
-constexpr MacroInfo macro(std::uint16_t number, MacroFn run, const char* name, const char* description,
-                          const InputRef (&inputs)[NI], const OutputInfo (&outputs)[NO]) {
-  return {number, run, name, description, inputs, NI, outputs, NO};
-}
-
-template <std::size_t NO>
-constexpr MacroInfo macro(std::uint16_t number, MacroFn run, const char* name, const char* description,
-                          const OutputInfo (&outputs)[NO]) {
-  return {number, run, name, description, nullptr, 0, outputs, NO};
-}
 
 }  // namespace trueaxis::macros

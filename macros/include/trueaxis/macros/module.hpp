@@ -1,12 +1,16 @@
 // The trueaxis module as a controller sees it: the variables of the register map,
-// the handshake, the macros, the methods' sessions and the persistent records.
+// the handshake, the macros of the built methods, their state, the shared
+// arenas and the persistent records.
 //
 // Contract
 //  1. Owned by main, handed a NvStorage and a Clock; holds every variable in a
 //     fixed array. No allocation, no exceptions, no clock but the one handed in.
+//     Its size is the sum of the built methods' states and tables plus the two
+//     shared arenas (method.hpp convention 3), not of every method's worst case.
 //  2. start() mounts the keyed store (keyed_store.hpp) and loads the
 //     configuration and work-offset records, or keeps the map's defaults when
-//     there are none. Call it once before anything else.
+//     there are none, then each built method's stored table. Call it once
+//     before anything else.
 //  3. Writing a macro number to #9000 makes the module busy (status 1). Each
 //     step(), called from the controller's background task, does a bounded
 //     amount of work: at most kStepBoundInstructions instructions on a
@@ -15,7 +19,8 @@
 //     a table commits it in a step of its own. Then status is 2 (done) or 3
 //     (error) with the code in #9002, #9003 has grown by one and #9008 holds
 //     the number of steps taken. Arguments #1..#26 and the methods' data
-//     blocks (the point list) are cleared to 0 after every macro.
+//     blocks (the point list) are cleared to 0 after every macro. A macro
+//     number no built method has fails with kUnknownMacro (400).
 //  4. While busy, writes to #9000 and to any macro input (arguments, data
 //     blocks, work offsets, configuration) are refused with kBusy.
 //  5. Persistence is per record: configuration (#500..#999) and work offsets
@@ -26,7 +31,8 @@
 //     (else kTableLocked), before the macro's results are published; a failed
 //     save fails the macro with kStorageFailure and publishes nothing.
 //  6. Extra macros (an integrator's own, or a test's) may be handed in; they
-//     are looked up after the product's macros and share their contract.
+//     are looked up after the built methods' macros, see the platform alone
+//     (method_context.hpp PlatformContext) and share their contract.
 //  7. Access control. #9004 takes the code in #900 (a persistent
 //     configuration variable, default kUnlockCode = 2718, published for
 //     commissioning only; it reads 0) or 0. A right code unlocks; 0 locks. A
@@ -39,15 +45,17 @@
 #pragma once
 
 #include <cstdint>
+#include <tuple>
 
 #include "trueaxis/core/status.hpp"
 #include "trueaxis/hal/clock.hpp"
 #include "trueaxis/hal/nv_storage.hpp"
+#include "trueaxis/macros/arena.hpp"
 #include "trueaxis/macros/keyed_store.hpp"
-#include "trueaxis/macros/macro_context.hpp"
-#include "trueaxis/macros/methods.hpp"
+#include "trueaxis/macros/method_context.hpp"
 #include "trueaxis/macros/records.hpp"
 #include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/macros/services.hpp"
 #include "trueaxis/macros/variable_access.hpp"
 
 namespace trueaxis::macros {
@@ -83,10 +91,24 @@ class Module final : public VariableAccess {
   // The value of #number; 0 for a number the map does not define.
   double value(std::uint16_t number) const;
 
-  // The methods' state, for their direct calls from the controller's
-  // real-time task (e.g. rigidity::compensation_rad over methods().rigidity):
-  // const, and safe beside step() through each method's live tables.
-  const Methods& methods() const { return methods_; }
+  // A built method's state, for its direct calls from the controller's
+  // real-time task (e.g. rigidity::compensation_rad(module.state<rigidity::Method>(), ...)):
+  // const, and safe beside step() through each method's stored table.
+  template <typename M>
+  const typename M::State& state() const {
+    return std::get<typename M::State>(states_);
+  }
+
+  // A built method's calibration session while it holds the session arena,
+  // else nullptr (for tests and diagnostics).
+  template <typename M>
+  const typename M::Session* session() const {
+    return arena_find<typename M::Session>(sessions_);
+  }
+
+  // The arenas' sizes, for the size report.
+  static constexpr std::size_t kSessionArenaBytes = BuiltMethods::kSessionBytes;
+  static constexpr std::size_t kWorkArenaBytes = BuiltMethods::kWorkBytes;
 
  private:
   enum class Phase : std::uint8_t { kStart, kRunning, kCommitting };
@@ -100,10 +122,20 @@ class Module final : public VariableAccess {
   void failed_unlock();
   AccessFault save_variables(Access group, std::uint16_t first, std::uint16_t count, const double* values);
   void load_variables(RecordKey key);
-  const MacroInfo* lookup(std::uint16_t number) const;
+  void load_tables();
+  MacroEntry lookup(std::uint16_t number) const;
   void set(std::uint16_t number, double value);
+  // The module's own variables by a number known at compile time (no search).
+  template <std::uint16_t N>
+  double& at() {
+    return values_[slot<N>()];
+  }
   void publish_results();
   void finish(core::Status status);
+
+  using SessionStorage = ArenaStorage<BuiltMethods::kSessionBytes, BuiltMethods::kSessionAlign>;
+  using WorkStorage = ArenaStorage<BuiltMethods::kWorkBytes, BuiltMethods::kWorkAlign>;
+  static constexpr std::size_t kRecordBufferBytes = kMaxRecordPayloadBytes > 0 ? kMaxRecordPayloadBytes : 1;
 
   hal::Clock& clock_;
   const MacroInfo* extra_macros_;
@@ -113,9 +145,15 @@ class Module final : public VariableAccess {
   double values_[kVariableCount] = {};
   double staged_[kResultSlots] = {};
   std::uint8_t variable_record_[kVariableRecordBytes] = {};
+  std::uint8_t record_bytes_[kRecordBufferBytes] = {};
   RecordStage record_;
-  Methods methods_;
-  const MacroInfo* running_ = nullptr;
+  BuiltMethods::States states_;
+  void* state_of_[BuiltMethods::kCount > 0 ? BuiltMethods::kCount : 1] = {};
+  SessionStorage sessions_;
+  WorkStorage work_;
+  Services services_;
+  MacroCall call_;
+  MacroEntry running_{nullptr, 0};
   std::uint64_t started_us_ = 0;
   std::uint32_t steps_ = 0;
   std::uint16_t pending_ = 0;

@@ -6,17 +6,25 @@
 //  2. #100 .. #199   results of the last successful macro; read-only. Their
 //                    meaning is per macro (each macro's outputs in the JSON map).
 //  3. #500 .. #999   configuration; persistent; writable only while unlocked.
-//                    Each method owns a block (kMethodBlocks, methods.hpp);
-//                    #900 .. #999 is the platform's (the unlock code, #900).
+//                    Each method owns a block (its descriptor's kBlock,
+//                    method.hpp); #900 .. #999 is the platform's (the unlock
+//                    code, #900).
 //  4. #1000 .. #4999 macro-input data of the methods (point lists), one block
 //                    per method; volatile, cleared after every macro.
 //  5. #5221 .. #5326 work offsets G54 .. G59 (+0 X .. +5 C); persistent.
 //  6. #9000 .. #9009 the handshake; #9010 the count of wrong unlock codes.
+//  7. Slots: every module keeps its variables in one array, the platform's
+//     first (kPlatformSlots: the arguments, the 100 results, then
+//     kPlatformRows), then each method's own rows in the order of the method
+//     list. platform_slot() gives a platform variable's slot at compile time,
+//     without knowing which methods are built.
 // A number is written once, here or in its method's map file; rows are built
 // from these names.
 #pragma once
 
 #include <cstdint>
+
+#include <cstddef>
 
 #include "trueaxis/macros/var_info.hpp"
 
@@ -164,5 +172,36 @@ inline constexpr VarInfo kPlatformRows[] = {
   {var::kFailedUnlocks, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "failed_unlocks", "", "Wrong codes written to #9004 since start; each makes #9004 refuse codes for a back-off (1 s, doubling up to 64 s)."},
 };
 // clang-format on
+
+// Convention 7: the platform's slots.
+inline constexpr std::size_t kArgSlots = variable_count(kPlatformArgRows, sizeof kPlatformArgRows / sizeof kPlatformArgRows[0]);
+inline constexpr std::size_t kResultSlots = var::kResultLast - var::kResultFirst + 1;
+inline constexpr std::size_t kPlatformSlots =
+    kArgSlots + kResultSlots + variable_count(kPlatformRows, sizeof kPlatformRows / sizeof kPlatformRows[0]);
+inline constexpr std::size_t kNoSlot = static_cast<std::size_t>(-1);
+
+// The slot of `number` in a table's own slots (its rows in order, blocks
+// expanded), or kNoSlot when the table does not define it.
+template <std::size_t N>
+constexpr std::size_t slot_in(const VarInfo (&table)[N], std::uint16_t number) {
+  std::size_t slot = 0;
+  for (const VarInfo& v : table) {
+    if (number >= v.number && number - v.number < v.count) return slot + (number - v.number);
+    slot += v.count;
+  }
+  return kNoSlot;
+}
+
+// A platform variable's slot (convention 7), or kNoSlot for a number the
+// platform does not define.
+constexpr std::size_t platform_slot(std::uint16_t number) {
+  if (number >= var::kResultFirst && number <= var::kResultLast) return kArgSlots + (number - var::kResultFirst);
+  const std::size_t arg = slot_in(kPlatformArgRows, number);
+  if (arg != kNoSlot) return arg;
+  const std::size_t rest = slot_in(kPlatformRows, number);
+  return rest == kNoSlot ? kNoSlot : kArgSlots + kResultSlots + rest;
+}
+static_assert(platform_slot(var::kArgA) == 0 && platform_slot(var::kResultFirst) == kArgSlots &&
+              platform_slot(var::kFailedUnlocks) == kPlatformSlots - 1 && platform_slot(10) == kNoSlot);
 
 }  // namespace trueaxis::macros

@@ -1,5 +1,8 @@
-// The product's persistent records: the one list of what lives in non-volatile
-// storage, and how much room each takes (macros/keyed_store.hpp, layout note 1).
+// The module's persistent records: the one list of what lives in non-volatile
+// storage, and how much room each takes (macros/store/include/trueaxis/macros/
+// keyed_store.hpp, layout note 1). The platform's two records come first; each
+// built method that stores a table adds its record (its descriptor's
+// Table::kRecord), in the order of the method list. With every method built:
 //
 //   key  record          payload capacity                           slot    2 slots
 //   1    config          1280 B = 128 x (u16 number + f64 value)   1304 B   2608 B
@@ -9,62 +12,74 @@
 //   5    spindle model   2048 B                                    2072 B   4144 B
 //                                                    kRequiredStorageBytes 21952 B
 // A slot is the 20-byte header plus the capacity, rounded up to 8 bytes;
-// kStoreScratchBytes (4120 B, the rigidity table's slot) is the scratch buffer a
-// KeyedStore over this list needs.
+// kStoreScratchBytes (the largest slot) is the scratch buffer a KeyedStore over
+// this list needs.
 //
 // Append new records at the end; never reorder, remove or resize one in place
 // (that moves every later record's slots, which then load as absent). A change to
 // a payload's encoding bumps its layout version, which makes the old record load
-// as absent.
+// as absent. A module built with fewer methods keeps the platform's records in
+// their places; its tables' records follow them, so a controller that changes
+// its method set keeps its configuration and work offsets and stores its
+// tables again.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 
 #include "trueaxis/macros/keyed_store.hpp"
+#include "trueaxis/macros/register_map.hpp"
 
 namespace trueaxis::macros {
 
+// The platform's records.
 enum class RecordKey : std::uint8_t {
   kConfig = 1,
   kWorkOffsets = 2,
-  kRigidityTable = 3,
-  kGantryFrames = 4,
-  kSpindleModel = 5,
 };
 
 // Bytes of one persistent variable in a config or work-offset payload: number (u16)
 // and value (IEEE-754 binary64).
 inline constexpr std::size_t kVariableEntryBytes = 10;
 
-inline constexpr RecordSpec kRecordSpecs[] = {
+inline constexpr RecordSpec kPlatformRecords[] = {
     {static_cast<std::uint8_t>(RecordKey::kConfig), 1, 128 * kVariableEntryBytes, "config"},
     {static_cast<std::uint8_t>(RecordKey::kWorkOffsets), 1, 36 * kVariableEntryBytes, "work_offsets"},
-    {static_cast<std::uint8_t>(RecordKey::kRigidityTable), 1, 4096, "rigidity_table"},
-    {static_cast<std::uint8_t>(RecordKey::kGantryFrames), 1, 3072, "gantry_frames"},
-    {static_cast<std::uint8_t>(RecordKey::kSpindleModel), 1, 2048, "spindle_model"},
 };
-inline constexpr std::size_t kRecordCount = sizeof(kRecordSpecs) / sizeof(kRecordSpecs[0]);
 
-inline constexpr std::size_t kRequiredStorageBytes = KeyedStore::required_bytes(kRecordSpecs, kRecordCount);
-inline constexpr std::size_t kStoreScratchBytes = KeyedStore::scratch_bytes(kRecordSpecs, kRecordCount);
+namespace detail {
+inline constexpr std::size_t kPlatformRecordCount = sizeof kPlatformRecords / sizeof kPlatformRecords[0];
+constexpr std::array<RecordSpec, kPlatformRecordCount + BuiltMethods::kTableCount> record_specs() {
+  std::array<RecordSpec, kPlatformRecordCount + BuiltMethods::kTableCount> out{};
+  std::size_t n = 0;
+  for (const RecordSpec& s : kPlatformRecords) out[n++] = s;
+  for (const RecordSpec& s : BuiltMethods::table_records()) out[n++] = s;
+  return out;
+}
+}  // namespace detail
 
-static_assert(KeyedStore::specs_valid(kRecordSpecs, kRecordCount), "record keys must be unique");
-static_assert(kRequiredStorageBytes == 21952 && kStoreScratchBytes == 4120,
-              "the sizes in this header's table are out of date");
+inline constexpr auto kRecordSpecs = detail::record_specs();
+inline constexpr std::size_t kRecordCount = kRecordSpecs.size();
+
+inline constexpr std::size_t kRequiredStorageBytes = KeyedStore::required_bytes(kRecordSpecs.data(), kRecordCount);
+inline constexpr std::size_t kStoreScratchBytes = KeyedStore::scratch_bytes(kRecordSpecs.data(), kRecordCount);
+
+static_assert(KeyedStore::specs_valid(kRecordSpecs.data(), kRecordCount), "record keys must be unique");
 
 constexpr std::uint8_t record_key(RecordKey key) { return static_cast<std::uint8_t>(key); }
 
 // The payload capacity of a record; 0 for a key not in the list.
-constexpr std::size_t record_capacity(RecordKey key) {
+constexpr std::size_t record_capacity(std::uint8_t key) {
   for (const RecordSpec& s : kRecordSpecs) {
-    if (s.key == record_key(key)) return s.capacity_bytes;
+    if (s.key == key) return s.capacity_bytes;
   }
   return 0;
 }
+constexpr std::size_t record_capacity(RecordKey key) { return record_capacity(record_key(key)); }
 
-// The largest table payload a macro can stage, and the largest variable record.
-inline constexpr std::size_t kMaxRecordPayloadBytes = record_capacity(RecordKey::kRigidityTable);
+// The largest variable record, and the largest table record a macro can stage.
 inline constexpr std::size_t kVariableRecordBytes = record_capacity(RecordKey::kConfig);
+inline constexpr std::size_t kMaxRecordPayloadBytes = BuiltMethods::kTableRecordBytes;
 
 }  // namespace trueaxis::macros

@@ -1,0 +1,45 @@
+// The platform's status codes: their names and messages (core::Status holds
+// the numbers). Each method lists its own codes in its map; the module's map
+// joins them all (method_list.hpp) into the one table the JSON map, the
+// register page and every tool read.
+//
+// Conventions
+//  1. Codes 0..999 are the platform's and the shared math's: 100-199 input
+//     values, 200-299 geometry, 300-399 configuration, 400-499 the macro layer
+//     and storage. Sorted by number, each once.
+#pragma once
+
+#include "trueaxis/core/status.hpp"
+
+namespace trueaxis::macros {
+
+// clang-format off
+inline constexpr core::StatusInfo kPlatformStatuses[] = {
+  {core::Status::kOk, "ok", "The macro succeeded."},
+  {core::Status::kNotFinite, "not_finite", "An input value is not a finite number."},
+  {core::Status::kTooFewPoints, "too_few_points", "Fewer points were given than the method needs."},
+  {core::Status::kTooManyPoints, "too_many_points", "More points were given than the module can hold."},
+  {core::Status::kArgumentOutOfRange, "argument_out_of_range", "A macro argument is outside its documented range."},
+  {core::Status::kTooFewSamples, "too_few_samples", "The session holds fewer samples than the computation needs: add more, then compute again."},
+  {core::Status::kMissingGroup, "missing_group", "A group of points the method needs (a plane, a pass or a circle) was not measured."},
+  {core::Status::kPointsCoincident, "points_coincident", "The probed points coincide: they do not span a line."},
+  {core::Status::kPointsCollinear, "points_collinear", "The probed points lie on one line: they do not span a plane."},
+  {core::Status::kPointsTooClose, "points_too_close", "The probed points are too close together for the probe repeatability: the face's direction would be uncertain by more than the configured limit."},
+  {core::Status::kArcTooShort, "arc_too_short", "The measured points span too short an arc: the circle's centre would be too uncertain. Turn the axis through a larger angle."},
+  {core::Status::kNoConvergence, "no_convergence", "An iterative fit did not converge: the points do not describe the expected shape."},
+  {core::Status::kPointsNotOnLine, "points_not_on_line", "The measured points do not run along one line: they spread too widely across it for its direction to be defined."},
+  {core::Status::kTableInvalid, "table_invalid", "A stored calibration table is malformed (layout version, counts or values)."},
+  {core::Status::kConfigInvalid, "config_invalid", "The stored configuration is inconsistent (for example a lower limit above the upper one)."},
+  {core::Status::kUnknownMacro, "unknown_macro", "No macro has that number."},
+  {core::Status::kStorageFailure, "storage_failure", "Non-volatile storage could not be written; nothing was changed."},
+  {core::Status::kSessionFull, "session_full", "The session is full (its capacity is in the register map): the sample was not added."},
+  {core::Status::kTableLocked, "table_locked", "Calibration tables are stored only after the unlock code is written to #9004; nothing was stored."},
+  {core::Status::kNoTable, "no_table", "There is no stored calibration table for this query."},
+  {core::Status::kTableDamaged, "table_damaged", "The stored calibration table failed its integrity check (CRC) at start and was not loaded: calibrate and store it again."},
+  {core::Status::kSessionClosed, "session_closed", "Another method's calibration session has replaced this one since it was opened (the methods share one session memory): clear the session (its clear macro) and send its samples again."},
+  {core::Status::kResultReplaced, "result_replaced", "Another method's computation has replaced this method's last one since (the methods share one working memory): compute again (R = 0), or query the stored table (R = 1)."},
+  {core::Status::kMethodNotBuilt, "method_not_built", "The method this needs is not built into this controller's module (for example leveling on the calibrated axes needs the rigidity method)."},
+};
+// clang-format on
+
+}  // namespace trueaxis::macros

@@ -1,0 +1,82 @@
+// A method's calibration table as the controller keeps it: the record it is
+// stored in, the live copy the real-time task reads (live_table.hpp), and why
+// there is none. One template for every method that stores a table.
+//
+// Contract
+//  1. Spec names the table and its record:
+//       using Type = ...;                      the decoded table
+//       static constexpr RecordSpec kRecord;   key, layout version, capacity, name
+//       static Status decode(const std::uint8_t*, std::size_t, Type&);
+//       static std::size_t encode(const Type&, std::uint8_t*, std::size_t);
+//       static std::size_t bytes(const Type&); its encoded length (<= capacity)
+//     Module::start() loads the record into the live table (load()), or marks
+//     it damaged; a method stages a new table through its context
+//     (MethodContext::stage_table), and the module makes it live after the
+//     record's save succeeded (commit()), in the same step.
+//  2. read_or(f): f(table) on the live table, or the reason there is none:
+//     kNoTable (none stored), kTableDamaged (the record failed its CRC at
+//     start), kTableInvalid (it did not decode). Const, lock-free, no
+//     allocation: the controller's real-time task calls it.
+//  3. The table staged must stay where it is until the commit (the method's
+//     work in the work arena, or its state): the module commits in the step
+//     after the macro's last one, and no other macro runs in between.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+
+#include "trueaxis/core/status.hpp"
+#include "trueaxis/macros/keyed_store.hpp"
+#include "trueaxis/macros/live_table.hpp"
+
+namespace trueaxis::macros {
+
+template <typename Spec>
+class StoredTable {
+ public:
+  using Type = typename Spec::Type;
+
+  StoredTable() = default;
+  StoredTable(const StoredTable&) = delete;
+  StoredTable& operator=(const StoredTable&) = delete;
+
+  // Contract 2.
+  template <typename F>
+  auto read_or(F f) const -> decltype(f(std::declval<const Type&>())) {
+    return macros::read_or(live_, missing_, f);
+  }
+
+  // f(table) on the live table; false when there is none (live_table.hpp).
+  template <typename F>
+  bool read(F&& f) const {
+    return live_.read(static_cast<F&&>(f));
+  }
+
+  bool has_table() const { return live_.has_table(); }
+  core::Status missing() const { return missing_; }
+
+  // Module::start(): a record of `length` bytes (0: none stored) decoded into
+  // `scratch`, then made live; one that does not decode makes nothing live and
+  // the queries say kTableInvalid.
+  void load(const std::uint8_t* bytes, std::size_t length, Type& scratch) {
+    load_stored(live_, scratch, missing_, bytes, length, Spec::decode);
+  }
+
+  // Module::start(): the record failed its CRC; the queries say kTableDamaged.
+  void damaged() { missing_ = core::Status::kTableDamaged; }
+
+  // The table a macro staged (contract 3), made live by commit().
+  void stage(const Type& table) { staged_ = &table; }
+  void commit() {
+    if (staged_ != nullptr) live_.publish(*staged_);
+    staged_ = nullptr;
+  }
+
+ private:
+  LiveTable<Type> live_;
+  core::Status missing_ = core::Status::kNoTable;
+  const Type* staged_ = nullptr;
+};
+
+}  // namespace trueaxis::macros

@@ -1,0 +1,185 @@
+// M2, gantry frames: its rows of the register map, its outputs, its blocks and
+// its status codes (docs/METHODS.md M2, docs/INTERFACE.md "M2 gantry"). Its
+// descriptor is method.hpp.
+//
+// Conventions
+//  1. Configuration #700.. (block #700..#799); no data rows: the tracker points
+//     stream through the session (9820..9822).
+//  2. Lengths in mm, angles in degrees, small angles (squareness, sigmas) in
+//     arc-seconds. The global frame's origin and axes are written in the
+//     tracker's frame, a sub-machine's in the global frame (docs/INTERFACE.md).
+//  3. A group is named by three arguments of 9821: T = #20 the sub-machine
+//     (0 for the machine's own groups), Q = #17 the kind (kGroupKind below) and
+//     D = #7 the pass number K (1..kMaxPasses = 4, for the passes only). docs/INTERFACE.md's CSV
+//     names map one to one: bed = (0, 1), side_1 = (0, 2), side_2 = (0, 3),
+//     gantry_K = (0, 4, K), spN_x_K = (N, 5, K), spN_y_K = (N, 6, K),
+//     spN_z_K = (N, 7, K), spN_c = (N, 8), spN_a = (N, 9).
+//  4. Status codes: block 1200..1299; those it owned before the block (107,
+//     215..220) keep their numbers.
+#pragma once
+
+#include <cstdint>
+
+#include "trueaxis/core/gantry_frames.hpp"
+#include "trueaxis/macros/platform_map.hpp"
+
+namespace trueaxis::macros {
+
+namespace var {
+inline constexpr std::uint16_t kGantryMinArc = 700;
+
+// 9820, 9821, 9822
+inline constexpr std::uint16_t kGantrySessionCount = 100;
+inline constexpr std::uint16_t kGantrySessionCapacity = 101;
+inline constexpr std::uint16_t kGantryGroupCount = 102;
+// 9823
+inline constexpr std::uint16_t kGantryBuilt = 100;
+inline constexpr std::uint16_t kGantryWorstOriginSigma = 101;
+inline constexpr std::uint16_t kGantryBuildFlatness = 102;
+inline constexpr std::uint16_t kGantryBuildStraightness = 103;
+// 9824
+inline constexpr std::uint16_t kGlobalOriginX = 100;
+inline constexpr std::uint16_t kGlobalXX = 103;
+inline constexpr std::uint16_t kGlobalYX = 106;
+inline constexpr std::uint16_t kGlobalZX = 109;
+inline constexpr std::uint16_t kGlobalBedFlatness = 112;
+inline constexpr std::uint16_t kGlobalGantryStraightness = 113;
+inline constexpr std::uint16_t kGlobalOriginSigma = 114;
+inline constexpr std::uint16_t kGlobalAngleSigmaX = 115;
+inline constexpr std::uint16_t kGlobalSubMachines = 118;
+inline constexpr std::uint16_t kGlobalIdMask = 119;
+// 9825
+inline constexpr std::uint16_t kGantryPointX = 100;
+// 9826
+inline constexpr std::uint16_t kSubOriginX = 100;
+inline constexpr std::uint16_t kSubOriginSigma = 103;
+inline constexpr std::uint16_t kSubXX = 104;
+inline constexpr std::uint16_t kSubYX = 107;
+inline constexpr std::uint16_t kSubZX = 110;
+inline constexpr std::uint16_t kSubMasterAxis = 113;
+inline constexpr std::uint16_t kSubSquarenessXY = 114;
+inline constexpr std::uint16_t kSubACOffset = 117;
+inline constexpr std::uint16_t kSubACAngle = 118;
+inline constexpr std::uint16_t kSubAngleSigmaX = 119;
+inline constexpr std::uint16_t kSubStraightnessX = 122;
+inline constexpr std::uint16_t kSubCCircleRms = 125;
+inline constexpr std::uint16_t kSubACircleRms = 126;
+}  // namespace var
+
+namespace gantry {
+
+inline constexpr MethodBlock kBlock{"gantry", 700, 799, 3000, 3999};
+
+// Q = #17 of 9821.
+enum class GroupKind : std::uint8_t {
+  kBed = 1,
+  kSide1 = 2,
+  kSide2 = 3,
+  kGantryPass = 4,
+  kXPass = 5,
+  kYPass = 6,
+  kZPass = 7,
+  kCCircle = 8,
+  kACircle = 9,
+};
+
+// Tracker points the session holds, all groups together.
+inline constexpr std::uint16_t kSessionCapacity = 2048;
+// Points one group may hold: one group is one fit, one step of 9823, and these
+// keep a step inside Module::kStepBoundInstructions (bench_gantry.cpp measures it).
+inline constexpr std::uint16_t kMaxPlanePoints = 128;   // bed, side_1, side_2
+inline constexpr std::uint16_t kMaxPassPoints = 64;     // one pass of the gantry or of an axis
+inline constexpr std::uint16_t kMaxCirclePoints = 30;   // a C or an A circle
+inline constexpr std::uint16_t kMaxPasses = 4;          // passes of one axis (of the gantry)
+
+// clang-format off
+inline constexpr VarInfo kRows[] = {
+  rows::config(var::kGantryMinArc, 1.0, 360.0, 30.0, "gantry_min_arc", "deg",
+               "Gantry: a C or A circle whose points span a shorter arc is refused (arc_too_short)."),
+};
+
+inline constexpr OutputInfo kSessionOutputs[] = {
+  {var::kGantrySessionCount, "gantry_session_count", "", "Tracker points in the gantry session after this macro."},
+  {var::kGantrySessionCapacity, "gantry_session_capacity", "", "Tracker points the gantry session holds at most."},
+  {var::kGantryGroupCount, "gantry_session_groups", "", "Groups with at least one point in the session."},
+};
+
+inline constexpr OutputInfo kBuildOutputs[] = {
+  {var::kGantryBuilt, "gantry_built", "", "Sub-machines whose frames were computed."},
+  {var::kGantryWorstOriginSigma, "gantry_worst_origin_sigma", "mm", "Largest origin_sigma_mm of a computed sub-machine."},
+  {var::kGantryBuildFlatness, "gantry_bed_flatness", "mm", "Bed flatness: peak-to-valley of the pads' distances from their plane."},
+  {var::kGantryBuildStraightness, "gantry_straightness", "mm", "Gantry straightness: twice the largest distance of a pass from its line, worst pass."},
+};
+
+inline constexpr OutputInfo kGlobalOutputs[] = {
+  {var::kGlobalOriginX, "global_origin_x", "mm", "X of the global origin O (tracker frame)."},
+  {var::kGlobalOriginX + 1, "global_origin_y", "mm", "Y of O."},
+  {var::kGlobalOriginX + 2, "global_origin_z", "mm", "Z of O."},
+  {var::kGlobalXX, "global_x_x", "", "X of the global X axis (tracker frame)."},
+  {var::kGlobalXX + 1, "global_x_y", "", "Y of the global X axis."},
+  {var::kGlobalXX + 2, "global_x_z", "", "Z of the global X axis."},
+  {var::kGlobalYX, "global_y_x", "", "X of the global Y axis."},
+  {var::kGlobalYX + 1, "global_y_y", "", "Y of the global Y axis."},
+  {var::kGlobalYX + 2, "global_y_z", "", "Z of the global Y axis."},
+  {var::kGlobalZX, "global_z_x", "", "X of the global Z axis."},
+  {var::kGlobalZX + 1, "global_z_y", "", "Y of the global Z axis."},
+  {var::kGlobalZX + 2, "global_z_z", "", "Z of the global Z axis."},
+  {var::kGlobalBedFlatness, "global_bed_flatness", "mm", "Bed flatness (peak-to-valley)."},
+  {var::kGlobalGantryStraightness, "global_gantry_straightness", "mm", "Gantry straightness (twice the largest distance from a pass's line)."},
+  {var::kGlobalOriginSigma, "global_origin_sigma", "mm", "1-sigma radial uncertainty of O."},
+  {var::kGlobalAngleSigmaX, "global_angle_sigma_x", "arcsec", "1-sigma uncertainty of the frame's rotation about its X axis."},
+  {var::kGlobalAngleSigmaX + 1, "global_angle_sigma_y", "arcsec", "... about its Y axis."},
+  {var::kGlobalAngleSigmaX + 2, "global_angle_sigma_z", "arcsec", "... about its Z axis."},
+  {var::kGlobalSubMachines, "global_sub_machines", "", "Sub-machines in that set of frames."},
+  {var::kGlobalIdMask, "global_id_mask", "", "Their ids as a bit mask: bit N-1 set for sub-machine N."},
+};
+
+inline constexpr OutputInfo kPointOutputs[] = {
+  {var::kGantryPointX, "sub_point_x", "mm", "X of the point in the sub-machine's frame."},
+  {var::kGantryPointX + 1, "sub_point_y", "mm", "Y of the point in the sub-machine's frame."},
+  {var::kGantryPointX + 2, "sub_point_z", "mm", "Z of the point in the sub-machine's frame."},
+};
+
+inline constexpr OutputInfo kSubOutputs[] = {
+  {var::kSubOriginX, "sub_origin_x", "mm", "X of the sub-machine's origin O_sp (global frame)."},
+  {var::kSubOriginX + 1, "sub_origin_y", "mm", "Y of O_sp."},
+  {var::kSubOriginX + 2, "sub_origin_z", "mm", "Z of O_sp."},
+  {var::kSubOriginSigma, "sub_origin_sigma", "mm", "1-sigma radial uncertainty of O_sp, the global frame's included."},
+  {var::kSubXX, "sub_x_x", "", "X of the sub-machine's x' axis (global frame)."},
+  {var::kSubXX + 1, "sub_x_y", "", "Y of x'."},
+  {var::kSubXX + 2, "sub_x_z", "", "Z of x'."},
+  {var::kSubYX, "sub_y_x", "", "X of the sub-machine's y' axis."},
+  {var::kSubYX + 1, "sub_y_y", "", "Y of y'."},
+  {var::kSubYX + 2, "sub_y_z", "", "Z of y'."},
+  {var::kSubZX, "sub_z_x", "", "X of the sub-machine's z' axis."},
+  {var::kSubZX + 1, "sub_z_y", "", "Y of z'."},
+  {var::kSubZX + 2, "sub_z_z", "", "Z of z'."},
+  {var::kSubMasterAxis, "sub_master_axis", "", "The axis kept exactly: 0 x, 1 y, 2 z (the longest stroke)."},
+  {var::kSubSquarenessXY, "sub_squareness_xy", "arcsec", "Measured angle between x and y minus 90 deg, before orthonormalisation."},
+  {var::kSubSquarenessXY + 1, "sub_squareness_yz", "arcsec", "... between y and z."},
+  {var::kSubSquarenessXY + 2, "sub_squareness_zx", "arcsec", "... between z and x."},
+  {var::kSubACOffset, "sub_a_c_offset", "mm", "Length of the common perpendicular of the A and C axes."},
+  {var::kSubACAngle, "sub_a_c_angle", "deg", "Angle between the A and C directions (0..180)."},
+  {var::kSubAngleSigmaX, "sub_angle_sigma_x", "arcsec", "1-sigma uncertainty of the frame's rotation about x'."},
+  {var::kSubAngleSigmaX + 1, "sub_angle_sigma_y", "arcsec", "... about y'."},
+  {var::kSubAngleSigmaX + 2, "sub_angle_sigma_z", "arcsec", "... about z'."},
+  {var::kSubStraightnessX, "sub_straightness_x", "mm", "Straightness of the x axis: twice the largest distance of a pass from its line, worst pass."},
+  {var::kSubStraightnessX + 1, "sub_straightness_y", "mm", "... of the y axis."},
+  {var::kSubStraightnessX + 2, "sub_straightness_z", "mm", "... of the z axis."},
+  {var::kSubCCircleRms, "sub_c_circle_rms", "mm", "RMS distance of the C circle's points from their fitted circle."},
+  {var::kSubACircleRms, "sub_a_circle_rms", "mm", "RMS distance of the A circle's points from their fitted circle."},
+};
+
+inline constexpr core::StatusInfo kStatuses[] = {
+  {core::Status::kGroupNotContiguous, "group_not_contiguous", "A point was added to a group after other groups' points: send each group's points together, in measuring order (clear the session and send them again)."},
+  {core::Status::kAxesParallel, "axes_parallel", "Two axes that must cross at an angle are parallel or nearly so (A and C of a head, two linear axes, or the gantry and the bed normal): their common perpendicular is undefined."},
+  {core::Status::kPlanesDegenerate, "planes_degenerate", "The three planes do not meet in one well-defined point: two of them are parallel or nearly so (the bed and the two side faces)."},
+  {core::Status::kAxisOppositeGantry, "axis_opposite_gantry", "A sub-machine's X axis points against the gantry's positive X: check the order in which its passes were measured."},
+  {core::Status::kPassesDisagree, "passes_disagree", "The passes of one axis run in opposite directions: every pass must be measured moving the axis in its positive direction."},
+  {core::Status::kToolDirectionAmbiguous, "tool_direction_ambiguous", "The nominal tool direction is perpendicular to the measured C axis: it cannot say which way the C axis points towards the tool tip."},
+  {core::Status::kBedNotLevel, "bed_not_level", "The bed plane's normal is far from the measurement's +Z: the tracker data must be levelled (+Z up)."},
+};
+// clang-format on
+
+}  // namespace gantry
+}  // namespace trueaxis::macros

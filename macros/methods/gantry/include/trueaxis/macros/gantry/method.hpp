@@ -1,0 +1,33 @@
+// M2, gantry zero frames: the method as one type (method.hpp).
+#pragma once
+
+#include "trueaxis/macros/gantry/gantry_macros.hpp"
+#include "trueaxis/macros/gantry/gantry_map.hpp"
+#include "trueaxis/macros/method.hpp"
+
+namespace trueaxis::macros::gantry {
+
+struct Method : Shape {
+  static constexpr const char* kName = "gantry";
+  static constexpr MethodBlock kBlock = gantry::kBlock;
+  static constexpr StatusBlock kStatusBlock{1200, 1299};
+  static constexpr List<core::StatusInfo> kStatuses = list_of(gantry::kStatuses);
+  static constexpr List<MacroInfo> kMacros = list_of(gantry::kMacros);
+  // docs/INTERFACE.md: group sizes "are limited by capacities that the map states".
+  static constexpr SessionLimit kLimits[] = {
+      {"group_capacity", "bed", kMaxPlanePoints},      {"group_capacity", "side_1", kMaxPlanePoints},
+      {"group_capacity", "side_2", kMaxPlanePoints},   {"group_capacity", "gantry_K", kMaxPassPoints},
+      {"group_capacity", "spN_x_K", kMaxPassPoints},   {"group_capacity", "spN_y_K", kMaxPassPoints},
+      {"group_capacity", "spN_z_K", kMaxPassPoints},   {"group_capacity", "spN_c", kMaxCirclePoints},
+      {"group_capacity", "spN_a", kMaxCirclePoints},   {"", "passes", kMaxPasses},
+      {"", "sub_machines", core::kMaxSubMachines},
+  };
+  static constexpr SessionInfo kSession{kSessionCapacity, "points",
+                                        "group T, Q, D (#20, #17, #7), point X, Y, Z (#24..#26, mm, tracker frame)",
+                                        9820, 9821, 9823, list_of(kLimits)};
+  using State = gantry::State;
+  using Table = FramesRecord;
+  static StoredTable<Table>& table(State& s) { return s.table; }
+};
+
+}  // namespace trueaxis::macros::gantry

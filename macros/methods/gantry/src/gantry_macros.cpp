@@ -1,0 +1,288 @@
+#include "trueaxis/macros/gantry/gantry_macros.hpp"
+
+#include <cmath>
+
+#include "trueaxis/macros/arguments.hpp"
+
+namespace trueaxis::macros::gantry {
+
+namespace {
+
+bool finite(const core::Vec3& v) { return v.allFinite(); }
+
+MacroStep report_session(Context& ctx, const PointSession& s) {
+  ctx.out<var::kGantrySessionCount>(static_cast<double>(s.size()));
+  ctx.out<var::kGantrySessionCapacity>(static_cast<double>(kSessionCapacity));
+  ctx.out<var::kGantryGroupCount>(static_cast<double>(s.groups()));
+  return done(core::Status::kOk);
+}
+
+std::size_t capacity_of(std::size_t group) {
+  if (group < 3) return kMaxPlanePoints;
+  if (group < kGlobalGroups) return kMaxPassPoints;
+  return (group - kGlobalGroups) % kSubGroups < 3 * kMaxPasses ? kMaxPassPoints : kMaxCirclePoints;
+}
+
+// Spans of the session's groups for the sub-machines it mentions (id order).
+void gather(const PointSession& s, core::GantryInput& in) {
+  in = core::GantryInput();
+  in.bed = s.span(0);
+  in.side_1 = s.span(1);
+  in.side_2 = s.span(2);
+  for (std::size_t k = 0; k < kMaxPasses; ++k) {
+    in.gantry_passes[k] = s.span(3 + k);
+    if (in.gantry_passes[k].count > 0) in.gantry_pass_count = k + 1;
+  }
+  for (std::size_t id = 1; id <= core::kMaxSubMachines; ++id) {
+    if (!s.mentions(id)) continue;
+    core::SubMachineInput& sub = in.sub_machines[in.sub_machine_count++];
+    sub.id = static_cast<int>(id);
+    const std::size_t base = kGlobalGroups + (id - 1) * kSubGroups;
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      for (std::size_t k = 0; k < kMaxPasses; ++k) {
+        sub.passes[axis][k] = s.span(base + axis * kMaxPasses + k);
+        if (sub.passes[axis][k].count > 0) sub.pass_count[axis] = k + 1;
+      }
+    }
+    sub.c_circle = s.span(base + 3 * kMaxPasses);
+    sub.a_circle = s.span(base + 3 * kMaxPasses + 1);
+    sub.swing_mm = s.parameters(id).swing_mm;
+    sub.tool_direction = s.parameters(id).tool_direction;
+  }
+}
+
+MacroStep report_global(Context& ctx, const core::StoredGlobal& g, std::size_t count, std::uint16_t mask) {
+  ctx.out3<var::kGlobalOriginX>(g.tracker_T_global.t);
+  ctx.out3<var::kGlobalXX>(g.tracker_T_global.R.col(0));
+  ctx.out3<var::kGlobalYX>(g.tracker_T_global.R.col(1));
+  ctx.out3<var::kGlobalZX>(g.tracker_T_global.R.col(2));
+  ctx.out<var::kGlobalBedFlatness>(g.bed_flatness_mm);
+  ctx.out<var::kGlobalGantryStraightness>(g.gantry_straightness_mm);
+  ctx.out<var::kGlobalOriginSigma>(g.origin_sigma_mm);
+  ctx.out3<var::kGlobalAngleSigmaX>(g.angle_sigma_arcsec);
+  ctx.out<var::kGlobalSubMachines>(static_cast<double>(count));
+  ctx.out<var::kGlobalIdMask>(static_cast<double>(mask));
+  return done(core::Status::kOk);
+}
+
+MacroStep report_sub(Context& ctx, const core::StoredSubMachine& s) {
+  ctx.out3<var::kSubOriginX>(s.global_T_sub.t);
+  ctx.out<var::kSubOriginSigma>(s.origin_sigma_mm);
+  ctx.out3<var::kSubXX>(s.global_T_sub.R.col(0));
+  ctx.out3<var::kSubYX>(s.global_T_sub.R.col(1));
+  ctx.out3<var::kSubZX>(s.global_T_sub.R.col(2));
+  ctx.out<var::kSubMasterAxis>(static_cast<double>(s.master_axis));
+  ctx.out3<var::kSubSquarenessXY>(s.squareness_arcsec);
+  ctx.out<var::kSubACOffset>(s.a_c_offset_mm);
+  ctx.out<var::kSubACAngle>(s.a_c_angle_deg);
+  ctx.out3<var::kSubAngleSigmaX>(s.angle_sigma_arcsec);
+  ctx.out3<var::kSubStraightnessX>(s.straightness_mm);
+  ctx.out<var::kSubCCircleRms>(s.c_circle_rms_mm);
+  ctx.out<var::kSubACircleRms>(s.a_circle_rms_mm);
+  return done(core::Status::kOk);
+}
+
+// No sub-machine present (merge_frames replaces the global frame whole).
+void reset(core::GantryTable& t) {
+  for (core::StoredSubMachine& sub : t.sub_machines) sub.present = false;
+}
+
+// The frames a report reads: R = 1 the stored ones, R = 0 the last computation
+// (as a table of its own, in the work's `merged`: one report for both).
+template <typename Report>
+MacroStep with_frames(Context& ctx, const State& state, bool stored, Report report) {
+  if (stored) return state.table.read_or(report);
+  if (!state.built) return done(core::Status::kNoTable);
+  Work* work = ctx.work();
+  if (work == nullptr) return done(core::Status::kResultReplaced);
+  reset(work->merged);
+  core::merge_frames(work->merged, work->frames);
+  return report(static_cast<const core::GantryTable&>(work->merged));
+}
+
+}  // namespace
+
+void PointSession::clear() {
+  count_ = 0;
+  last_group_ = kGroupCount;
+  for (std::size_t g = 0; g < kGroupCount; ++g) first_[g] = count_in_[g] = 0;
+  for (SubMachineParameters& p : parameters_) p = SubMachineParameters();
+}
+
+core::Result<std::size_t> PointSession::group_of(double t, double q, double d) {
+  if (!whole_in(t, 0.0, core::kMaxSubMachines) || !whole_in(q, 1.0, 9.0)) return core::Status::kArgumentOutOfRange;
+  const auto kind = static_cast<GroupKind>(static_cast<int>(q));
+  const bool global_kind = kind <= GroupKind::kGantryPass;
+  if (global_kind != (t == 0.0)) return core::Status::kArgumentOutOfRange;
+  const bool pass = kind == GroupKind::kGantryPass || kind == GroupKind::kXPass || kind == GroupKind::kYPass ||
+                    kind == GroupKind::kZPass;
+  if (pass && !whole_in(d, 1.0, kMaxPasses)) return core::Status::kArgumentOutOfRange;
+  const std::size_t k = pass ? static_cast<std::size_t>(d) - 1 : 0;
+  switch (kind) {
+    case GroupKind::kBed: return std::size_t{0};
+    case GroupKind::kSide1: return std::size_t{1};
+    case GroupKind::kSide2: return std::size_t{2};
+    case GroupKind::kGantryPass: return 3 + k;
+    default: break;
+  }
+  const std::size_t base = kGlobalGroups + (static_cast<std::size_t>(t) - 1) * kSubGroups;
+  switch (kind) {
+    case GroupKind::kXPass: return base + k;
+    case GroupKind::kYPass: return base + kMaxPasses + k;
+    case GroupKind::kZPass: return base + 2 * kMaxPasses + k;
+    case GroupKind::kCCircle: return base + 3 * kMaxPasses;
+    default: return base + 3 * kMaxPasses + 1;  // kACircle
+  }
+}
+
+core::Status PointSession::add(std::size_t group, const core::Vec3& p_mm) {
+  if (group != last_group_ && count_in_[group] > 0) return core::Status::kGroupNotContiguous;
+  if (count_in_[group] == capacity_of(group)) return core::Status::kTooManyPoints;
+  if (count_ == kSessionCapacity) return core::Status::kSessionFull;
+  if (count_in_[group] == 0) first_[group] = static_cast<std::uint16_t>(count_);
+  points_[count_++] = p_mm;
+  ++count_in_[group];
+  last_group_ = group;
+  return core::Status::kOk;
+}
+
+core::Status PointSession::set_parameters(double t, double swing_mm, const core::Vec3& tool) {
+  if (!whole_in(t, 1.0, core::kMaxSubMachines)) return core::Status::kArgumentOutOfRange;
+  if (!std::isfinite(swing_mm) || !finite(tool)) return core::Status::kNotFinite;
+  if (!(swing_mm >= 0.0 && swing_mm <= rows::kBig) || tool.norm() == 0.0) return core::Status::kArgumentOutOfRange;
+  parameters_[static_cast<std::size_t>(t) - 1] = {true, swing_mm, tool};
+  return core::Status::kOk;
+}
+
+std::size_t PointSession::groups() const {
+  std::size_t n = 0;
+  for (std::size_t g = 0; g < kGroupCount; ++g) n += count_in_[g] > 0 ? 1 : 0;
+  return n;
+}
+
+bool PointSession::mentions(std::size_t id) const {
+  if (parameters_[id - 1].given) return true;
+  const std::size_t base = kGlobalGroups + (id - 1) * kSubGroups;
+  for (std::size_t g = base; g < base + kSubGroups; ++g) {
+    if (count_in_[g] > 0) return true;
+  }
+  return false;
+}
+
+core::Result<core::Vec3> sub_point_mm(const State& state, int id, const core::Vec3& p_global_mm) {
+  if (id < 1 || id > static_cast<int>(core::kMaxSubMachines)) return core::Status::kArgumentOutOfRange;
+  return state.table.read_or([&](const core::GantryTable& t) {
+    const core::StoredSubMachine& s = t.sub_machines[id - 1];
+    return s.present ? core::Result<core::Vec3>(core::global_to_sub_mm(s, p_global_mm))
+                     : core::Result<core::Vec3>(core::Status::kNoTable);
+  });
+}
+
+MacroStep run_session_clear(Context& ctx, State&) {
+  return report_session(ctx, ctx.open_session());
+}
+
+MacroStep run_session_add(Context& ctx, State&) {
+  const core::Result<std::size_t> group =
+      PointSession::group_of(ctx.in<var::kArgT>(), ctx.in<var::kArgQ>(), ctx.in<var::kArgD>());
+  if (!group.ok()) return done(group.status());
+  const core::Vec3 p(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
+  if (!finite(p)) return done(core::Status::kNotFinite);
+  if (p.cwiseAbs().maxCoeff() > rows::kBig) return done(core::Status::kArgumentOutOfRange);
+  PointSession* s = ctx.session();
+  if (s == nullptr) return done(core::Status::kSessionClosed);
+  const core::Status status = s->add(group.value(), p);
+  if (status != core::Status::kOk) return done(status);
+  return report_session(ctx, *s);
+}
+
+MacroStep run_parameters(Context& ctx, State&) {
+  const core::Vec3 tool(ctx.in<var::kArgI>(), ctx.in<var::kArgJ>(), ctx.in<var::kArgK>());
+  PointSession* s = ctx.session();
+  if (s == nullptr) return done(core::Status::kSessionClosed);
+  const core::Status status = s->set_parameters(ctx.in<var::kArgT>(), ctx.in<var::kArgD>(), tool);
+  if (status != core::Status::kOk) return done(status);
+  return report_session(ctx, *s);
+}
+
+MacroStep run_build(Context& ctx, State& state) {
+  bool store = false;
+  if (!flag_of(ctx.in<var::kArgR>(), store)) return done(core::Status::kArgumentOutOfRange);
+  if (ctx.first_step()) {
+    const PointSession* session = ctx.session();
+    if (session == nullptr) return done(core::Status::kSessionClosed);
+    state.built = false;
+    Work& work = ctx.open_work();
+    gather(*session, work.input);
+    for (std::size_t i = 0; i < work.input.sub_machine_count; ++i) {
+      if (!session->parameters(static_cast<std::size_t>(work.input.sub_machines[i].id)).given) {
+        return done(core::Status::kMissingGroup);
+      }
+    }
+    core::GantryOptions options;
+    options.min_arc_deg = ctx.in<var::kGantryMinArc>();
+    work.builder.start(work.input, options, work.frames);
+    return more();
+  }
+  Work* work = ctx.work();
+  if (work == nullptr) return done(core::Status::kResultReplaced);  // cannot happen: one macro at a time
+  if (!work->computed) {
+    const core::GantryStep step = work->builder.step();
+    if (step.status != core::Status::kOk) return done(step.status);
+    // The outputs, the merge and the record take a step of their own, so the
+    // last sub-machine's frame and the record's encoding never share one.
+    work->computed = !step.more;
+    return more();
+  }
+
+  const core::GantryFrames& f = work->frames;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < f.sub_machine_count; ++i) {
+    worst = std::fmax(worst, f.sub_machines[i].uncertainty.origin_sigma_mm);
+  }
+  ctx.out<var::kGantryBuilt>(static_cast<double>(f.sub_machine_count));
+  ctx.out<var::kGantryWorstOriginSigma>(worst);
+  ctx.out<var::kGantryBuildFlatness>(f.global.bed_flatness_mm);
+  ctx.out<var::kGantryBuildStraightness>(f.global.gantry_straightness_mm);
+  ctx.set_on_success(state.built);
+  if (!store) return done(core::Status::kOk);
+  // The stored frames (if any) with this computation merged in (gantry_table.hpp).
+  reset(work->merged);
+  state.table.read([&](const core::GantryTable& t) { work->merged = t; });
+  core::merge_frames(work->merged, f);
+  return done(ctx.stage_table(state.table, work->merged));  // the module commits it, then makes it live
+}
+
+MacroStep run_global(Context& ctx, State& state) {
+  bool stored = false;
+  if (!flag_of(ctx.in<var::kArgR>(), stored)) return done(core::Status::kArgumentOutOfRange);
+  return with_frames(ctx, state, stored, [&](const core::GantryTable& t) {
+    return report_global(ctx, t.global, t.count(), t.id_mask());
+  });
+}
+
+MacroStep run_convert(Context& ctx, State& state) {
+  const double t = ctx.in<var::kArgT>();
+  if (!whole_in(t, 1.0, core::kMaxSubMachines)) return done(core::Status::kArgumentOutOfRange);
+  const core::Vec3 p(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
+  if (!finite(p)) return done(core::Status::kNotFinite);
+  const core::Result<core::Vec3> r = sub_point_mm(state, static_cast<int>(t), p);
+  if (!r.ok()) return done(r.status());
+  ctx.out3<var::kGantryPointX>(r.value());
+  return done(core::Status::kOk);
+}
+
+MacroStep run_sub(Context& ctx, State& state) {
+  bool stored = false;
+  const double t = ctx.in<var::kArgT>();
+  if (!flag_of(ctx.in<var::kArgR>(), stored) || !whole_in(t, 1.0, core::kMaxSubMachines)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
+  const auto id = static_cast<std::size_t>(t);
+  return with_frames(ctx, state, stored, [&](const core::GantryTable& table) {
+    const core::StoredSubMachine& s = table.sub_machines[id - 1];
+    return s.present ? report_sub(ctx, s) : done(core::Status::kNoTable);
+  });
+}
+
+}  // namespace trueaxis::macros::gantry

@@ -1,0 +1,135 @@
+// M3's macros: the ball-position session, the table build, the compensation
+// query (docs/INTERFACE.md macro 9833), the per-pose report and the point
+// conversion; and the direct C++ query for the controller's real-time task.
+//
+// The session lives in the shared session arena and the build in the shared
+// work arena (method_context.hpp contract 4).
+//
+// Macro 9830: clear the session (opening it, and closing another method's).
+//  Out: #100 count (0), #101 capacity (512).
+// Macro 9831: add a ball position: A = #1, C = #3 (commanded, deg), X, Y, Z =
+//  #24..#26 (ball centre, mm, machine frame). Out: #100 count, #101 capacity.
+//  kSessionFull at capacity (nothing added); kSessionClosed when another
+//  method's session has replaced this one (9830 opens it again).
+// Macro 9832: build the table from the session (core RigidityBuilder, several
+//  steps): min C arc from #600. R = #18: 1 also stores the table (only while
+//  unlocked: kTableLocked; committed whole through the keyed store, then made
+//  live), 0 builds it only (9834 R = 0 reports it). Out: #100..#111
+//  (rigidity_map.hpp kBuildOutputs). Status: those of the builder (too_few_poses,
+//  no_reference_pose, too_few_c_positions, arc_too_short, too_many_points for
+//  a pose of more than kMaxPoseSamples (36) ...), kSessionClosed; the session
+//  is kept either way.
+// Macro 9833: the rotation vector at commanded A = #1 from the stored (live)
+//  table: Q = #17 blend (0 linear, 1 geodesic, 2 natural cubic spline, 3 cubic
+//  spline with not-a-knot ends: more exact near the ends of the range for a
+//  smooth law; rigidity_compensation.hpp), R = #18 (1 clamps an A
+//  outside the measured range to the nearest pose, 0 refuses it). Out: #100..#102
+//  (arcsec, machine frame), #103 norm. Without a stored table kNoTable (none
+//  stored), kTableDamaged (its record failed the CRC at start) or kTableInvalid
+//  (it did not decode); kArgumentOutOfRange for a blend or R not in its set;
+//  kOutsideMeasuredRange for A outside the measured range with R = 0.
+// Macro 9834: pose Q = #17 (1..n, in A order) of the table: R = #18 0 the last
+//  table built since start, 1 the stored one. Out: #100..#117 (kPoseOutputs).
+//  With R = 0: kNoTable when none was built, kResultReplaced when another
+//  method's computation has used the work arena since.
+// Macro 9835: convert a point X, Y, Z (#24..#26) and a direction I, J, K
+//  (#4..#6) at commanded A = #1, C = #3 from where the ideal (theory) machine
+//  puts them to where the real (actual) one does; R = #18 = 1 the other way.
+//  Blend Q = #17 as 9833, no clamping. Out: #100..#105 (kConvertOutputs).
+#pragma once
+
+#include <cstdint>
+
+#include "trueaxis/core/rigidity_compensation.hpp"
+#include "trueaxis/core/rigidity_table.hpp"
+#include "trueaxis/macros/method_context.hpp"
+#include "trueaxis/macros/rigidity/rigidity_map.hpp"
+#include "trueaxis/macros/services.hpp"
+#include "trueaxis/macros/session.hpp"
+#include "trueaxis/macros/stored_table.hpp"
+
+namespace trueaxis::macros::rigidity {
+
+static_assert(kSessionCapacity <= core::kMaxRigiditySamples, "the builder takes the whole session");
+
+using RigiditySession = Session<core::RigiditySample, kSessionCapacity>;
+
+// The build under way, and the last table built (builder.table()).
+struct Work {
+  core::RigidityBuilder builder;
+};
+
+struct Shape {
+  static constexpr List<VarInfo> kRows = list_of(rigidity::kRows);
+  using Session = RigiditySession;
+  using Work = rigidity::Work;
+};
+using Context = MethodContext<Shape>;
+
+struct State {
+  StoredTable<RigidityTableRecord> table;  // the stored table the controller queries
+  bool built = false;  // a 9832 has succeeded since start (its table is the work's, while it lasts)
+};
+
+// The direct call for the controller's real-time task: the rotation vector
+// (rad, machine frame) at commanded A from the stored table; const, no
+// allocation, no lock (live_table.hpp). Without a stored table kNoTable,
+// kTableDamaged or kTableInvalid (stored_table.hpp); the statuses of
+// core::rigidity_rotvec_rad otherwise.
+[[nodiscard]] core::Result<core::Vec3> compensation_rad(const State& state, double a_deg, core::Blend blend,
+                                                        bool clamp);
+
+MacroStep run_session_clear(Context& ctx, State& state);
+MacroStep run_session_add(Context& ctx, State& state);
+MacroStep run_build(Context& ctx, State& state);
+MacroStep run_query(Context& ctx, State& state);
+MacroStep run_pose(Context& ctx, State& state);
+MacroStep run_convert(Context& ctx, State& state);
+
+// clang-format off
+inline constexpr InputRef kAddInputs[] = {
+  {var::kArgA, 1, "Commanded A (deg)."},
+  {var::kArgC, 1, "Commanded C (deg)."},
+  {var::kArgX, 3, "Ball centre X, Y, Z (mm, machine frame)."},
+};
+inline constexpr InputRef kBuildInputs[] = {
+  {var::kArgR, 1, "1 stores the table (unlocked only), 0 builds it only."},
+  {var::kRigidityMinCArc, 1, "Shortest C arc a pose may span."},
+};
+inline constexpr InputRef kQueryInputs[] = {
+  {var::kArgA, 1, "Commanded A (deg)."},
+  {var::kArgQ, 1, "Blend: 0 linear, 1 geodesic, 2 cubic (natural), 3 cubic (not-a-knot)."},
+  {var::kArgR, 1, "1 clamps an A outside the measured range to the nearest pose; 0 refuses it."},
+};
+inline constexpr InputRef kPoseInputs[] = {
+  {var::kArgQ, 1, "Pose number, 1..n in A order."},
+  {var::kArgR, 1, "0 the table built last, 1 the stored table."},
+};
+inline constexpr InputRef kConvertInputs[] = {
+  {var::kArgA, 1, "Commanded A (deg)."},
+  {var::kArgC, 1, "Commanded C (deg)."},
+  {var::kArgI, 3, "Direction I, J, K (machine frame)."},
+  {var::kArgQ, 1, "Blend: 0 linear, 1 geodesic, 2 cubic (natural), 3 cubic (not-a-knot)."},
+  {var::kArgR, 1, "0 theory to actual, 1 actual to theory."},
+  {var::kArgX, 3, "Point X, Y, Z (mm, machine frame)."},
+};
+
+inline constexpr MacroInfo kMacros[] = {
+  macro<&run_session_clear>(9830, "rigidity_session_clear", "Empty the rigidity session.", kSessionOutputs),
+  macro<&run_session_add>(9831, "rigidity_session_add",
+        "Add one ball position (commanded A, C and the ball centre) to the rigidity session.",
+        kAddInputs, kSessionOutputs),
+  macro<&run_build>(9832, "rigidity_build",
+        "Build the rigidity table from the session (several steps); R = 1 stores it.", kBuildInputs, kBuildOutputs),
+  macro<&run_query>(9833, "rigidity_query",
+        "Compensation query: the rotation vector at a commanded A from the stored table.", kQueryInputs,
+        kQueryOutputs),
+  macro<&run_pose>(9834, "rigidity_pose", "One pose of the rigidity table, for reports.", kPoseInputs,
+        kPoseOutputs),
+  macro<&run_convert>(9835, "rigidity_convert",
+        "Convert a point and a direction between the theoretical and the actual machine at (A, C).",
+        kConvertInputs, kConvertOutputs),
+};
+// clang-format on
+
+}  // namespace trueaxis::macros::rigidity

@@ -1,0 +1,154 @@
+#include "trueaxis/macros/rigidity/rigidity_macros.hpp"
+
+#include <cmath>
+
+#include "trueaxis/macros/arguments.hpp"
+
+namespace trueaxis::macros::rigidity {
+
+namespace {
+
+using core::kArcsecPerRad;
+
+MacroStep report_session(Context& ctx, std::size_t count) {
+  ctx.out<var::kRigiditySessionCount>(static_cast<double>(count));
+  ctx.out<var::kRigiditySessionCapacity>(static_cast<double>(kSessionCapacity));
+  return done(core::Status::kOk);
+}
+
+// Q (#17) as a blend; false when it is not 0, 1, 2 or 3.
+bool blend_of(double q, core::Blend& blend) {
+  if (q == 0.0) blend = core::Blend::kLinear;
+  else if (q == 1.0) blend = core::Blend::kGeodesic;
+  else if (q == 2.0) blend = core::Blend::kCubic;
+  else if (q == 3.0) blend = core::Blend::kCubicNotAKnot;
+  else return false;
+  return true;
+}
+
+}  // namespace
+
+core::Result<core::Vec3> compensation_rad(const State& state, double a_deg, core::Blend blend, bool clamp) {
+  return state.table.read_or(
+      [&](const core::RigidityTable& t) { return core::rigidity_rotvec_rad(t, a_deg, blend, clamp); });
+}
+
+MacroStep run_session_clear(Context& ctx, State&) {
+  ctx.open_session();
+  return report_session(ctx, 0);
+}
+
+MacroStep run_session_add(Context& ctx, State&) {
+  core::RigiditySample s;
+  s.a_deg = ctx.in<var::kArgA>();
+  s.c_deg = ctx.in<var::kArgC>();
+  s.p_mm = core::Vec3(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
+  RigiditySession* samples = ctx.session();
+  if (samples == nullptr) return done(core::Status::kSessionClosed);
+  const core::Status status = samples->add(s);
+  if (status != core::Status::kOk) return done(status);
+  return report_session(ctx, samples->size());
+}
+
+MacroStep run_build(Context& ctx, State& state) {
+  bool store = false;
+  if (ctx.first_step()) {
+    if (!flag_of(ctx.in<var::kArgR>(), store)) return done(core::Status::kArgumentOutOfRange);
+    const RigiditySession* samples = ctx.session();
+    if (samples == nullptr) return done(core::Status::kSessionClosed);
+    core::RigidityOptions options;
+    options.min_c_arc_deg = ctx.in<var::kRigidityMinCArc>();
+    options.max_pose_samples = kMaxPoseSamples;
+    state.built = false;
+    ctx.open_work().builder.start(samples->data(), samples->size(), options);
+    return more();  // the first step only checks and starts: the builder's steps follow
+  }
+  Work* work = ctx.work();
+  if (work == nullptr) return done(core::Status::kResultReplaced);  // cannot happen: one macro at a time
+  const core::RigidityStep step = work->builder.step();
+  if (step.more) return more();
+  if (step.status != core::Status::kOk) return done(step.status);
+
+  const core::RigidityTable& t = work->builder.table();
+  std::size_t worst = 0;
+  double worst_rms = 0.0;
+  for (std::size_t i = 0; i < t.pose_count; ++i) {
+    if (t.poses[i].rigidity_rad > t.poses[worst].rigidity_rad) worst = i;
+    worst_rms = std::fmax(worst_rms, t.poses[i].c_circle_rms_mm);
+  }
+  ctx.out<var::kRigidityPoses>(static_cast<double>(t.pose_count));
+  ctx.out<var::kRigidityWorst>(t.poses[worst].rigidity_rad * kArcsecPerRad);
+  ctx.out<var::kRigidityWorstSigma>(t.poses[worst].rigidity_sigma_rad * kArcsecPerRad);
+  ctx.out3<var::kRigidityAPointX>(t.a_axis_point_mm);
+  ctx.out3<var::kRigidityADirectionX>(t.a_axis_direction);
+  ctx.out<var::kRigidityCToAOffset>(t.c_to_a_offset_mm);
+  ctx.out<var::kRigidityCToASquareness>(t.c_to_a_squareness_rad * kArcsecPerRad);
+  ctx.out<var::kRigidityWorstCircleRms>(worst_rms);
+
+  ctx.set_on_success(state.built);
+  if (!flag_of(ctx.in<var::kArgR>(), store) || !store) return done(core::Status::kOk);
+  return done(ctx.stage_table(state.table, t));  // the module commits the record, then makes t live
+}
+
+MacroStep run_query(Context& ctx, State& state) {
+  core::Blend blend = core::Blend::kLinear;
+  bool clamp = false;
+  if (!blend_of(ctx.in<var::kArgQ>(), blend) || !flag_of(ctx.in<var::kArgR>(), clamp)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
+  const core::Result<core::Vec3> r = compensation_rad(state, ctx.in<var::kArgA>(), blend, clamp);
+  if (!r.ok()) return done(r.status());
+  ctx.out3<var::kRigidityRotvecX>(r.value(), kArcsecPerRad);
+  ctx.out<var::kRigidityRotvecNorm>(r.value().norm() * kArcsecPerRad);
+  return done(core::Status::kOk);
+}
+
+namespace {
+
+MacroStep report_pose(Context& ctx, const core::RigidityTable& t) {
+  const double q = ctx.in<var::kArgQ>();
+  if (!whole_in(q, 1.0, static_cast<double>(t.pose_count))) return done(core::Status::kArgumentOutOfRange);
+  const core::RigidityPose& p = t.poses[static_cast<std::size_t>(q) - 1];
+  ctx.out<var::kPoseA>(p.a_deg);
+  ctx.out3<var::kPoseRotvecX>(p.rotvec_rad, kArcsecPerRad);
+  ctx.out3<var::kPoseRotvecSigmaX>(p.rotvec_sigma_rad, kArcsecPerRad);
+  ctx.out<var::kPoseRigidity>(p.rigidity_rad * kArcsecPerRad);
+  ctx.out<var::kPoseRigiditySigma>(p.rigidity_sigma_rad * kArcsecPerRad);
+  ctx.out<var::kPoseAError>(p.a_error_rad * kArcsecPerRad);
+  ctx.out3<var::kPoseCCentreX>(p.c_centre_mm);
+  ctx.out3<var::kPoseCDirectionX>(p.c_direction);
+  ctx.out<var::kPoseCCircleRms>(p.c_circle_rms_mm);
+  ctx.out<var::kPoseCount>(static_cast<double>(t.pose_count));
+  return done(core::Status::kOk);
+}
+
+}  // namespace
+
+MacroStep run_pose(Context& ctx, State& state) {
+  bool stored = false;
+  if (!flag_of(ctx.in<var::kArgR>(), stored)) return done(core::Status::kArgumentOutOfRange);
+  if (stored) return state.table.read_or([&](const core::RigidityTable& t) { return report_pose(ctx, t); });
+  if (!state.built) return done(core::Status::kNoTable);
+  const Work* work = ctx.work();
+  return work != nullptr ? report_pose(ctx, work->builder.table()) : done(core::Status::kResultReplaced);
+}
+
+MacroStep run_convert(Context& ctx, State& state) {
+  core::Blend blend = core::Blend::kLinear;
+  bool inverse = false;
+  if (!blend_of(ctx.in<var::kArgQ>(), blend) || !flag_of(ctx.in<var::kArgR>(), inverse)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
+  const core::Vec3 direction(ctx.in<var::kArgI>(), ctx.in<var::kArgJ>(), ctx.in<var::kArgK>());
+  const core::Vec3 point(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
+  const core::Result<core::RigidTransform> r = state.table.read_or([&](const core::RigidityTable& t) {
+    return core::rigidity_correction(t, ctx.in<var::kArgA>(), ctx.in<var::kArgC>(), blend, false);
+  });
+  if (!r.ok()) return done(r.status());
+  const core::RigidTransform actual_T_theory = inverse ? r.value().inverse() : r.value();
+  ctx.out3<var::kConvertPointX>(actual_T_theory.point(point));
+  ctx.out3<var::kConvertDirectionX>(actual_T_theory.direction(direction));
+  return done(core::Status::kOk);
+}
+
+}  // namespace trueaxis::macros::rigidity

@@ -1,0 +1,26 @@
+// M4, the spindle's tool axis as a screw: the method as one type (method.hpp).
+#pragma once
+
+#include "trueaxis/macros/method.hpp"
+#include "trueaxis/macros/spindle/spindle_macros.hpp"
+#include "trueaxis/macros/spindle/spindle_map.hpp"
+
+namespace trueaxis::macros::spindle {
+
+struct Method : Shape {
+  static constexpr const char* kName = "spindle";
+  static constexpr MethodBlock kBlock = spindle::kBlock;
+  static constexpr StatusBlock kStatusBlock{1300, 1399};
+  static constexpr List<core::StatusInfo> kStatuses = list_of(spindle::kStatuses);
+  static constexpr List<MacroInfo> kMacros = list_of(spindle::kMacros);
+  static constexpr SessionLimit kLimits[] = {{"", "balls", 2}, {"", "repeats_per_angle", core::kMaxBinCount}};
+  static constexpr SessionInfo kSession{core::kMaxSpindleAngles, "distinct angles per ball",
+                                        "S spindle angle (#19, deg), T ball 1 or 2 (#20), ball centre X, Y, Z "
+                                        "(#24..#26, mm, analyser frame)",
+                                        9840, 9841, 9842, list_of(kLimits)};
+  using State = spindle::State;
+  using Table = ModelRecord;
+  static StoredTable<Table>& table(State& s) { return s.table; }
+};
+
+}  // namespace trueaxis::macros::spindle

@@ -1,0 +1,147 @@
+// M4's macros: the analyser's sample session, the identification of the
+// tool-axis model and its storage, the reports, the correction query
+// (docs/INTERFACE.md macro 9843); and the direct C++ correction for the
+// controller's programs.
+//
+// The session lives in the shared session arena and the identification in the
+// shared work arena (method_context.hpp contract 4): 9841 and 9842 answer
+// kSessionClosed when another method's session has replaced this one, and
+// 9844/9845 with R = 0 kResultReplaced when another method's computation has
+// used the work arena since.
+//
+// Macro 9840: clear the session (opening it, and closing another method's).
+//  Out: #100..#103 (kSessionOutputs).
+// Macro 9841: add an analyser sample: S = #19 spindle angle (deg, any number of
+//  revolutions: taken modulo 360), T = #20 ball (1 nearer the spindle, 2
+//  farther along the tool), X, Y, Z = #24..#26 the ball's centre (mm, analyser
+//  frame). Samples at an angle already in the session (within 1e-6 deg) join
+//  its bin (spindle_model.hpp convention 4). Out: #100..#103. Refused, nothing
+//  added: kArgumentOutOfRange (T not 1 or 2), kSessionFull (a ball's 361st
+//  distinct angle, or a repeat beyond 2^24 of one).
+// Macro 9842: identify the model from the session (core::SpindleBuilder, several
+//  steps): D = #7 O1 to the gauge line (mm, > 0), U = #21 and V = #22 the ball
+//  centres below the gauge line (mm, 0 <= U < V), the gap limit #800. R = #18: 1
+//  also stores the model (only while unlocked: kTableLocked), committed whole
+//  through the keyed store and then made live; 0 identifies only (9844, 9845
+//  with R = 0 report it). Out: #100..#104 (kBuildOutputs). Status:
+//  kArgumentOutOfRange (D, U, V, R), kMissingGroup (a ball without samples),
+//  kTooFewSamples (fewer than 8 distinct angles of a ball),
+//  kRevolutionIncomplete, kNotIdentifiable, kNoConvergence, kArgumentOutOfRange
+//  also for an axis more than 30 deg from -Z (core::kMaxSpindleTilt: the model
+//  stores only what it can load again). The session is kept either way.
+// Macro 9843: correction query (docs/INTERFACE.md): S = #19 spindle angle (deg), Z =
+//  #26 tool length (mm below the gauge line, 0..1e5) -> #100 theta_e (arcsec),
+//  #101 d_e (mm), #102..#104 the tool-tip error (mm), from the stored model.
+//  kNoTable (none stored), kTableDamaged / kTableInvalid (the stored record
+//  failed its CRC or did not decode at start), kArgumentOutOfRange (Z).
+// Macro 9844: the same with uncertainties and the mean over a revolution: R =
+//  #18 0 the last identification since start, 1 the stored model; S, Z as 9843.
+//  Out: #100..#115 (kReportOutputs).
+// Macro 9845: the model: R as 9844, Q = #17 a parameter 1..9 (spindle_map.hpp
+//  convention 3). Out: #100..#111 (kModelOutputs).
+#pragma once
+
+#include <cstdint>
+
+#include "trueaxis/core/spindle_correction.hpp"
+#include "trueaxis/core/spindle_model.hpp"
+#include "trueaxis/macros/method_context.hpp"
+#include "trueaxis/macros/spindle/spindle_map.hpp"
+#include "trueaxis/macros/stored_table.hpp"
+
+namespace trueaxis::macros::spindle {
+
+// The record of the stored model (key 5).
+struct ModelRecord {
+  using Type = core::SpindleModel;
+  static constexpr RecordSpec kRecord{5, 1, 2048, "spindle_model"};
+  static core::Status decode(const std::uint8_t* bytes, std::size_t length, Type& out) {
+    return core::decode_spindle_model(bytes, length, out);
+  }
+  static std::size_t encode(const Type& t, std::uint8_t* out, std::size_t capacity) {
+    return core::encode_spindle_model(t, out, capacity);
+  }
+  static std::size_t bytes(const Type&) { return core::kSpindleModelBytes; }
+};
+static_assert(core::kSpindleModelBytes <= ModelRecord::kRecord.capacity_bytes, "the model must fit its record");
+
+// The identification under way, and the last one (`computed`, complete when
+// the method's State::built says so).
+struct Work {
+  core::SpindleBuilder builder;
+  core::SpindleModel computed;
+};
+
+struct Shape {
+  static constexpr List<VarInfo> kRows = list_of(spindle::kRows);
+  using Session = core::SpindleBins;
+  using Work = spindle::Work;
+};
+using Context = MethodContext<Shape>;
+
+struct State {
+  StoredTable<ModelRecord> table;  // the stored model the controller corrects with
+  bool built = false;              // a 9842 has succeeded since start
+};
+
+// The direct call for the controller's programs: theta_e (rad), d_e and the
+// tool-tip error (mm) at spindle angle phi_deg and tool length tool_mm (below
+// the gauge line), from the stored model; const, no allocation, no lock.
+// kNotFinite, kArgumentOutOfRange (tool_mm outside 0..1e5), the stored
+// table's reason (stored_table.hpp) when no model is stored.
+[[nodiscard]] core::Result<core::SpindleCorrection> tool_tip_correction(const State& state, double phi_deg,
+                                                                        double tool_mm);
+
+MacroStep run_session_clear(Context& ctx, State& state);
+MacroStep run_session_add(Context& ctx, State& state);
+MacroStep run_build(Context& ctx, State& state);
+MacroStep run_correction(Context& ctx, State& state);
+MacroStep run_report(Context& ctx, State& state);
+MacroStep run_model(Context& ctx, State& state);
+
+// clang-format off
+inline constexpr InputRef kAddInputs[] = {
+  {var::kArgS, 1, "Spindle angle (deg from the M19 zero, M03 direction positive; any revolution)."},
+  {var::kArgT, 1, "Ball: 1 nearer the spindle, 2 farther along the tool."},
+  {var::kArgX, 3, "Ball centre X, Y, Z (mm, analyser frame)."},
+};
+inline constexpr InputRef kBuildInputs[] = {
+  {var::kArgD, 1, "O1 (upper bearing seat centre) to the gauge line along the spindle (mm)."},
+  {var::kArgR, 1, "1 stores the model (unlocked only), 0 identifies only."},
+  {var::kArgU, 1, "Ball 1's centre below the gauge line (mm)."},
+  {var::kArgV, 1, "Ball 2's centre below the gauge line (mm), more than U."},
+  {var::kSpindleMaxGap, 1, "Widest gap a ball's angles may leave."},
+};
+inline constexpr InputRef kCorrectionInputs[] = {
+  {var::kArgS, 1, "Spindle angle (deg)."},
+  {var::kArgZ, 1, "Tool length below the gauge line (mm)."},
+};
+inline constexpr InputRef kReportInputs[] = {
+  {var::kArgR, 1, "0 the last identification, 1 the stored model."},
+  {var::kArgS, 1, "Spindle angle (deg)."},
+  {var::kArgZ, 1, "Tool length below the gauge line (mm)."},
+};
+inline constexpr InputRef kModelInputs[] = {
+  {var::kArgQ, 1, "Parameter 1..9: o_x, o_y, o_z, a_x, a_y, e_x, e_y, w_x, w_y."},
+  {var::kArgR, 1, "0 the last identification, 1 the stored model."},
+};
+
+inline constexpr MacroInfo kMacros[] = {
+  macro<&run_session_clear>(9840, "spindle_session_clear", "Empty the spindle analyser session.", kSessionOutputs),
+  macro<&run_session_add>(9841, "spindle_session_add", "Add one analyser sample (spindle angle, ball, centre) to the session.",
+        kAddInputs, kSessionOutputs),
+  macro<&run_build>(9842, "spindle_build",
+        "Identify the tool-axis model from the session (several steps); R = 1 stores it.", kBuildInputs,
+        kBuildOutputs),
+  macro<&run_correction>(9843, "spindle_correction",
+        "Correction query: theta_e, d_e and the tool-tip error at a spindle angle and tool length, from the stored model.",
+        kCorrectionInputs, kCorrectionOutputs),
+  macro<&run_report>(9844, "spindle_report",
+        "The correction with its uncertainties and its mean over a revolution, for reports.", kReportInputs,
+        kReportOutputs),
+  macro<&run_model>(9845, "spindle_model", "A parameter of the model with its uncertainty, and the fit's figures.",
+        kModelInputs, kModelOutputs),
+};
+// clang-format on
+
+}  // namespace trueaxis::macros::spindle

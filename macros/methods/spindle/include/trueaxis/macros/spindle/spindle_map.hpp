@@ -1,0 +1,143 @@
+// M4, the spindle's tool-axis model: its rows of the register map, its outputs,
+// its blocks and its status codes (docs/METHODS.md M4, docs/INTERFACE.md "M4
+// spindle"). Its descriptor is method.hpp.
+//
+// Conventions
+//  1. Configuration #800.. (block #800..#899); no data rows: the analyser's
+//     samples stream through the session (9840, 9841).
+//  2. Lengths in mm, the spindle angle in degrees (M19 zero, growing in the M03
+//     direction: right-handed about the axis towards the tool tip), theta_e and
+//     the angles' sigmas in arc-seconds. Vectors are in the analyser's frame
+//     (axes parallel to the machine's).
+//  3. The model's parameters (9845, Q = 1..9) in the order of
+//     core::SpindleParams (spindle_model.hpp convention 1): o_x, o_y, o_z (mm),
+//     a_x, a_y, e_x, e_y (mm), w_x, w_y; a and w dimensionless (radians for
+//     small angles). kParameterNames lists the names OUT.json uses.
+//  4. Status codes: block 1300..1399; those it owned before the block (221,
+//     222) keep their numbers.
+#pragma once
+
+#include <cstdint>
+
+#include "trueaxis/core/spindle_model.hpp"
+#include "trueaxis/macros/platform_map.hpp"
+
+namespace trueaxis::macros {
+
+namespace var {
+inline constexpr std::uint16_t kSpindleMaxGap = 800;
+
+// 9840, 9841
+inline constexpr std::uint16_t kSpindleSessionSamples = 100;
+inline constexpr std::uint16_t kSpindleSessionAngles1 = 101;
+inline constexpr std::uint16_t kSpindleSessionAngles2 = 102;
+inline constexpr std::uint16_t kSpindleSessionCapacity = 103;
+// 9842
+inline constexpr std::uint16_t kSpindleEvaluations = 100;
+inline constexpr std::uint16_t kSpindleNoiseSigma = 101;
+inline constexpr std::uint16_t kSpindleSynchronousRms = 102;
+inline constexpr std::uint16_t kSpindleNoiseFromRepeats = 103;
+inline constexpr std::uint16_t kSpindleSamplesUsed = 104;
+// 9843, 9844
+inline constexpr std::uint16_t kSpindleThetaE = 100;
+inline constexpr std::uint16_t kSpindleDE = 101;
+inline constexpr std::uint16_t kSpindleTipX = 102;
+inline constexpr std::uint16_t kSpindleThetaESigma = 105;
+inline constexpr std::uint16_t kSpindleDESigma = 106;
+inline constexpr std::uint16_t kSpindleTipSigmaX = 107;
+inline constexpr std::uint16_t kSpindleMeanTipX = 110;
+inline constexpr std::uint16_t kSpindleMeanTipSigmaX = 113;
+// 9845
+inline constexpr std::uint16_t kSpindleParamValue = 100;
+inline constexpr std::uint16_t kSpindleParamSigma = 101;
+inline constexpr std::uint16_t kSpindleRms = 102;
+inline constexpr std::uint16_t kSpindleModelSynchronousRms = 103;
+inline constexpr std::uint16_t kSpindleModelNoiseSigma = 104;
+inline constexpr std::uint16_t kSpindleModelNoiseFromRepeats = 105;
+inline constexpr std::uint16_t kSpindleModelSamples = 106;
+inline constexpr std::uint16_t kSpindleModelEvaluations = 107;
+inline constexpr std::uint16_t kSpindleModelGauge = 108;
+inline constexpr std::uint16_t kSpindleModelBall1 = 109;
+inline constexpr std::uint16_t kSpindleModelBall2 = 110;
+inline constexpr std::uint16_t kSpindleModelEigenRatio = 111;
+}  // namespace var
+
+namespace spindle {
+
+inline constexpr MethodBlock kBlock{"spindle", 800, 899, 4000, 4999};
+
+// Convention 3.
+inline constexpr const char* kParameterNames[core::kSpindleParams] = {
+    "o_x_mm", "o_y_mm", "o_z_mm", "a_x", "a_y", "e_x_mm", "e_y_mm", "w_x", "w_y"};
+
+// clang-format off
+inline constexpr VarInfo kRows[] = {
+  rows::config(var::kSpindleMaxGap, 1.0, 180.0, core::kMaxSpindleGapDeg, "spindle_max_gap", "deg",
+               "Spindle: a ball whose angles leave a wider gap than this is refused (revolution_incomplete)."),
+};
+
+inline constexpr OutputInfo kSessionOutputs[] = {
+  {var::kSpindleSessionSamples, "spindle_session_samples", "", "Analyser samples in the spindle session after this macro."},
+  {var::kSpindleSessionAngles1, "spindle_session_angles_1", "", "Distinct spindle angles of ball 1 (repeats of an angle share one)."},
+  {var::kSpindleSessionAngles2, "spindle_session_angles_2", "", "Distinct spindle angles of ball 2."},
+  {var::kSpindleSessionCapacity, "spindle_session_capacity", "", "Distinct angles the session holds per ball (any number of revolutions)."},
+};
+
+inline constexpr OutputInfo kBuildOutputs[] = {
+  {var::kSpindleEvaluations, "spindle_evaluations", "", "Residual-and-Jacobian passes of the identification."},
+  {var::kSpindleNoiseSigma, "spindle_noise_sigma", "mm", "1-sigma probe noise per axis the intervals use (from the repeats of an angle when there are enough)."},
+  {var::kSpindleSynchronousRms, "spindle_synchronous_rms", "mm", "RMS 3-D residual of the angle means: what repeats every revolution (form error) and the model does not hold."},
+  {var::kSpindleNoiseFromRepeats, "spindle_noise_from_repeats", "", "1: the noise comes from the repeats of an angle; 0: from every residual (one revolution: conservative)."},
+  {var::kSpindleSamplesUsed, "spindle_samples", "", "Samples the identification used."},
+};
+
+inline constexpr OutputInfo kCorrectionOutputs[] = {
+  {var::kSpindleThetaE, "spindle_theta_e", "arcsec", "theta_e: the angle between the ideal axis (machine -Z through O1) and the tool axis at that spindle angle."},
+  {var::kSpindleDE, "spindle_d_e", "mm", "d_e: the length of their common perpendicular."},
+  {var::kSpindleTipX, "spindle_tip_error_x", "mm", "X of the tool-tip error (actual minus ideal tip) at that tool length: the controller subtracts it."},
+  {var::kSpindleTipX + 1, "spindle_tip_error_y", "mm", "Y of the tool-tip error."},
+  {var::kSpindleTipX + 2, "spindle_tip_error_z", "mm", "Z of the tool-tip error."},
+};
+
+inline constexpr OutputInfo kReportOutputs[] = {
+  {var::kSpindleThetaE, "spindle_theta_e", "arcsec", "theta_e (as 9843)."},
+  {var::kSpindleDE, "spindle_d_e", "mm", "d_e (as 9843)."},
+  {var::kSpindleTipX, "spindle_tip_error_x", "mm", "X of the tool-tip error (as 9843)."},
+  {var::kSpindleTipX + 1, "spindle_tip_error_y", "mm", "Y of the tool-tip error."},
+  {var::kSpindleTipX + 2, "spindle_tip_error_z", "mm", "Z of the tool-tip error."},
+  {var::kSpindleThetaESigma, "spindle_theta_e_sigma", "arcsec", "1-sigma uncertainty of theta_e."},
+  {var::kSpindleDESigma, "spindle_d_e_sigma", "mm", "1-sigma uncertainty of d_e."},
+  {var::kSpindleTipSigmaX, "spindle_tip_error_sigma_x", "mm", "1-sigma uncertainty of the tool-tip error's X."},
+  {var::kSpindleTipSigmaX + 1, "spindle_tip_error_sigma_y", "mm", "... of its Y."},
+  {var::kSpindleTipSigmaX + 2, "spindle_tip_error_sigma_z", "mm", "... of its Z."},
+  {var::kSpindleMeanTipX, "spindle_mean_tip_error_x", "mm", "X of the tool-tip error averaged over a revolution (a tool turning fast)."},
+  {var::kSpindleMeanTipX + 1, "spindle_mean_tip_error_y", "mm", "Y of the mean tool-tip error."},
+  {var::kSpindleMeanTipX + 2, "spindle_mean_tip_error_z", "mm", "Z of the mean tool-tip error."},
+  {var::kSpindleMeanTipSigmaX, "spindle_mean_tip_error_sigma_x", "mm", "1-sigma uncertainty of the mean tool-tip error's X."},
+  {var::kSpindleMeanTipSigmaX + 1, "spindle_mean_tip_error_sigma_y", "mm", "... of its Y."},
+  {var::kSpindleMeanTipSigmaX + 2, "spindle_mean_tip_error_sigma_z", "mm", "... of its Z."},
+};
+
+inline constexpr OutputInfo kModelOutputs[] = {
+  {var::kSpindleParamValue, "spindle_parameter", "", "Value of parameter Q (spindle_map.hpp convention 3; mm or dimensionless)."},
+  {var::kSpindleParamSigma, "spindle_parameter_sigma", "", "Its 1-sigma uncertainty."},
+  {var::kSpindleRms, "spindle_rms", "mm", "RMS 3-D residual of every sample."},
+  {var::kSpindleModelSynchronousRms, "spindle_model_synchronous_rms", "mm", "RMS 3-D residual of the angle means."},
+  {var::kSpindleModelNoiseSigma, "spindle_model_noise_sigma", "mm", "1-sigma noise per axis the intervals use."},
+  {var::kSpindleModelNoiseFromRepeats, "spindle_model_noise_from_repeats", "", "1: noise from the repeats of an angle; 0: from every residual."},
+  {var::kSpindleModelSamples, "spindle_model_samples", "", "Samples the model was identified from."},
+  {var::kSpindleModelEvaluations, "spindle_model_evaluations", "", "Residual-and-Jacobian passes of its identification."},
+  {var::kSpindleModelGauge, "spindle_model_gauge", "mm", "O1 to the gauge line along the spindle, as given to 9842."},
+  {var::kSpindleModelBall1, "spindle_model_ball_1", "mm", "Ball 1's centre below the gauge line, as given."},
+  {var::kSpindleModelBall2, "spindle_model_ball_2", "mm", "Ball 2's centre below the gauge line, as given."},
+  {var::kSpindleModelEigenRatio, "spindle_model_eigen_ratio", "", "Smallest over largest eigenvalue of the normal matrix in correlation form (identifiability)."},
+};
+
+inline constexpr core::StatusInfo kStatuses[] = {
+  {core::Status::kNotIdentifiable, "not_identifiable", "The data do not determine every parameter of the model: a combination of them leaves the measurements unchanged. Measure more (for the spindle: the ball at two heights, over a whole revolution)."},
+  {core::Status::kRevolutionIncomplete, "revolution_incomplete", "The spindle angles of a ball leave a gap wider than 45 degrees: measure the ball over a whole revolution."},
+};
+// clang-format on
+
+}  // namespace spindle
+}  // namespace trueaxis::macros

@@ -1,0 +1,159 @@
+#include "trueaxis/macros/spindle/spindle_macros.hpp"
+
+#include <cmath>
+
+#include "trueaxis/macros/arguments.hpp"
+
+namespace trueaxis::macros::spindle {
+
+namespace {
+
+MacroStep report_session(Context& ctx, const core::SpindleBins& b) {
+  ctx.out<var::kSpindleSessionSamples>(static_cast<double>(b.samples()));
+  ctx.out<var::kSpindleSessionAngles1>(static_cast<double>(b.angles(1)));
+  ctx.out<var::kSpindleSessionAngles2>(static_cast<double>(b.angles(2)));
+  ctx.out<var::kSpindleSessionCapacity>(static_cast<double>(core::kMaxSpindleAngles));
+  return done(core::Status::kOk);
+}
+
+// 9843's outputs (#100..#104), which 9844 shares.
+void out_correction(Context& ctx, const core::SpindleCorrection& c) {
+  ctx.out<var::kSpindleThetaE>(c.theta_e_rad * core::kArcsecPerRad);
+  ctx.out<var::kSpindleDE>(c.d_e_mm);
+  ctx.out3<var::kSpindleTipX>(c.tip_error_mm);
+}
+
+// The spindle angle in radians, reduced first so that many revolutions lose nothing.
+double radians(double phi_deg) { return core::deg_to_rad(std::fmod(phi_deg, 360.0)); }
+
+bool tool_in_range(double tool_mm) { return tool_mm >= 0.0 && tool_mm <= rows::kBig; }
+
+// The model a report reads: R = 1 the stored one, R = 0 the last identification.
+template <typename Report>
+MacroStep with_model(Context& ctx, const State& state, bool stored, Report report) {
+  if (stored) return state.table.read_or(report);
+  if (!state.built) return done(core::Status::kNoTable);
+  const Work* work = ctx.work();
+  if (work == nullptr) return done(core::Status::kResultReplaced);
+  return report(work->computed);
+}
+
+}  // namespace
+
+core::Result<core::SpindleCorrection> tool_tip_correction(const State& state, double phi_deg, double tool_mm) {
+  if (!std::isfinite(phi_deg) || !std::isfinite(tool_mm)) return core::Status::kNotFinite;
+  if (!tool_in_range(tool_mm)) return core::Status::kArgumentOutOfRange;
+  const double phi = radians(phi_deg);
+  return state.table.read_or([&](const core::SpindleModel& m) {
+    return core::spindle_correction(m.axes, m.geometry.gauge_mm, tool_mm, phi);
+  });
+}
+
+MacroStep run_session_clear(Context& ctx, State&) { return report_session(ctx, ctx.open_session()); }
+
+MacroStep run_session_add(Context& ctx, State&) {
+  const double t = ctx.in<var::kArgT>();
+  if (!whole_in(t, 1.0, 2.0)) return done(core::Status::kArgumentOutOfRange);
+  const core::SpindleSample s{ctx.in<var::kArgS>(), static_cast<int>(t),
+                              core::Vec3(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>())};
+  core::SpindleBins* bins = ctx.session();
+  if (bins == nullptr) return done(core::Status::kSessionClosed);
+  const core::Status status = bins->add(s);
+  if (status != core::Status::kOk) return done(status);
+  return report_session(ctx, *bins);
+}
+
+MacroStep run_build(Context& ctx, State& state) {
+  bool store = false;
+  if (!flag_of(ctx.in<var::kArgR>(), store)) return done(core::Status::kArgumentOutOfRange);
+  if (ctx.first_step()) {
+    const core::SpindleBins* bins = ctx.session();
+    if (bins == nullptr) return done(core::Status::kSessionClosed);
+    core::SpindleGeometry g;
+    g.gauge_mm = ctx.in<var::kArgD>();
+    g.ball_mm[0] = ctx.in<var::kArgU>();
+    g.ball_mm[1] = ctx.in<var::kArgV>();
+    if (!(g.gauge_mm > 0.0) || !(g.ball_mm[0] >= 0.0) || !(g.ball_mm[1] > g.ball_mm[0])) {
+      return done(core::Status::kArgumentOutOfRange);
+    }
+    state.built = false;
+    Work& work = ctx.open_work();
+    work.computed.geometry = g;
+    work.builder.start(*bins, g, ctx.in<var::kSpindleMaxGap>());
+    return more();
+  }
+  Work* work = ctx.work();
+  if (work == nullptr) return done(core::Status::kResultReplaced);  // cannot happen: one macro at a time
+  const core::SpindleStep step = work->builder.step();
+  if (step.status != core::Status::kOk) return done(step.status);
+  if (step.more) return more();
+
+  work->computed = core::make_spindle_model(work->builder.fit(), work->computed.geometry);
+  const core::SpindleFit& f = work->computed.fit;
+  ctx.out<var::kSpindleEvaluations>(static_cast<double>(f.evaluations));
+  ctx.out<var::kSpindleNoiseSigma>(f.noise_sigma_mm);
+  ctx.out<var::kSpindleSynchronousRms>(f.synchronous_rms_mm);
+  ctx.out<var::kSpindleNoiseFromRepeats>(f.noise_from_repeats ? 1.0 : 0.0);
+  ctx.out<var::kSpindleSamplesUsed>(static_cast<double>(f.samples));
+  ctx.set_on_success(state.built);
+  if (!store) return done(core::Status::kOk);
+  return done(ctx.stage_table(state.table, work->computed));  // the module commits it, then makes it live
+}
+
+MacroStep run_correction(Context& ctx, State& state) {
+  const core::Result<core::SpindleCorrection> c =
+      tool_tip_correction(state, ctx.in<var::kArgS>(), ctx.in<var::kArgZ>());
+  if (!c.ok()) return done(c.status());
+  out_correction(ctx, c.value());
+  return done(core::Status::kOk);
+}
+
+MacroStep run_report(Context& ctx, State& state) {
+  bool stored = false;
+  if (!flag_of(ctx.in<var::kArgR>(), stored)) return done(core::Status::kArgumentOutOfRange);
+  const double phi_deg = ctx.in<var::kArgS>();
+  const double tool_mm = ctx.in<var::kArgZ>();
+  if (!tool_in_range(tool_mm)) return done(core::Status::kArgumentOutOfRange);
+  const double phi = radians(phi_deg);
+  return with_model(ctx, state, stored, [&](const core::SpindleModel& m) -> MacroStep {
+    const core::Result<core::SpindleCorrection> c = core::spindle_correction(m.axes, m.geometry.gauge_mm, tool_mm, phi);
+    if (!c.ok()) return done(c.status());
+    const core::Result<core::SpindleCorrectionSigma> s =
+        core::spindle_correction_sigma(m.fit.params, m.fit.covariance, m.geometry.gauge_mm, tool_mm, phi);
+    if (!s.ok()) return done(s.status());
+    out_correction(ctx, c.value());
+    ctx.out<var::kSpindleThetaESigma>(s.value().theta_e_rad * core::kArcsecPerRad);
+    ctx.out<var::kSpindleDESigma>(s.value().d_e_mm);
+    ctx.out3<var::kSpindleTipSigmaX>(s.value().tip_error_mm);
+    ctx.out3<var::kSpindleMeanTipX>(core::spindle_mean_tip_error_mm(m.axes, m.geometry.gauge_mm, tool_mm));
+    ctx.out3<var::kSpindleMeanTipSigmaX>(s.value().mean_tip_error_mm);
+    return done(core::Status::kOk);
+  });
+}
+
+MacroStep run_model(Context& ctx, State& state) {
+  bool stored = false;
+  const double q = ctx.in<var::kArgQ>();
+  if (!flag_of(ctx.in<var::kArgR>(), stored) || !whole_in(q, 1.0, core::kSpindleParams)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
+  const int k = static_cast<int>(q) - 1;
+  return with_model(ctx, state, stored, [&](const core::SpindleModel& m) -> MacroStep {
+    const core::SpindleFit& f = m.fit;
+    ctx.out<var::kSpindleParamValue>(f.params(k));
+    ctx.out<var::kSpindleParamSigma>(std::sqrt(f.covariance(k, k)));
+    ctx.out<var::kSpindleRms>(f.rms_mm);
+    ctx.out<var::kSpindleModelSynchronousRms>(f.synchronous_rms_mm);
+    ctx.out<var::kSpindleModelNoiseSigma>(f.noise_sigma_mm);
+    ctx.out<var::kSpindleModelNoiseFromRepeats>(f.noise_from_repeats ? 1.0 : 0.0);
+    ctx.out<var::kSpindleModelSamples>(static_cast<double>(f.samples));
+    ctx.out<var::kSpindleModelEvaluations>(static_cast<double>(f.evaluations));
+    ctx.out<var::kSpindleModelGauge>(m.geometry.gauge_mm);
+    ctx.out<var::kSpindleModelBall1>(m.geometry.ball_mm[0]);
+    ctx.out<var::kSpindleModelBall2>(m.geometry.ball_mm[1]);
+    ctx.out<var::kSpindleModelEigenRatio>(f.smallest_eigenvalue_ratio);
+    return done(core::Status::kOk);
+  });
+}
+
+}  // namespace trueaxis::macros::spindle
