@@ -20,7 +20,7 @@
 # (a longer holder, bearing spacing, collet depth: the truth's axial_error_mm,
 # delta) moves the identified O1 by delta along the axis a (the truth's o
 # parameters include it), so the module's tool-tip error is the true one minus
-# delta a. Step 4 compares with that (INTERFACE.md: the tip error is the
+# delta a. Step 4 compares with that (docs/INTERFACE.md: the tip error is the
 # controller's correction; an axial length error is the tool-length offset's
 # business, not M4's); it prints delta. d_e is shown, not checked: the same
 # shift moves the ideal axis by delta |a_xy| across, of the order of d_e's sigma.

@@ -1,6 +1,6 @@
 """trueaxis variables over Modbus with mbpoll, for the demo scripts.
 
-INTERFACE.md "Encoding": #N is the holding registers 4N..4N+3, an IEEE-754
+docs/INTERFACE.md "Encoding": #N is the holding registers 4N..4N+3, an IEEE-754
 binary64 with the most significant word first. A failure ends the demo with
 one line (sys.exit).
 

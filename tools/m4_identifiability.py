@@ -1,12 +1,12 @@
 #!/usr/bin/python3
 """M4 identifiability study (issue 7): which parameters of the seed's screw model of
-the tool axis (METHODS.md M4, seed 002) can a spindle error analyser separate, with
+the tool axis (docs/METHODS.md M4, seed 002) can a spindle error analyser separate, with
 balls at one and at two heights, and the identifiable parameterisation the firmware
 fits. Deterministic; prints every number docs/M4_IDENTIFIABILITY.md quotes.
 
     /usr/bin/python3 tools/m4_identifiability.py
 
-Conventions (INTERFACE.md "M4 spindle"):
+Conventions (docs/INTERFACE.md "M4 spindle"):
   * CS1: origin O1 (upper bearing seat centre), axes parallel to the machine's.
   * The analyser frame CSM is CS1 translated: p_M = p_1 + o,  o = O1 written in CSM.
   * The seed's nominal spindle direction u = (cos alpha, cos beta, cos gamma) points from

@@ -1,5 +1,5 @@
 // Particle swarm optimisation (PSO) over a box: the identification method of
-// seed 002 (METHODS.md M4), kept as the baseline that M4's Levenberg-Marquardt
+// seed 002 (docs/METHODS.md M4), kept as the baseline that M4's Levenberg-Marquardt
 // fit is measured against (bench_spindle_pso.cpp, docs/M4_BENCHMARK.md). Host
 // only: the swarm lives on the heap.
 //

@@ -9,7 +9,7 @@
 //  - each linear axis, the gantry and each circle are sampled from the chosen
 //    direction / rotation, as a tracker would see a target moved along them.
 // The frames' definitions (S1 and S4 cross products) are restated here from
-// METHODS.md. Points are written in the tracker's frame, tracker at its origin.
+// docs/METHODS.md. Points are written in the tracker's frame, tracker at its origin.
 #pragma once
 
 #include <array>
@@ -57,7 +57,7 @@ struct TrueGantry {
   std::array<TrueSub, 4> subs;
 };
 
-// S4 restated (METHODS.md): the master axis kept, the others by cross products.
+// S4 restated (docs/METHODS.md): the master axis kept, the others by cross products.
 inline Mat3L s4_frame(const Vec3L d[3], core::Axis master) {
   Vec3L x = d[0], y = d[1], z = d[2];
   if (master == core::Axis::kX) {

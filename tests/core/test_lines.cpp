@@ -1,5 +1,5 @@
 // Common perpendicular, three planes and Rigid3 against independent computations:
-// the closest points from the 2x2 normal equations in long double, METHODS.md
+// the closest points from the 2x2 normal equations in long double, docs/METHODS.md
 // S3's wrist-centre formula, a long-double LU solve of the three planes, and
 // 4x4 homogeneous matrices.
 #include <catch2/catch.hpp>
@@ -77,7 +77,7 @@ TEST_CASE("the common perpendicular matches the long-double normal equations", "
   }
 }
 
-TEST_CASE("the foot on the first line is METHODS.md S3's wrist centre", "[gantry][lines]") {
+TEST_CASE("the foot on the first line is docs/METHODS.md S3's wrist centre", "[gantry][lines]") {
   t::Rng rng(602);
   for (int i = 0; i < 500; ++i) {
     const core::Line3 c_axis = random_line(rng, 1000.0);  // R_C + s c

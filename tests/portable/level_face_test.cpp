@@ -1,4 +1,4 @@
-// core::level_face (METHODS.md M1): random faces against a ground truth built
+// core::level_face (docs/METHODS.md M1): random faces against a ground truth built
 // with Eigen::AngleAxisd, and every documented error.
 #include <cmath>
 #include <limits>

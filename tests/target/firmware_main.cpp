@@ -1,8 +1,11 @@
 // The smallest complete firmware: the module over the board's storage and clock,
-// every macro linked in. Built to measure the footprint (flash, RAM) and run as a
-// boot test: it starts, runs macro 9810 once on a fixed face and checks #9001.
-// The objects main owns are static, so the image's .bss shows all the RAM the
-// module needs besides the stack.
+// every macro of its method set linked in (tests/target/CMakeLists.txt builds
+// one image per set). Built to measure the footprint (flash, RAM; the size
+// report reads the static `module`'s size) and run as a boot test: it starts,
+// runs macro 9810 once on a fixed face when levelling is built (else macro 9812's
+// absence: unknown_macro) and checks #9001 and #9002. The objects main owns are
+// static, so the image's .bss shows all the RAM the module needs besides the
+// stack.
 #include <cstdint>
 
 #include "trueaxis/hal/mps2/board_nv_storage.hpp"
@@ -38,14 +41,14 @@ std::uint64_t stack_used_bytes() {
 
 namespace var = trueaxis::macros::var;
 
-static_assert(trueaxis::hal::mps2::kBoardNvBytes >= trueaxis::macros::kRequiredStorageBytes,
-              "the board's storage must hold every record of the four methods");
+// Levelling is built into this image's module.
+constexpr bool kLevelBuilt = trueaxis::macros::find_macro(9810) != nullptr;
 
 bool load_face(trueaxis::macros::Module& module) {
   const double g57[3] = {0.0, 0.0, 0.0};
   const double g58[3] = {100.0, 0.0, 0.0};
   const double g59[3] = {0.0, 86.602540378443865, 50.0};
-  const double cmd = 9810.0;
+  const double cmd = kLevelBuilt ? 9810.0 : 9812.0;
   using trueaxis::macros::AccessFault;
   return module.write(var::kG57, 3, g57) == AccessFault::kNone &&
          module.write(var::kG58, 3, g58) == AccessFault::kNone &&
@@ -63,8 +66,17 @@ int main() {
   static_cast<void>(module.start());
   if (!load_face(module)) return 2;
   while (module.busy()) module.step();
-  const bool done = module.value(var::kStatus) == static_cast<double>(trueaxis::macros::MacroState::kDone);
-  trueaxis::hal::mps2::console_write(done ? "firmware: macro 9810 done" : "firmware: macro 9810 failed");
+  using trueaxis::macros::MacroState;
+  const double error = module.value(var::kError);
+  const bool done = kLevelBuilt ? module.value(var::kStatus) == static_cast<double>(MacroState::kDone)
+                                : module.value(var::kStatus) == static_cast<double>(MacroState::kError) &&
+                                      error == static_cast<double>(trueaxis::core::Status::kUnknownMacro);
+  if (kLevelBuilt) {
+    trueaxis::hal::mps2::console_write(done ? "firmware: macro 9810 done" : "firmware: macro 9810 failed");
+  } else {
+    trueaxis::hal::mps2::console_write(done ? "firmware: macro 9812 (not built) is unknown_macro"
+                                            : "firmware: macro 9812 did not answer unknown_macro");
+  }
   trueaxis::hal::mps2::console_write(", stack used ");
   trueaxis::hal::mps2::console_write_uint(stack_used_bytes());
   trueaxis::hal::mps2::console_write(" bytes\n");

@@ -1,7 +1,21 @@
-# cmake -DSIZE=arm-none-eabi-size -DIMAGES="a.elf;b.elf" -P size_report.cmake
-# Prints, per image, flash = text + data and RAM = data + bss (Berkeley format).
-# RAM counts the 64 KiB stack reservation and the 4 KiB NV RAM as bss.
-foreach(image IN LISTS IMAGES)
+# cmake -DSIZE=arm-none-eabi-size -DNM=arm-none-eabi-nm -DSETS="name:image:module_ram_bound:flash_bound|..."
+#       -P size_report.cmake
+# Prints, per method set's firmware image (tests/target/firmware_main.cpp):
+#   flash  = text + data;
+#   RAM    = data + bss, which counts the 64 KiB stack reservation and the 32 KiB
+#            NV RAM as bss;
+#   module = the size of the module object main owns (its static `module`), the
+#            RAM an integrator gives the module besides his stack and storage.
+# Fails (FATAL_ERROR) when the module's RAM or the flash exceeds its bound
+# (0: none).
+set(failed "")
+string(REPLACE "|" ";" SETS "${SETS}")
+foreach(entry IN LISTS SETS)
+  string(REPLACE ":" ";" fields "${entry}")
+  list(GET fields 0 name)
+  list(GET fields 1 image)
+  list(GET fields 2 ram_bound)
+  list(GET fields 3 flash_bound)
   execute_process(COMMAND ${SIZE} -B ${image} OUTPUT_VARIABLE out RESULT_VARIABLE rc)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "size failed on ${image}")
@@ -9,7 +23,35 @@ foreach(image IN LISTS IMAGES)
   string(REGEX MATCH "\n *([0-9]+)[ \t]+([0-9]+)[ \t]+([0-9]+)" _ "${out}")
   math(EXPR flash "${CMAKE_MATCH_1} + ${CMAKE_MATCH_2}")
   math(EXPR ram "${CMAKE_MATCH_2} + ${CMAKE_MATCH_3}")
-  get_filename_component(name ${image} NAME)
-  message("${name}: flash ${flash} B (text ${CMAKE_MATCH_1} + data ${CMAKE_MATCH_2}), "
-          "RAM ${ram} B (data ${CMAKE_MATCH_2} + bss ${CMAKE_MATCH_3})")
+  execute_process(COMMAND ${NM} -S ${image} OUTPUT_VARIABLE symbols RESULT_VARIABLE rc)
+  string(REGEX MATCH "[0-9a-f]+ ([0-9a-f]+) [bBdD] _ZZ4mainE6module\n" _ "${symbols}")
+  if(NOT rc EQUAL 0 OR NOT CMAKE_MATCH_1)
+    message(FATAL_ERROR "${image}: no static `module` in main (tests/target/firmware_main.cpp)")
+  endif()
+  math(EXPR module "0x${CMAKE_MATCH_1}")
+  math(EXPR module_kib "${module} * 10 / 1024")
+  string(REGEX REPLACE "([0-9])$" ".\\1" module_kib "${module_kib}")
+  set(verdict "")
+  if(ram_bound GREATER 0)
+    math(EXPR bound_kib "${ram_bound} / 1024")
+    if(module GREATER ram_bound)
+      set(verdict "${verdict}  OVER the module RAM target of ${bound_kib} KiB")
+      list(APPEND failed ${name})
+    else()
+      set(verdict "${verdict}  (target <= ${bound_kib} KiB)")
+    endif()
+  endif()
+  if(flash_bound GREATER 0)
+    math(EXPR bound_kib "${flash_bound} / 1024")
+    if(flash GREATER flash_bound)
+      set(verdict "${verdict}  OVER the flash target of ${bound_kib} KiB")
+      list(APPEND failed ${name})
+    else()
+      set(verdict "${verdict}  (flash target <= ${bound_kib} KiB)")
+    endif()
+  endif()
+  message("${name}: module RAM ${module} B (${module_kib} KiB); image flash ${flash} B, RAM ${ram} B${verdict}")
 endforeach()
+if(failed)
+  message(FATAL_ERROR "over a size target: ${failed}")
+endif()

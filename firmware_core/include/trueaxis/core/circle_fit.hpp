@@ -1,7 +1,7 @@
 // Geometric least-squares circle in 3-D through 3 to kMaxCirclePoints points,
 // with its covariance, the arc the points span, and the phase helpers that M3
-// needs to place a frame's X axis at commanded angle zero (METHODS.md M2 S2, M3
-// S100; INTERFACE.md "M3 rigidity").
+// needs to place a frame's X axis at commanded angle zero (docs/METHODS.md M2 S2, M3
+// S100; docs/INTERFACE.md "M3 rigidity").
 //
 // Conventions
 //  1. Points in millimetres, in any frame; every output vector is in that frame.

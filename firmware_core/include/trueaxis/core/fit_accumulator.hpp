@@ -1,4 +1,4 @@
-// Streaming plane and 3-D line fits (METHODS.md M1, M2): points arrive one at a
+// Streaming plane and 3-D line fits (docs/METHODS.md M1, M2): points arrive one at a
 // time, only running sums are kept, so the number of points is not limited by
 // memory. Fixed size, no heap, fixed time per point.
 //

@@ -1,4 +1,4 @@
-// The fits of M2's point groups (METHODS.md M2, INTERFACE.md "M2 gantry"), each
+// The fits of M2's point groups (docs/METHODS.md M2, docs/INTERFACE.md "M2 gantry"), each
 // with the covariance of the parameters the frames are built from, for a point
 // noise that can grow with the range from the tracker. gantry_frames.hpp builds
 // the frames on them.
@@ -38,7 +38,7 @@
 //     perpendicular distance from the fitted line; stroke_mm = max t - min t.
 //  5. Axis (AxisEstimate) from K passes: each pass's direction is oriented by the
 //     order of its points (growing sample index = the axis's positive direction);
-//     direction = m / |m|, m = (1 / K) sum_k d_k (METHODS.md: "fit a line to each
+//     direction = m / |m|, m = (1 / K) sum_k d_k (docs/METHODS.md: "fit a line to each
 //     pass and average"). Its covariance (rad^2, rank 2, perpendicular to it):
 //         P (sum_k v_k (I - d_k d_k^T)) P / (K |m|)^2,  P = I - direction direction^T.
 //     stroke_mm, straightness_mm and rms_residual_mm are the largest over the passes.

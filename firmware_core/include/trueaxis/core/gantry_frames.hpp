@@ -1,5 +1,5 @@
 // The frames of a gantry multi-spindle machine from laser-tracker points
-// (METHODS.md M2 S1-S4, INTERFACE.md "M2 gantry"), with diagnostics and the
+// (docs/METHODS.md M2 S1-S4, docs/INTERFACE.md "M2 gantry"), with diagnostics and the
 // first-order uncertainty of every frame.
 //
 // Frames

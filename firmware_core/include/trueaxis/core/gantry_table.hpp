@@ -5,7 +5,7 @@
 //  1. A GantryTable holds the global frame of the last computation stored and,
 //     per sub-machine id 1..kMaxSubMachines, the frame of the computation that
 //     stored it last (merge_frames: the sub-machines of a new computation
-//     replace theirs, the others stay; INTERFACE.md "With --store").
+//     replace theirs, the others stay; docs/INTERFACE.md "With --store").
 //  2. A stored sub-machine keeps every figure the report macros publish: the
 //     frame, its uncertainty, the master axis, squareness, A-to-C offset and
 //     angle, straightness per axis and the circles' RMS. Sigmas of angles in

@@ -1,4 +1,4 @@
-// Leveling an inclined face on a cradle table (METHODS.md M1): the table angles
+// Leveling an inclined face on a cradle table (docs/METHODS.md M1): the table angles
 // (C, A) that turn the probed face horizontal.
 //
 // Conventions

@@ -1,5 +1,5 @@
 // Lines, planes and rigid transforms in 3-D: the common perpendicular of two
-// lines, the point common to three planes, and Rigid3 (METHODS.md M2 S1, S3, S4).
+// lines, the point common to three planes, and Rigid3 (docs/METHODS.md M2 S1, S3, S4).
 //
 // Conventions
 //  1. Lengths in millimetres, in whatever frame the caller uses; every output is
@@ -10,7 +10,7 @@
 //     d2), with n = d1 x d2 and w = p2 - p1:
 //         s = ((w x d2) . n) / |n|^2,   t = ((w x d1) . n) / |n|^2,
 //     foot_1 = p1 + s d1, foot_2 = p2 + t d2; length = |w . n| / |n| (>= 0).
-//     This is METHODS.md S3's T = R_C + h c with h = <R_A - R_C, n'> / <c, n'>
+//     This is docs/METHODS.md S3's T = R_C + h c with h = <R_A - R_C, n'> / <c, n'>
 //     (L1 = C, L2 = A): both are the closest points of the two lines. The cross
 //     products avoid the cancellation of 1 - (d1 . d2)^2. angle_deg is the angle
 //     between d1 and d2 in [0, 180] (atan2, exact near 0 and 180); `direction`

@@ -1,6 +1,6 @@
 // M3 compensation: the rigidity table queried at any commanded A, the theory
 // and actual frames of the table at (A, C), and the conversions between them
-// (METHODS.md M3 S300, INTERFACE.md macro 9833, M3_DESIGN.md).
+// (docs/METHODS.md M3 S300, docs/INTERFACE.md macro 9833, docs/METHODS.md "M3 design notes").
 //
 // Conventions
 //  1. Frames and units as rigidity_table.hpp: machine frame, mm, commanded
@@ -16,7 +16,7 @@
 //                 (the constant-speed path on SO(3); log(R_k^T R_{k+1}) is
 //                 precomputed in the table);
 //       kCubic    the natural cubic spline through (A_i, rv_i), per component
-//                 (INTERFACE.md's blend 2), second derivatives M precomputed in
+//                 (docs/INTERFACE.md's blend 2), second derivatives M precomputed in
 //                 the table; kCubicNotAKnot the same with the not-a-knot end
 //                 conditions, which keep a smooth law's curvature at the ends of
 //                 the range where the natural spline forces it to zero (a

@@ -1,5 +1,5 @@
-// Leveling an inclined face on the calibrated, imperfect axes (METHODS.md M1
-// "what the product must add", M3_DESIGN.md): the commanded (C, A) that turn
+// Leveling an inclined face on the calibrated, imperfect axes (docs/METHODS.md M1
+// "what the product must add", docs/METHODS.md "M3 design notes"): the commanded (C, A) that turn
 // the probed face horizontal on the actual table frames of a rigidity table.
 //
 // Conventions

@@ -1,5 +1,5 @@
 // M3, AC-axis connection rigidity: the table built from ball-centre samples
-// (METHODS.md M3 S100-S200, INTERFACE.md "M3 rigidity", M3_DESIGN.md).
+// (docs/METHODS.md M3 S100-S200, docs/INTERFACE.md "M3 rigidity", docs/METHODS.md "M3 design notes").
 //
 // Conventions
 //  1. Machine frame: the instrument's XYZ, mm. Angles are degrees at this

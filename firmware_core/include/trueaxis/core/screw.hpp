@@ -1,9 +1,9 @@
 // Plucker lines and the screw (dual-angle) error between two lines: the tool axis
-// of METHODS.md M4 and its error against the ideal axis.
+// of docs/METHODS.md M4 and its error against the ideal axis.
 //
 // Conventions
 //  1. A PluckerLine is (u, m): u the unit direction, m = p x u the moment (mm) of
-//     any point p of the line about the frame's origin (METHODS.md M4's
+//     any point p of the line about the frame's origin (docs/METHODS.md M4's
 //     L = (l, m, n; p, q, r) with (p, q, r) = O4* x (l, m, n)). u . m = 0. The
 //     point of the line closest to the origin is u x m; a point q lies on the line
 //     when q x u = m, and its distance from the line is |m - q x u|. Reversing u
@@ -17,7 +17,7 @@
 //     line written in frame b into frame a:
 //         u_a = R u_b,   m_a = R m_b + t x (R u_b),
 //     i.e. [u_a; m_a] = [[R, 0], [[t]x R, R]] [u_b; m_b] (line_transform_matrix);
-//     with t = 0 it is METHODS.md M4's diag(R, R). rotation_about_line(axis, phi)
+//     with t = 0 it is docs/METHODS.md M4's diag(R, R). rotation_about_line(axis, phi)
 //     turns by phi (rad, right-hand rule about axis.u) about a line that need not
 //     pass through the origin: R = exp(phi [u]x), t = c - R c, c = u x m.
 //  4. The screw error from the ideal line L1 = (u1, m1) to the actual L2 = (u2, m2):
@@ -32,7 +32,7 @@
 //       s1 = ((w x u2) . axis) / |u1 x u2|, s2 = ((w x u1) . axis) / |u1 x u2|
 //       (lines.hpp convention 2).
 //     Sign: the reciprocal product u1 . m2 + u2 . m1 = (c1 - c2) . (u1 x u2)
-//     = -offset_mm sin(theta) (METHODS.md M4's -d_e sin theta, d_e signed along
+//     = -offset_mm sin(theta) (docs/METHODS.md M4's -d_e sin theta, d_e signed along
 //     axis). The code takes offset_mm as w . axis, which is that product over
 //     sin(theta) without its cancellation: the product is a difference of terms of
 //     size |m| (1e4 mm at 10 m) whose result is offset sin(theta).

@@ -1,5 +1,5 @@
 // M4's outputs: the screw error of the tool axis against the ideal axis and the
-// tool-tip correction, per spindle angle and over a revolution (INTERFACE.md
+// tool-tip correction, per spindle angle and over a revolution (docs/INTERFACE.md
 // "M4 spindle"), from the identified model (spindle_model.hpp), with their
 // 1-sigma uncertainties; and the stored model (its record's byte layout).
 //
@@ -7,7 +7,7 @@
 //  1. Everything is written relative to O1 (o cancels: both lines pass near it
 //     and both tips are measured from it), in the analyser's frame, whose axes
 //     are the machine's. The ideal axis is the line through O1 along -Z
-//     (INTERFACE.md: the machine's Z direction through O1, towards the tool).
+//     (docs/INTERFACE.md: the machine's Z direction through O1, towards the tool).
 //  2. The tool line at spindle angle phi (spindle_model.hpp convention 2), with
 //     R(phi) x = cos(phi) x + sin(phi) (a x x) for x normal to a:
 //         point at the gauge plane  q(phi) = G a + R(phi) e,

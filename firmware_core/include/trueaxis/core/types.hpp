@@ -43,7 +43,7 @@ bool all_finite(const Eigen::MatrixBase<Derived>& m) {
   return true;
 }
 
-// Rotation about +X by `angle_rad` (right-hand rule), as written in METHODS.md M1.
+// Rotation about +X by `angle_rad` (right-hand rule), as written in docs/METHODS.md M1.
 inline Mat3 rot_x(double angle_rad) {
   const double c = std::cos(angle_rad);
   const double s = std::sin(angle_rad);
@@ -54,7 +54,7 @@ inline Mat3 rot_x(double angle_rad) {
   return r;
 }
 
-// Rotation about +Z by `angle_rad` (right-hand rule), as written in METHODS.md M1.
+// Rotation about +Z by `angle_rad` (right-hand rule), as written in docs/METHODS.md M1.
 inline Mat3 rot_z(double angle_rad) {
   const double c = std::cos(angle_rad);
   const double s = std::sin(angle_rad);

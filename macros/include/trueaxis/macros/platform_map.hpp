@@ -1,6 +1,6 @@
 // The platform's rows of the register map: what every method shares.
 //
-// Conventions (INTERFACE.md, Fanuc / LinuxCNC custom-macro numbering)
+// Conventions (docs/INTERFACE.md, Fanuc / LinuxCNC custom-macro numbering)
 //  1. #1 .. #26      arguments of the next macro, by G65 letter; cleared to 0 after
 //                    every macro. Letters G L N O P have no variable.
 //  2. #100 .. #199   results of the last successful macro; read-only. Their

@@ -1,4 +1,4 @@
-// Holding registers <-> variables (INTERFACE.md, "Encoding"). Knows nothing of
+// Holding registers <-> variables (docs/INTERFACE.md, "Encoding"). Knows nothing of
 // sockets or frames: a Modbus server decodes a request, calls these, and turns a
 // fault into modbus_exception(fault).
 //
