@@ -17,8 +17,8 @@
 
 #include <unistd.h>
 
-#include "trueaxis/sim/client.hpp"
-#include "trueaxis/sim/sim_process.hpp"
+#include "trueaxis/sim/tools/client.hpp"
+#include "trueaxis/sim/tools/sim_process.hpp"
 
 int main(int argc, char** argv) {
   using trueaxis::sim::SimProcess;

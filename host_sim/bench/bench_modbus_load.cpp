@@ -63,8 +63,8 @@
 
 #include "loopback.hpp"
 #include "trueaxis/modbus/register_codec.hpp"
-#include "trueaxis/sim/client.hpp"
-#include "trueaxis/sim/sim_process.hpp"
+#include "trueaxis/sim/tools/client.hpp"
+#include "trueaxis/sim/tools/sim_process.hpp"
 
 namespace {
 

@@ -27,8 +27,8 @@
 
 #include <modbus/modbus.h>
 
-#include "trueaxis/sim/client.hpp"
-#include "trueaxis/sim/sim_process.hpp"
+#include "trueaxis/sim/tools/client.hpp"
+#include "trueaxis/sim/tools/sim_process.hpp"
 
 namespace {
 

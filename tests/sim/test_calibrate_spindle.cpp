@@ -21,7 +21,7 @@
 #include "calibrate_support.hpp"
 #include "in_process_sim.hpp"
 #include "trueaxis/core/status.hpp"
-#include "trueaxis/sim/virtual_spindle.hpp"
+#include "trueaxis/sim/machines/virtual_spindle.hpp"
 
 namespace {
 

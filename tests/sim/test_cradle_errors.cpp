@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "trueaxis/sim/cradle_machine.hpp"
+#include "trueaxis/sim/machines/cradle_machine.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "sim_fixture.hpp"
-#include "trueaxis/sim/sim_map.hpp"
+#include "trueaxis/sim/server/sim_map.hpp"
 
 namespace {
 

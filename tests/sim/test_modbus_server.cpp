@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 #include "sim_fixture.hpp"
-#include "trueaxis/sim/sim_map.hpp"
+#include "trueaxis/sim/server/sim_map.hpp"
 
 namespace {
 

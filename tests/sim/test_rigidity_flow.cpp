@@ -15,7 +15,7 @@
 #include "trueaxis/core/rigidity_compensation.hpp"
 #include "trueaxis/core/so3.hpp"
 #include "trueaxis/macros/module.hpp"
-#include "trueaxis/sim/cradle_machine.hpp"
+#include "trueaxis/sim/machines/cradle_machine.hpp"
 
 namespace {
 

@@ -11,7 +11,7 @@
 #include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
-#include "trueaxis/sim/simulator.hpp"
+#include "trueaxis/sim/server/simulator.hpp"
 
 namespace {
 

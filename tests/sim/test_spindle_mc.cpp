@@ -14,7 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "trueaxis/sim/virtual_spindle.hpp"
+#include "trueaxis/sim/machines/virtual_spindle.hpp"
 
 namespace {
 

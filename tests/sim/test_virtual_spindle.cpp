@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "calibrate_support.hpp"
-#include "trueaxis/sim/csv.hpp"
-#include "trueaxis/sim/virtual_spindle.hpp"
+#include "trueaxis/sim/tools/csv.hpp"
+#include "trueaxis/sim/machines/virtual_spindle.hpp"
 
 namespace {
 
