@@ -1,23 +1,15 @@
 #include "trueaxis/sim/instruments/laser_tracker.hpp"
 
-#include "trueaxis/sim/machines/gantry_machine.hpp"
-
 namespace trueaxis::sim {
-
-namespace {
 
 using core::Mat3;
 using core::Vec3;
 
-Mat3 turn(const Vec3& axis, double angle_rad) { return Eigen::AngleAxisd(angle_rad, axis).toRotationMatrix(); }
-
-}  // namespace
-
 LaserTracker::LaserTracker(const RigidTransform& machine_T_tracker, const TrackerSpec& spec, bool noise)
-    : machine_T_tracker_(machine_T_tracker), spec_(spec), noise_(noise) {
-  tracker_T_machine_.rotation = machine_T_tracker.rotation.transpose();
-  tracker_T_machine_.translation_mm = -(tracker_T_machine_.rotation * machine_T_tracker.translation_mm);
-}
+    : machine_T_tracker_(machine_T_tracker),
+      tracker_T_machine_(machine_T_tracker.inverse()),
+      spec_(spec),
+      noise_(noise) {}
 
 double LaserTracker::radial_sigma_mm(double /*range_mm*/) const { return spec_.sigma_per_mpe * spec_.radial_mpe_mm; }
 
@@ -47,16 +39,15 @@ core::Vec3 LaserTracker::measure(const core::Vec3& p_machine, SimRng& rng) const
          transverse_sigma_mm(range) * (n2 * basis.col(1) + n3 * basis.col(2));
 }
 
-LaserTracker place_tracker(const GantryMachine& machine, const TrackerPlacement& placement, const TrackerSpec& spec,
-                           bool noise) {
-  const GantryConfig& c = machine.config();
+LaserTracker place_tracker(double centre_x_mm, double front_y_mm, const TrackerPlacement& placement,
+                           const TrackerSpec& spec, bool noise) {
   const Mat3 level_R_machine = turn(Vec3::UnitX(), placement.machine_tilt_x_arcsec / kArcsecPerRad) *
                                turn(Vec3::UnitY(), placement.machine_tilt_y_arcsec / kArcsecPerRad);
   const Mat3 level_R_tracker = turn(Vec3::UnitZ(), core::deg_to_rad(placement.yaw_deg));
   RigidTransform machine_T_tracker;
   machine_T_tracker.rotation = level_R_machine.transpose() * level_R_tracker;
   machine_T_tracker.translation_mm =
-      Vec3(0.5 * c.bed_length_mm, c.front_y_mm - 1000.0 * placement.distance_m, placement.height_mm);
+      Vec3(centre_x_mm, front_y_mm - 1000.0 * placement.distance_m, placement.height_mm);
   return LaserTracker(machine_T_tracker, spec, noise);
 }
 

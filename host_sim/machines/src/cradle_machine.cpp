@@ -63,34 +63,7 @@ Vec3 vector_from_rotation(const Mat3& r) {
   return s * (t / sin_t);
 }
 
-double arcsec_to_rad(double arcsec) { return arcsec / kArcsecPerRad; }
-
 }  // namespace
-
-std::uint64_t SimRng::next_u64() {
-  state_ += 0x9E3779B97F4A7C15ull;
-  std::uint64_t z = state_;
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-double SimRng::uniform01() {
-  // 53 random bits, shifted by one so the result is never 0 (log below).
-  return (static_cast<double>(next_u64() >> 11) + 1.0) * 0x1.0p-53;
-}
-
-double SimRng::normal() {
-  if (has_spare_) {
-    has_spare_ = false;
-    return spare_;
-  }
-  const double r = std::sqrt(-2.0 * std::log(uniform01()));
-  const double phi = 2.0 * core::kPi * uniform01();
-  spare_ = r * std::sin(phi);
-  has_spare_ = true;
-  return r * std::cos(phi);
-}
 
 CradleMachine::CradleMachine(const FaceConfig& face, const CradleErrors& errors) : face_(face), errors_(errors) {
   const double t = core::deg_to_rad(face.tilt_deg);
@@ -182,16 +155,6 @@ double CradleMachine::c_to_a_squareness_arcsec() const {
   return (angle - 0.5 * core::kPi) * kArcsecPerRad;
 }
 
-core::Vec3 CradleMachine::ball_centre(double a_deg, double c_deg, const CalibrationBall& ball) const {
-  return machine_T_table(a_deg, c_deg).apply(ball.centre_table_mm);
-}
-
-core::Vec3 CradleMachine::measure_ball(double a_deg, double c_deg, const CalibrationBall& ball, SimRng& rng) const {
-  Vec3 p = ball_centre(a_deg, c_deg, ball);
-  for (int i = 0; i < 3; ++i) p[i] += ball.sigma_mm * rng.normal();
-  return p;
-}
-
 double CradleMachine::tilt_deg_at(double a_deg, double c_deg) const {
   const core::Vec3 n_machine = machine_T_table(a_deg, c_deg).rotation * normal_table_;
   // atan2 of the horizontal and vertical parts stays accurate near 0, where acos does not.
@@ -199,17 +162,9 @@ double CradleMachine::tilt_deg_at(double a_deg, double c_deg) const {
   return core::rad_to_deg(std::atan2(horizontal, n_machine.z()));
 }
 
-bool CradleMachine::touch(double a_deg, double c_deg, double x_mm, double y_mm, core::Vec3& p_machine) const {
-  if (tilt_deg_at(a_deg, c_deg) > kMaxProbeTiltDeg) return false;
+Plane CradleMachine::face_at(double a_deg, double c_deg) const {
   const RigidTransform machine_T = machine_T_table(a_deg, c_deg);
-  const core::Vec3 n_machine = machine_T.rotation * normal_table_;
-  const core::Vec3 origin_machine = machine_T.apply(core::Vec3(0.0, 0.0, face_.height_mm));
-  // The plane n . (p - o) = 0 solved for z at the probe's (x, y).
-  const double z_mm = origin_machine.z() -
-                      (n_machine.x() * (x_mm - origin_machine.x()) + n_machine.y() * (y_mm - origin_machine.y())) /
-                          n_machine.z();
-  p_machine = core::Vec3(x_mm, y_mm, z_mm);
-  return true;
+  return Plane{machine_T.apply(core::Vec3(0.0, 0.0, face_.height_mm)), machine_T.rotation * normal_table_};
 }
 
 }  // namespace trueaxis::sim

@@ -10,10 +10,6 @@ namespace {
 using core::Mat3;
 using core::Vec3;
 
-double arcsec_to_rad(double arcsec) { return arcsec / kArcsecPerRad; }
-
-Mat3 turn(const Vec3& axis, double angle_rad) { return Eigen::AngleAxisd(angle_rad, axis).toRotationMatrix(); }
-
 // A rotation vector given in arc-seconds; exactly I for zero.
 Mat3 turn_by(const Vec3& rotation_arcsec) {
   const double t = rotation_arcsec.norm();

@@ -9,9 +9,9 @@
 
 #include "trueaxis/hal/posix/file_nv_storage.hpp"
 #include "trueaxis/hal/posix/steady_clock.hpp"
-#include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/sim/server/modbus_server.hpp"
 #include "trueaxis/sim/server/simulator.hpp"
 #include "trueaxis/sim/server/variable_router.hpp"

@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "trueaxis/sim/instruments/calibration_ball.hpp"
+#include "trueaxis/sim/instruments/touch_probe.hpp"
+
 namespace trueaxis::sim {
 
 using macros::AccessFault;
@@ -119,8 +122,9 @@ void Simulator::measure_ball(State& next) const {
   ball.centre_table_mm = core::Vec3(v[simvar::kBallX - simvar::kFirst], v[simvar::kBallY - simvar::kFirst],
                                     v[simvar::kBallZ - simvar::kFirst]);
   ball.sigma_mm = v[simvar::kBallSigma - simvar::kFirst];
-  const core::Vec3 p = machine_for(v).measure_ball(v[simvar::kAxisA - simvar::kFirst],
-                                                   v[simvar::kAxisC - simvar::kFirst], ball, next.rng);
+  const RigidTransform machine_T_table =
+      machine_for(v).machine_T_table(v[simvar::kAxisA - simvar::kFirst], v[simvar::kAxisC - simvar::kFirst]);
+  const core::Vec3 p = ball.measure(machine_T_table, next.rng);
   v[simvar::kLastBallX - simvar::kFirst] = p.x();
   v[simvar::kLastBallY - simvar::kFirst] = p.y();
   v[simvar::kLastBallZ - simvar::kFirst] = p.z();
@@ -128,14 +132,15 @@ void Simulator::measure_ball(State& next) const {
 
 AccessFault Simulator::probe(State& next, std::uint16_t target) {
   const double* v = next.values;
+  const Plane face = machine_for(v).face_at(v[simvar::kAxisA - simvar::kFirst], v[simvar::kAxisC - simvar::kFirst]);
   core::Vec3 touch_machine;
-  if (!machine_for(v).touch(v[simvar::kAxisA - simvar::kFirst], v[simvar::kAxisC - simvar::kFirst],
-                      v[simvar::kProbeX - simvar::kFirst], v[simvar::kProbeY - simvar::kFirst], touch_machine)) {
+  if (!TouchProbe::touch(face, v[simvar::kProbeX - simvar::kFirst], v[simvar::kProbeY - simvar::kFirst],
+                         touch_machine)) {
     return AccessFault::kOutOfRange;
   }
-  const double sigma_mm = v[simvar::kProbeSigma - simvar::kFirst];
-  double point[3];
-  for (int i = 0; i < 3; ++i) point[i] = touch_machine[i] + sigma_mm * next.rng.normal();
+  const TouchProbe probe{v[simvar::kProbeSigma - simvar::kFirst]};
+  const core::Vec3 p = probe.read(touch_machine, next.rng);
+  const double point[3] = {p.x(), p.y(), p.z()};
   // The module's own write path: its validation, busy check and persistence apply.
   const AccessFault f = module_.write(target, 3, point);
   if (f != AccessFault::kNone) return f;

@@ -5,8 +5,8 @@
 
 #include "trueaxis/core/rigidity_table.hpp"
 
-#include "trueaxis/macros/rigidity/rigidity_map.hpp"
 #include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/macros/rigidity/rigidity_map.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
 #include "trueaxis/sim/tools/csv.hpp"
 

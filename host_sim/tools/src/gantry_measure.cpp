@@ -39,6 +39,12 @@ class Recorder {
 
 }  // namespace
 
+LaserTracker place_tracker(const GantryMachine& machine, const TrackerPlacement& placement, const TrackerSpec& spec,
+                           bool noise) {
+  const GantryConfig& c = machine.config();
+  return place_tracker(0.5 * c.bed_length_mm, c.front_y_mm, placement, spec, noise);
+}
+
 std::vector<double> gantry_stops(const GantryMachine& machine, const GantryPlan& plan) {
   return evenly(machine.config().gantry_travel_min_mm, machine.config().gantry_travel_max_mm, plan.pass_points);
 }

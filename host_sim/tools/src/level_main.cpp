@@ -18,8 +18,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "trueaxis/sim/tools/client.hpp"
 #include "trueaxis/sim/server/sim_map.hpp"
+#include "trueaxis/sim/tools/client.hpp"
 
 namespace {
 

@@ -10,8 +10,8 @@
 #include "trueaxis/macros/methods.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
-#include "trueaxis/modbus/register_codec.hpp"
 #include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/modbus/register_codec.hpp"
 #include "trueaxis/sim/server/sim_map.hpp"
 
 namespace {

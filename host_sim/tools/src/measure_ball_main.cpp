@@ -15,8 +15,8 @@
 #include <fstream>
 #include <string>
 
-#include "trueaxis/sim/tools/client.hpp"
 #include "trueaxis/sim/server/sim_map.hpp"
+#include "trueaxis/sim/tools/client.hpp"
 
 namespace {
 

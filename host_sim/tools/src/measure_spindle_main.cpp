@@ -1,7 +1,7 @@
 // trueaxis-measure-spindle: measures the virtual spindle (virtual_spindle.hpp,
-// realistic_spindle()) with the virtual spindle analyser and writes the files
-// trueaxis-calibrate spindle reads (INTERFACE.md "M4 spindle"). Standalone: no
-// simulator process is needed.
+// realistic_spindle()) with the virtual spindle analyser (spindle_analyser.hpp)
+// and writes the files trueaxis-calibrate spindle reads (docs/INTERFACE.md "M4
+// spindle"). Standalone: no simulator process is needed.
 //
 // usage: trueaxis-measure-spindle --out SAMPLES.csv --machine MACHINE.csv [--seed N]
 //          [--revolutions R] [--step-deg S] [--noise on|off] [--form-nm F]
@@ -15,8 +15,8 @@
 //   --tool-length L   MACHINE's tool_length_mm and the truth's tool tip (default
 //                     250: beyond the balls, a length the fit does not use)
 //   --truth TRUTH.json  the TRUE values in the shape of OUT.json
-// Files (conventions of virtual_spindle.hpp):
-//   SAMPLES  `phi_deg,ball,x_mm,y_mm,z_mm`, convention 6's order; phi_deg keeps
+// Files (conventions of virtual_spindle.hpp and spindle_analyser.hpp):
+//   SAMPLES  `phi_deg,ball,x_mm,y_mm,z_mm`, the analyser's order; phi_deg keeps
 //            growing past 360 on later revolutions; mm with 9 decimals.
 //   MACHINE  `name,value`: bearing_spacing_mm, gauge_from_upper_bearing_mm,
 //            ball_1_mm, ball_2_mm, tool_length_mm, all nominal.
@@ -39,7 +39,7 @@
 #include <utility>
 #include <vector>
 
-#include "trueaxis/sim/machines/virtual_spindle.hpp"
+#include "trueaxis/sim/tools/spindle_measure.hpp"
 
 namespace {
 
@@ -168,7 +168,7 @@ int main(int argc, char** argv) {
   ac.form_rms_mm = noise == "on" ? form_nm * 1e-6 : 0.0;
   const VirtualAnalyser analyser(ac);
   SimRng rng(static_cast<std::uint64_t>(seed));
-  const std::vector<trueaxis::core::SpindleSample> samples = analyser.measure(spindle, rng);
+  const std::vector<trueaxis::core::SpindleSample> samples = measure_spindle(analyser, spindle, rng);
 
   char about[200];
   std::snprintf(about, sizeof about, "seed %.0f, %d revolutions at %g deg, noise %s (15 nm), form %g nm RMS", seed,

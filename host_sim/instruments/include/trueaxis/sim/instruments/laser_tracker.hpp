@@ -1,13 +1,16 @@
-// A virtual laser tracker (AT960 class) that measures the virtual gantry
-// (gantry_machine.hpp) in its own frame. Host only.
+// A virtual laser tracker (AT960 class): it reads points of a machine's frame
+// M in its own frame, with its noise. It knows the machine only by where it
+// stands in front of it (convention 2); tools/gantry_measure.hpp points it at
+// the virtual gantry. Host only.
 //
 // Conventions
 //  1. Tracker frame: origin at the tracker head, +Z up (levelled, away from
 //     gravity), +X its zero azimuth. The CSV samples are written in this frame.
 //  2. Placement (place_tracker): the machine frame M is not quite level: level
 //     coordinates are level_R_machine = AngleAxis(tilt_x, X) AngleAxis(tilt_y, Y)
-//     applied to M (the machine's foundation error). The tracker stands at
-//         P = (bed_length / 2, front_y - 1000 distance_m, height_mm)   (frame M),
+//     applied to M (the machine's foundation error). For a machine whose front
+//     is the plane y = front_y_mm of M, centred at x = centre_x_mm, the tracker stands at
+//         P = (centre_x_mm, front_y_mm - 1000 distance_m, height_mm)   (frame M),
 //     i.e. distance_m metres in front of the machine's front, facing it, and
 //     its frame is turned by yaw_deg about the vertical from level X:
 //         level_R_tracker = AngleAxis(yaw, Z),  machine_R_tracker = level_R_machine^T level_R_tracker.
@@ -28,12 +31,9 @@
 #pragma once
 
 #include "trueaxis/core/types.hpp"
-#include "trueaxis/sim/machines/cradle_errors.hpp"
-#include "trueaxis/sim/machines/cradle_machine.hpp"
+#include "trueaxis/sim/sim_math.hpp"
 
 namespace trueaxis::sim {
-
-class GantryMachine;
 
 // Convention 3; MPEs in mm, read as 2 sigma.
 struct TrackerSpec {
@@ -80,8 +80,9 @@ class LaserTracker {
   bool noise_;
 };
 
-// Convention 2.
-LaserTracker place_tracker(const GantryMachine& machine, const TrackerPlacement& placement,
+// Convention 2, in front of a machine whose front is the plane y = front_y_mm
+// of its frame, centred at x = centre_x_mm.
+LaserTracker place_tracker(double centre_x_mm, double front_y_mm, const TrackerPlacement& placement,
                            const TrackerSpec& spec = TrackerSpec{}, bool noise = true);
 
 }  // namespace trueaxis::sim

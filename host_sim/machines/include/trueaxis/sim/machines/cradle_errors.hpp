@@ -78,20 +78,4 @@ inline CradleErrors realistic_errors() {
   return e;
 }
 
-// A rigid transform: p_to = rotation * p_from + translation_mm.
-struct RigidTransform {
-  core::Mat3 rotation = core::Mat3::Identity();
-  core::Vec3 translation_mm = core::Vec3::Zero();
-
-  core::Vec3 apply(const core::Vec3& p) const { return translation_mm + rotation * p; }
-};
-
-// A directed line: a point on it and a unit direction.
-struct Line {
-  core::Vec3 point_mm = core::Vec3::Zero();
-  core::Vec3 direction = core::Vec3::UnitZ();
-};
-
-using core::kArcsecPerRad;  // firmware_core/types.hpp
-
 }  // namespace trueaxis::sim

@@ -1,6 +1,7 @@
 // A virtual cradle (trunnion) table carrying a workpiece with one inclined flat
-// face and a calibration ball, a virtual touch probe and a ball-measuring
-// instrument: the ground truth the host simulator measures.
+// face: the ground truth the host simulator measures. The instruments that
+// measure it (the touch probe, the calibration ball) are in instruments/; this
+// machine gives them the face and the table's pose.
 //
 // Conventions
 //  1. Machine: A tilts the cradle about machine X, C turns the table about its own
@@ -12,75 +13,35 @@
 //     The true machine is that plus the geometric errors of cradle_errors.hpp:
 //         p_machine = machine_T_table(A, C) p_table;
 //     with CradleErrors{} (all zero) the two are the same, bit for bit. The face,
-//     the probe and the ball all follow the true machine.
+//     and whatever an instrument measures on the table, follow the true machine.
 //  2. Face: a plane through (0, 0, height_mm) with the table at zero; its outward
 //     (spindle-side) unit normal there is
 //         n_table = (sin t cos az, sin t sin az, cos t),  t = tilt_deg, az = azimuth_deg,
 //     so the face falls towards azimuth az (measured from +X towards +Y) and
-//     rises towards az + 180 deg. 0 <= tilt_deg < 90.
-//  3. Probe: comes down along -Z at machine (x, y) and touches the face's plane
-//     (unbounded); the touch point is the plane point below (x, y), to which the
-//     probe adds independent Gaussian noise of sigma_mm per coordinate. It
-//     refuses, touching nothing, when the face at the present table position is
-//     tilted by more than kMaxProbeTiltDeg from horizontal (too steep to touch
-//     from above, or facing down).
-//  4. Ball: a sphere fixed to the table, centre ball.centre_table_mm (table
-//     coordinates); the instrument reports its centre in machine coordinates plus
-//     independent Gaussian noise of ball.sigma_mm per coordinate.
-//  5. M3 ground truth (INTERFACE.md "M3 rigidity", METHODS.md M3), from this model
-//     alone. A pose is a commanded A; the reference pose is A = 0. For a ball at
-//     table height h, a pose's C centre is the point of the true C axis at table
-//     Z = h (the centre of the ball's C circle), its C direction the true C axis
-//     direction, and its actual frame E(A) = the table's axes at C = 0 (the
+//     rises towards az + 180 deg. 0 <= tilt_deg < 90. face_at(A, C) is that plane
+//     in the machine frame: the image of (0, 0, height_mm) and R n_table.
+//  3. M3 ground truth (docs/INTERFACE.md "M3 rigidity", docs/METHODS.md M3), from
+//     this model alone. A pose is a commanded A; the reference pose is A = 0. For a
+//     ball at table height h, a pose's C centre is the point of the true C axis at
+//     table Z = h (the centre of the ball's C circle), its C direction the true C
+//     axis direction, and its actual frame E(A) = the table's axes at C = 0 (the
 //     ball's phase on the table only multiplies E on the right and cancels). Its
 //     theory frame is E(0) turned about the true A axis by theta(A), the signed
 //     angle about a_dir from (c(0) - a_point) to (c(A) - a_point) (both projected
 //     on the plane normal to a_dir). rotation vector = log(E(A) E_theory(A)^T),
 //     A positioning error = theta(A) - A. Both are exactly zero at A = 0.
-//  6. Noise is drawn from SimRng (splitmix64 + Box-Muller): the same seed gives
-//     the same sequence on every platform and standard library.
 #pragma once
-
-#include <cstdint>
 
 #include "trueaxis/core/types.hpp"
 #include "trueaxis/sim/machines/cradle_errors.hpp"
+#include "trueaxis/sim/sim_math.hpp"
 
 namespace trueaxis::sim {
-
-inline constexpr double kMaxProbeTiltDeg = 75.0;
 
 struct FaceConfig {
   double tilt_deg = 12.5;
   double azimuth_deg = 30.0;
   double height_mm = 40.0;
-};
-
-inline constexpr double kDefaultBallXMm = 200.0;
-inline constexpr double kDefaultBallYMm = 0.0;
-inline constexpr double kDefaultBallZMm = 50.0;
-inline constexpr double kDefaultBallSigmaMm = 0.001;
-
-// Convention 4: 200 mm from the C axis, 50 mm above the table, measured to 1 um.
-struct CalibrationBall {
-  core::Vec3 centre_table_mm = core::Vec3(kDefaultBallXMm, kDefaultBallYMm, kDefaultBallZMm);
-  double sigma_mm = kDefaultBallSigmaMm;
-};
-
-// Deterministic normal deviates. Copyable, so a caller can draw on a copy and
-// keep it only when the operation that drew succeeds.
-class SimRng {
- public:
-  explicit SimRng(std::uint64_t seed) : state_(seed) {}
-
-  std::uint64_t next_u64();
-  double uniform01();  // in (0, 1]
-  double normal();     // mean 0, standard deviation 1
-
- private:
-  std::uint64_t state_;
-  double spare_ = 0.0;
-  bool has_spare_ = false;
 };
 
 class CradleMachine {
@@ -106,7 +67,7 @@ class CradleMachine {
   Line a_axis() const { return Line{errors_.a_point_mm, a_dir_}; }
   Line c_axis_at(double a_deg) const;
 
-  // Convention 5, for a ball at table height height_mm.
+  // Convention 3, for a ball at table height height_mm.
   core::Vec3 c_centre_at(double a_deg, double height_mm) const;
   double theory_angle_rad(double a_deg, double height_mm) const;
   core::Vec3 rotation_vector_rad(double a_deg, double height_mm) const;
@@ -118,21 +79,15 @@ class CradleMachine {
   double c_to_a_offset_mm() const;
   double c_to_a_squareness_arcsec() const;
 
-  // The ball's true centre, machine frame, table at (a_deg, c_deg); and one
-  // measurement of it (convention 4), drawing three deviates from rng.
-  core::Vec3 ball_centre(double a_deg, double c_deg, const CalibrationBall& ball) const;
-  core::Vec3 measure_ball(double a_deg, double c_deg, const CalibrationBall& ball, SimRng& rng) const;
-
   // The face's outward unit normal, table at zero (convention 2).
   const core::Vec3& normal_table() const { return normal_table_; }
 
   // The face's tilt from horizontal, degrees, with the table at (a_deg, c_deg).
   double tilt_deg_at(double a_deg, double c_deg) const;
 
-  // The noise-free touch point (machine frame, mm) of a probe coming down at
-  // machine (x_mm, y_mm) with the table at (a_deg, c_deg); false, leaving p_machine
-  // untouched, when the face is too steep there (convention 3).
-  bool touch(double a_deg, double c_deg, double x_mm, double y_mm, core::Vec3& p_machine) const;
+  // The face's plane in the machine frame with the table at (a_deg, c_deg),
+  // its normal outward (convention 2).
+  Plane face_at(double a_deg, double c_deg) const;
 
  private:
   FaceConfig face_;

@@ -68,7 +68,7 @@
 #include <vector>
 
 #include "trueaxis/core/types.hpp"
-#include "trueaxis/sim/machines/cradle_errors.hpp"
+#include "trueaxis/sim/sim_math.hpp"
 
 namespace trueaxis::sim {
 
@@ -133,12 +133,6 @@ GantryConfig ideal_gantry();
 // component, A-to-C offsets 0.015..0.040 mm and
 // angles 90 deg +- 18..32", axis bows 1..2 um.
 GantryConfig realistic_gantry();
-
-// A plane: a point on it and its unit normal.
-struct Plane {
-  core::Vec3 point_mm = core::Vec3::Zero();
-  core::Vec3 normal = core::Vec3::UnitZ();
-};
 
 // The truth of one sub-machine (convention 7), frame M unless named global.
 struct SubMachineTruth {

@@ -1,8 +1,8 @@
-// A virtual machining spindle with the seed's full geometry (METHODS.md M4,
+// A virtual machining spindle with the seed's full geometry (docs/METHODS.md M4,
 // seed 002: bearing run-outs, a tilted axis, the holder's and the collet's
-// errors) and a virtual spindle error analyser that measures it (INTERFACE.md
-// "M4 spindle"): the ground truth against which the module's 9-parameter
-// tool-axis model (firmware_core spindle_model.hpp) is judged. Written from the
+// errors): the ground truth against which the module's 9-parameter tool-axis
+// model (firmware_core spindle_model.hpp) is judged. The spindle analyser that
+// measures it is instruments/spindle_analyser.hpp. Written from the
 // geometry of the parts (rotations with Eigen's AngleAxis), never from
 // firmware_core's model; identifiable_truth() is the one bridge, derived below.
 // Host only: it allocates.
@@ -69,34 +69,11 @@
 //     P = T(0) turned; for k = 0 exactly, d_e is P's distance from the ideal axis.
 //     tool_tip_error(L, phi) = T(L) turned - (o1 - (G + L) Z): the true tip, so
 //     its z holds the axial errors that M4 cannot calibrate (about -delta).
-//  6. Analyser (VirtualAnalyser): balls 1 and 2 on the tool, read by capacitive
-//     probes along the analyser's +X, +Y and -Z. Order: revolution r = 0..R-1,
-//     angle i = 0..360/S - 1, ball 1 then ball 2, phi_deg = 360 r + i S (it keeps
-//     growing, as a controller logs its spindle encoder; the module takes phi
-//     modulo 360). A reading is the ball centre + the form error f_k(phi) +
-//     noise_sigma (n_x, n_y, n_z), three standard normal deviates from the
-//     caller's SimRng in that order (none when noise_sigma = 0).
-//  7. Form error of ball k: its equator's radius deviates by
-//         rho_k(beta) = sum_{n=2..15} (A_kn cos n beta + B_kn sin n beta),
-//     beta the azimuth on the ball about +Z from +X at phi = 0. A, B are drawn
-//     normal from SimRng(form_seed ^ kFormStream) (ball 1's A2 B2 .. A15 B15,
-//     then ball 2's) and scaled so the RMS of rho_k over beta is form_rms_mm
-//     exactly. The body turns clockwise seen from above (a ~ -Z), so the probe
-//     at azimuth gamma faces beta = gamma + phi, and the apparent centre moves
-//     by +rho there: f_k(phi) = (rho_k(phi), rho_k(phi + 90 deg), 0). The z probe
-//     faces the pole, which stays on the axis: no form error in z. f_k repeats
-//     every revolution (synchronous error, ISO 230-7) and has no 0th or 1st
-//     harmonic, so over whole revolutions at even steps it is orthogonal to the
-//     model's terms.
 #pragma once
-
-#include <cstdint>
-#include <vector>
 
 #include "trueaxis/core/spindle_model.hpp"
 #include "trueaxis/core/types.hpp"
-#include "trueaxis/sim/machines/cradle_errors.hpp"
-#include "trueaxis/sim/machines/cradle_machine.hpp"
+#include "trueaxis/sim/sim_math.hpp"
 
 namespace trueaxis::sim {
 
@@ -182,39 +159,6 @@ class VirtualSpindle {
   SpindleConfig config_;
   core::Vec3 a_, e1_, e2_;
   core::Vec3 a1_, a2_, o3_, o4_, o4s_, d_;
-};
-
-// Convention 6-7.
-struct AnalyserConfig {
-  int revolutions = 3;
-  double step_deg = 5.0;                 // 360 / step_deg whole
-  double noise_sigma_mm = 15e-6;         // per axis, 1 sigma, white
-  double form_rms_mm = 50e-6;            // per ball, harmonics 2..15
-  std::uint64_t form_seed = 1;
-};
-
-inline constexpr int kFormFirstHarmonic = 2;
-inline constexpr int kFormLastHarmonic = 15;
-inline constexpr std::uint64_t kFormStream = 0x6A09E667F3BCC909ull;
-
-class VirtualAnalyser {
- public:
-  explicit VirtualAnalyser(const AnalyserConfig& config);
-
-  const AnalyserConfig& config() const { return config_; }
-  // Angles per revolution (360 / step_deg rounded; the tool checks it is whole).
-  int steps_per_revolution() const;
-  // Convention 7: rho_k at beta, and the apparent centre shift f_k at phi.
-  double form_radius_mm(int ball, double beta_deg) const;
-  core::Vec3 form_error_mm(int ball, double phi_deg) const;
-  // Convention 6: every reading in order.
-  std::vector<core::SpindleSample> measure(const VirtualSpindle& spindle, SimRng& noise) const;
-
- private:
-  static constexpr int kHarmonics = kFormLastHarmonic - kFormFirstHarmonic + 1;
-  AnalyserConfig config_;
-  double cos_[2][kHarmonics] = {};
-  double sin_[2][kHarmonics] = {};
 };
 
 }  // namespace trueaxis::sim

@@ -3,8 +3,9 @@
 // They live at #12000.., outside every range the module defines, so an
 // integrator's PLC program can never come to depend on them. #12000..#12013:
 // table, probe and face (M1); #12020..#12047: calibration ball, the machine's
-// geometric errors and their ground truth (M3; cradle_machine.hpp conventions
-// 4-5, cradle_errors.hpp). #12014..#12019 are not defined.
+// geometric errors and their ground truth (M3; calibration_ball.hpp,
+// cradle_machine.hpp convention 3, cradle_errors.hpp). #12014..#12019 are not
+// defined.
 #pragma once
 
 #include "trueaxis/macros/var_info.hpp"

@@ -1,6 +1,7 @@
 // The simulator's own variables #12000..#12047 (sim_map.hpp) over a virtual
-// cradle machine: moving the table, probing the face, measuring the calibration
-// ball, switching the machine's geometric errors, and the ground truth.
+// cradle machine (machines/cradle_machine.hpp) and its instruments (the touch
+// probe, the calibration ball): moving the table, probing the face, measuring
+// the ball, switching the machine's geometric errors, and the ground truth.
 //
 // Contract
 //  1. A VariableAccess for exactly the numbers of kSimMap; any other number is
@@ -15,7 +16,7 @@
 //     #T+2 through `target` (the module), so the module validates and stores them
 //     as if a client had written them. T must be a work offset's X (5221, 5241,
 //     .., 5321) or a point-list X (1001, 1004, .., 1094): otherwise kOutOfRange.
-//     The face too steep to touch (cradle_machine.hpp convention 3) is
+//     The face too steep to touch (touch_probe.hpp convention 1) is
 //     kOutOfRange. A fault from `target` is returned as is. On any fault nothing
 //     changes: no variable here, nothing in the module, and no noise is drawn.
 //  4. Writing sim_ball_measure (#12025) = 1 measures the ball (centre
@@ -40,6 +41,7 @@
 #include "trueaxis/macros/variable_access.hpp"
 #include "trueaxis/sim/machines/cradle_machine.hpp"
 #include "trueaxis/sim/server/sim_map.hpp"
+#include "trueaxis/sim/sim_math.hpp"
 
 namespace trueaxis::sim {
 

@@ -30,8 +30,8 @@
 #include <string>
 #include <vector>
 
-#include "trueaxis/sim/machines/gantry_machine.hpp"
 #include "trueaxis/sim/instruments/laser_tracker.hpp"
+#include "trueaxis/sim/machines/gantry_machine.hpp"
 
 namespace trueaxis::sim {
 
@@ -52,6 +52,11 @@ struct TrackerSample {
   std::string group;
   core::Vec3 p_mm;  // tracker frame
 };
+
+// The tracker placed in front of the gantry (laser_tracker.hpp convention 2):
+// centred on the bed's length, in front of the machine's front (front_y_mm).
+LaserTracker place_tracker(const GantryMachine& machine, const TrackerPlacement& placement,
+                           const TrackerSpec& spec = TrackerSpec{}, bool noise = true);
 
 // The gantry travel positions of one pass (convention 1).
 std::vector<double> gantry_stops(const GantryMachine& machine, const GantryPlan& plan);
