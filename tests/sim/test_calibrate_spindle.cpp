@@ -14,6 +14,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -231,6 +232,7 @@ TEST_CASE("calibrate spindle: the command with --store and --report, the page dr
   CHECK(r.err ==
         "trueaxis-calibrate: spindle needs --machine MACHINE.csv (name,value: bearing_spacing_mm, "
         "gauge_from_upper_bearing_mm, ball_1_mm, ball_2_mm, tool_length_mm)\n");
+  CHECK(r.out.empty());
   std::vector<std::string> lines = lines_of(slurp(f.samples));
   lines.erase(std::remove_if(lines.begin() + 3, lines.end(),
                              [](const std::string& l) { return std::stod(fields_of(l)[0]) >= 290.0; }),
@@ -238,6 +240,7 @@ TEST_CASE("calibrate spindle: the command with --store and --report, the page dr
   r = command(w.write("short.csv", text_of(lines)), {"--machine", f.machine});
   CHECK(r.exit_code == 1);
   CHECK(r.err == "trueaxis-calibrate: " + module_error(Status::kRevolutionIncomplete) + " (macro 9842)\n");
+  CHECK(r.out.empty());
   CHECK_FALSE(exists(w.file("out.json")));
   CHECK_FALSE(exists(w.file("report")));
   for (const auto& c : corrections(sim.client(), tool)) CHECK(c == kNoTable);
@@ -250,6 +253,19 @@ TEST_CASE("calibrate spindle: the command with --store and --report, the page dr
   check_shape(out, data_rows(f.samples));
   check_stored(sim.client(), out);
   CHECK(read_var(sim.client(), v::kUnlock) == 0.0);
+  // One stdout line: the largest theta_e with its sigma and angle, what was written and stored.
+  const Json* worst = &out["per_angle"].items[0];
+  for (const Json& a : out["per_angle"].items) {
+    if (a["theta_e_arcsec"].number > (*worst)["theta_e_arcsec"].number) worst = &a;
+  }
+  CHECK((*worst)["theta_e_arcsec"].number == out["theta_e_max_arcsec"].number);
+  char summary[160];
+  std::snprintf(summary, sizeof summary, "spindle: %g samples, worst theta_e %.3f\" +- %.3f\" (phi=%g), d_e up to %.2f um",
+                out["fit"]["samples"].number, (*worst)["theta_e_arcsec"].number,
+                (*worst)["theta_e_sigma_arcsec"].number, (*worst)["phi_deg"].number,
+                1000.0 * out["d_e_max_mm"].number);
+  CHECK(r.out == summary + ("; wrote " + w.file("out.json") + ", report " + w.file("report") +
+                            "/index.html; stored (record 5 spindle_model)\n"));
 
   const std::string page = slurp(w.file("report/index.html"));
   CHECK(page.find("<html") != std::string::npos);

@@ -2,6 +2,7 @@
 // 9820/9821, MACHINE rows -> 9822, frames 9823 (stored with --store), global
 // 9824 and per sub-machine 9826 -> OUT.json.
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <vector>
@@ -176,6 +177,9 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
   const int mask = static_cast<int>(global[19]);
   std::string subs;
   std::string extras;
+  int count = 0;
+  int worst_id = 0;
+  double worst_sigma_mm = -1.0;
   for (int n = 1; n <= 8; ++n) {
     if ((mask & (1 << (n - 1))) == 0) continue;
     double s[27];
@@ -183,6 +187,11 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
         !transport(client, client.write_one(var::kArgT, n), r) || !run_or_fail(client, kSub, "", r) ||
         !transport(client, client.read(var::kSubOriginX, 27, s), r)) {
       return r;
+    }
+    ++count;
+    if (s[3] > worst_sigma_mm) {
+      worst_sigma_mm = s[3];
+      worst_id = n;
     }
     const double* o = s;
     const double* x = s + 4;
@@ -218,6 +227,10 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
                     ", \"global_angle_sigma_arcsec\": " + json_vec3(global + 15) +
                     ",\n  \"sub_machine_figures\": [" +
                     extras + "\n  ] }\n";
+  char line[200];
+  std::snprintf(line, sizeof line, "gantry: %d sub-machines, worst origin 1-sigma %.1f um (sp%d)", count,
+                1000.0 * worst_sigma_mm, worst_id);
+  r.summary = line;
   r.ok = true;
   return r;
 }

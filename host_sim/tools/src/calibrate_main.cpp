@@ -1,47 +1,46 @@
 // trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
 //                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
-// The integrator's command (INTERFACE.md, "The integrator's command"): reads the
-// samples, streams them to the module over Modbus (default 127.0.0.1:502), runs
-// the method's macros there and writes what the module computed into OUT.json;
-// --report DIR also writes DIR/index.html with plots; --store stores the result
-// as the controller's calibration table (unlocking with --unlock-code, default
-// the published 2718, and locking again).
-// Exit 0 on success; 1 with one line on stderr on any failure, and then no
+// The integrator's command (docs/INTERFACE.md, "The integrator's command"):
+// reads the samples, streams them to the module over Modbus (default
+// 127.0.0.1:502), runs the method's macros there and writes what the module
+// computed into OUT.json; --report DIR also writes DIR/index.html with plots;
+// --store stores the result as the controller's calibration table (unlocking
+// with --unlock-code, default the published 2718, and locking again). The
+// methods are the table of calibrate.hpp; this file names none of them.
+// Exit 0 with one summary line on stdout: what was computed, the worst figure
+// with its sigma, what was written and what stored. Exit 1 with one line on
+// stderr on any failure, bad usage included, and then nothing on stdout, no
 // OUT.json, no report and nothing stored.
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <string>
 
-#include <unistd.h>
-
-#include <cerrno>
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "trueaxis/sim/tools/calibrate.hpp"
 
 namespace {
 
+using trueaxis::sim::CalibrateMethod;
 using trueaxis::sim::CalibrateOptions;
 using trueaxis::sim::FlowResult;
 
-int usage(const char* why) {
-  std::fprintf(stderr,
-               "trueaxis-calibrate: %s\n"
-               "usage: trueaxis-calibrate rigidity|gantry|spindle --in SAMPLES.csv --json OUT.json\n"
-               "       [--machine MACHINE.csv] [--report DIR] [--store] [--port PORT] [--host ADDR]\n"
-               "       [--unlock-code CODE]   the machine's unlock code for --store (default 2718)\n",
-               why);
-  return 1;
-}
+constexpr const char* kUsage =
+    "usage: trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]\n"
+    "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n";
 
 int fail(const std::string& line) {
   std::fprintf(stderr, "trueaxis-calibrate: %s\n", line.c_str());
   return 1;
 }
+
+int usage_error(const std::string& why) { return fail(why + " (trueaxis-calibrate --help)"); }
 
 bool write_file(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
@@ -51,12 +50,13 @@ bool write_file(const std::string& path, const std::string& text) {
 // Runs Debian's python3 (where python3-matplotlib installs, whatever else is
 // first on PATH) on the report script with argv, no shell; true on exit 0.
 // Its stderr goes nowhere: a failure is the command's one line.
-bool make_report(const CalibrateOptions& o, const std::string& json_path) {
+bool make_report(const CalibrateMethod& method, const CalibrateOptions& o, const std::string& json_path) {
   const std::string script = TRUEAXIS_REPORT_SCRIPT;
-  const char* args[] = {TRUEAXIS_PYTHON, script.c_str(), o.method.c_str(), json_path.c_str(),
+  const char* args[] = {TRUEAXIS_PYTHON, script.c_str(), method.report_module, json_path.c_str(),
                         o.report_dir.c_str(), nullptr};
   posix_spawn_file_actions_t quiet;
   posix_spawn_file_actions_init(&quiet);
+  posix_spawn_file_actions_addopen(&quiet, 1, "/dev/null", O_WRONLY, 0);
   posix_spawn_file_actions_addopen(&quiet, 2, "/dev/null", O_WRONLY, 0);
   pid_t pid = 0;
   const int spawned = posix_spawn(&pid, TRUEAXIS_PYTHON, &quiet, nullptr, const_cast<char* const*>(args), environ);
@@ -66,24 +66,64 @@ bool make_report(const CalibrateOptions& o, const std::string& json_path) {
   return waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
-FlowResult calibrate(trueaxis::sim::VariableClient& client, const CalibrateOptions& o) {
-  if (o.method == "gantry") return trueaxis::sim::calibrate_gantry(client, o);
-  if (o.method == "spindle") return trueaxis::sim::calibrate_spindle(client, o);
-  return trueaxis::sim::calibrate_rigidity(client, o);
+void print_help() {
+  std::printf("%s\n", kUsage);
+  std::printf("Calibrates in the module over Modbus TCP and writes what it computed into OUT.json.\n"
+              "METHOD (trueaxis-calibrate METHOD --help: its files' columns and units):\n");
+  for (const CalibrateMethod& m : trueaxis::sim::calibrate_methods()) std::printf("  %-9s %s\n", m.name, m.title);
+  std::printf("\n"
+              "  --in SAMPLES.csv       the measurements (required)\n"
+              "  --json OUT.json        where the result goes (required)\n"
+              "  --machine MACHINE.csv  the machine's nominal data (gantry, spindle)\n"
+              "  --report DIR           also DIR/index.html with plots (DIR made if absent)\n"
+              "  --store                store the result as the controller's calibration table:\n"
+              "                         unlock, store, lock again\n"
+              "  --port PORT, --host ADDR  the module's Modbus TCP server (default 127.0.0.1:502)\n"
+              "  --unlock-code CODE     the machine's unlock code (#900) for --store, 1..9999 (default 2718)\n"
+              "Exit 0 with one summary line on stdout; 1 with one line on stderr on any failure, and\n"
+              "then no OUT.json and nothing stored.\n");
 }
 
-bool store(trueaxis::sim::VariableClient& client, const std::string& method, FlowResult& r) {
-  if (method == "gantry") return trueaxis::sim::store_gantry(client, r);
-  if (method == "spindle") return trueaxis::sim::store_spindle(client, r);
-  return trueaxis::sim::store_rigidity(client, r);
+void print_method_help(const CalibrateMethod& m) {
+  std::printf("trueaxis-calibrate %s: %s\n\n%s\n%s\n", m.name, m.title, kUsage, m.files);
+  std::printf("CSV: a header row, columns in any order (others ignored); '#' lines are comments;\n"
+              "numbers as C strtod reads them (not NaN or infinite).\n");
 }
+
+// "; stored (record 3 rigidity_table)".
+std::string stored_text(trueaxis::macros::RecordKey key) {
+  for (const trueaxis::macros::RecordSpec& spec : trueaxis::macros::kRecordSpecs) {
+    if (spec.key == trueaxis::macros::record_key(key)) {
+      return "stored (record " + std::to_string(spec.key) + " " + spec.name + ")";
+    }
+  }
+  return "stored";
+}
+
+bool is_help(const std::string& arg) { return arg == "--help" || arg == "-h"; }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc < 2) return usage_error("no METHOD");
+  const std::string first = argv[1];
+  if (is_help(first)) {
+    print_help();
+    return 0;
+  }
+  const CalibrateMethod* method = trueaxis::sim::find_calibrate_method(first);
+  for (int i = 2; method != nullptr && i < argc; ++i) {
+    if (is_help(argv[i])) {
+      print_method_help(*method);
+      return 0;
+    }
+  }
+  if (method == nullptr) {
+    return usage_error("unknown METHOD '" + first + "': " + trueaxis::sim::calibrate_method_names());
+  }
+
   CalibrateOptions o;
-  if (argc < 2) return usage("no METHOD");
-  o.method = argv[1];
+  o.method = method->name;
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
@@ -100,29 +140,26 @@ int main(int argc, char** argv) {
     } else if (arg == "--unlock-code" && has_value) {
       char* end = nullptr;
       const long code = std::strtol(argv[++i], &end, 10);
-      if (*end != '\0' || code < 1 || code > 9999) return usage("--unlock-code takes 1..9999");
+      if (*end != '\0' || code < 1 || code > 9999) return usage_error("--unlock-code takes 1..9999");
       o.unlock_code = static_cast<double>(code);
     } else if (arg == "--host" && has_value) {
       o.host = argv[++i];
     } else if (arg == "--port" && has_value) {
       char* end = nullptr;
       const long port = std::strtol(argv[++i], &end, 10);
-      if (*end != '\0' || port < 1 || port > 65535) return usage("--port takes 1..65535");
+      if (*end != '\0' || port < 1 || port > 65535) return usage_error("--port takes 1..65535");
       o.port = static_cast<int>(port);
     } else {
-      return usage(("unknown or incomplete option '" + arg + "'").c_str());
+      return usage_error("unknown or incomplete option '" + arg + "'");
     }
   }
-  if (o.in_path.empty() || o.json_path.empty()) return usage("--in and --json are required");
-  if (o.method != "rigidity" && o.method != "gantry" && o.method != "spindle") {
-    return usage(("unknown METHOD '" + o.method + "'").c_str());
-  }
+  if (o.in_path.empty() || o.json_path.empty()) return usage_error("--in and --json are required");
 
   trueaxis::sim::VariableClient client;
   if (!client.connect(o.host, o.port)) {
     return fail("cannot connect to " + o.host + ":" + std::to_string(o.port) + ": " + client.error_text());
   }
-  FlowResult r = calibrate(client, o);
+  FlowResult r = method->calibrate(client, o);
   if (!r.ok) return fail(r.error);
 
   // OUT.json goes to a temporary file first and into place last, after the
@@ -133,19 +170,21 @@ int main(int argc, char** argv) {
     return fail(line);
   };
   if (!write_file(tmp, r.json)) return fail_clean(o.json_path + ": cannot be written");
+  std::string summary = r.summary + "; wrote " + o.json_path;
   if (!o.report_dir.empty()) {
     struct stat st {};
     if ((::mkdir(o.report_dir.c_str(), 0755) != 0 && errno != EEXIST) || ::stat(o.report_dir.c_str(), &st) != 0 ||
         !S_ISDIR(st.st_mode) || !write_file(o.report_dir + "/module_figures.json", r.report_extras) ||
-        !make_report(o, tmp)) {
+        !make_report(*method, o, tmp)) {
       return fail_clean(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
     }
+    summary += ", report " + o.report_dir + "/index.html";
   }
   r.unlock_code = o.unlock_code;
-  if (o.store && !store(client, o.method, r)) {
-    return fail_clean(r.error);
-  }
+  if (o.store && !method->store(client, r)) return fail_clean(r.error);
+  summary += o.store ? "; " + stored_text(method->record) : "; not stored";
   client.close();
   if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
+  std::printf("%s\n", summary.c_str());
   return 0;
 }

@@ -1,6 +1,7 @@
 // The rigidity flow (INTERFACE.md "M3 rigidity"): samples -> session 9830/9831
 // -> build 9832 (stored with --store) -> per pose 9834 -> OUT.json.
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include "trueaxis/core/rigidity_table.hpp"
@@ -50,6 +51,7 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
   if (!transport(client, client.read(var::kRigidityPoses, 12, summary), r)) return r;
   const int poses = static_cast<int>(summary[0]);
   double reference_a_deg = 0.0;
+  double worst[3] = {-1.0, 0.0, 0.0};  // rigidity, its sigma, A (arcsec, arcsec, deg)
   std::string pose_json;
   for (int q = 1; q <= poses; ++q) {
     const double args[2] = {static_cast<double>(q), 0.0};  // Q = pose, R = 0: the table just built
@@ -58,6 +60,11 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
     double p[18];
     if (!transport(client, client.read(var::kPoseA, 18, p), r)) return r;
     if (std::fabs(p[0]) <= core::kPoseAToleranceDeg) reference_a_deg = p[0];
+    if (p[7] > worst[0]) {
+      worst[0] = p[7];
+      worst[1] = p[8];
+      worst[2] = p[0];
+    }
     pose_json += q > 1 ? ",\n" : "\n";
     pose_json += "    { \"a_deg\": " + json_number(p[0]) + ", \"rotation_vector_arcsec\": " + json_vec3(p + 1) +
                  ",\n      \"rotation_vector_sigma_arcsec\": " + json_vec3(p + 4) +
@@ -74,6 +81,10 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
   // What the module computed beyond INTERFACE.md's OUT.json, for the report only.
   r.report_extras = "{ \"c_to_a_offset_mm\": " + json_number(summary[9]) +
                     ", \"c_to_a_squareness_arcsec\": " + json_number(summary[10]) + " }\n";
+  char line[160];
+  std::snprintf(line, sizeof line, "rigidity: %d poses, worst rigidity %.2f\" +- %.2f\" (pose A=%g)", poses,
+                worst[0], worst[1], worst[2]);
+  r.summary = line;
   r.ok = true;
   return r;
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <string>
 
 #include "trueaxis/core/status.hpp"
@@ -139,6 +140,8 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
   const int steps = static_cast<int>(360.0 / kSpindleStepDeg);
   std::string per_angle;
   double theta_max = 0.0;
+  double theta_max_sigma = 0.0;
+  double theta_max_phi = 0.0;
   double d_e_max = 0.0;
   double c[16] = {};  // 9844's outputs: the mean tip error is the same at every angle
   for (int i = 0; i < steps; ++i) {
@@ -149,7 +152,11 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
         !transport(client, client.read(var::kSpindleThetaE, 16, c), r)) {
       return r;
     }
-    theta_max = std::max(theta_max, c[0]);
+    if (i == 0 || c[0] > theta_max) {
+      theta_max = c[0];
+      theta_max_sigma = c[5];
+      theta_max_phi = phi;
+    }
     d_e_max = std::max(d_e_max, c[1]);
     per_angle += i > 0 ? ",\n" : "\n";
     per_angle += "    { \"phi_deg\": " + json_number(phi) + ", \"theta_e_arcsec\": " + json_number(c[0]) +
@@ -172,6 +179,11 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
                     json_number(model[9]) + ", " + json_number(model[10]) +
                     "], \"eigenvalue_ratio\": " + json_number(model[11]) +
                     ", \"bearing_spacing_mm\": " + json_number(m.value[kBearingSpacing]) + " }\n";
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "spindle: %.0f samples, worst theta_e %.3f\" +- %.3f\" (phi=%g), d_e up to %.2f um", build[4],
+                theta_max, theta_max_sigma, theta_max_phi, 1000.0 * d_e_max);
+  r.summary = line;
   r.ok = true;
   return r;
 }

@@ -1,6 +1,7 @@
-// trueaxis-calibrate: the integrator's command (INTERFACE.md, "The integrator's
-// command"). The shared pieces of its methods' flows: options, the connection to
-// the module, failures as one line, and the JSON writer. Host only.
+// trueaxis-calibrate: the integrator's command (docs/INTERFACE.md, "The
+// integrator's command"). Its methods as one table (calibrate_methods()), and the
+// shared pieces of their flows: options, the connection to the module, failures
+// as one line, and the JSON writer. Host only.
 //
 // Contract
 //  1. Every flow reads its CSV files, streams the samples to the module over
@@ -13,13 +14,17 @@
 //     stored nothing and is locked again: the command stores last, after the
 //     JSON is written (to a temporary file) and the report is made, and only
 //     then moves OUT.json into place.
+//  3. On success a flow also gives a summary: "METHOD: what was computed, the
+//     worst figure with its sigma", the start of the command's one stdout line.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "trueaxis/macros/platform_map.hpp"
+#include "trueaxis/macros/records.hpp"
 #include "trueaxis/sim/tools/client.hpp"
 
 namespace trueaxis::sim {
@@ -47,6 +52,7 @@ struct FlowResult {
   std::string error;          // one line, when !ok
   std::string json;           // the OUT.json text, when ok
   std::string report_extras;  // JSON of the module's figures beyond OUT.json, for the report
+  std::string summary;        // contract 3, when ok
   // The build macro's arguments besides R, written again by the store (the
   // module clears the arguments after every macro); empty when it takes none.
   std::vector<MacroArgument> build_arguments;
@@ -112,5 +118,33 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
 // Stores the model of the session already in the module (unlock, 9842 with
 // result.build_arguments and R = 1, lock again).
 bool store_spindle(VariableClient& client, FlowResult& result);
+
+// One method of trueaxis-calibrate: all the command knows of it. The command
+// looks a method up by name in the one table (calibrate_methods()) and does
+// what the entry says; nothing else in the command names a method.
+struct CalibrateMethod {
+  const char* name;     // METHOD on the command line, OUT.json's "method"
+  const char* title;    // what it calibrates, one line
+  const char* files;    // the CSV files' columns with their units (METHOD --help)
+  FlowResult (*calibrate)(VariableClient&, const CalibrateOptions&);  // streams, computes; stores nothing
+  bool (*store)(VariableClient&, FlowResult&);  // stores the session's result: unlock, build, lock
+  macros::RecordKey record;   // the record --store writes (the JSON map's "records")
+  const char* report_module;  // host_sim/report/<report_module>.py draws --report
+};
+
+// The table, in the order --help lists the methods.
+struct CalibrateMethods {
+  const CalibrateMethod* first;
+  std::size_t count;
+  const CalibrateMethod* begin() const { return first; }
+  const CalibrateMethod* end() const { return first + count; }
+};
+CalibrateMethods calibrate_methods();
+
+// The method called `name`; nullptr when there is none.
+const CalibrateMethod* find_calibrate_method(const std::string& name);
+
+// "rigidity, gantry or spindle": the methods' names, for messages.
+std::string calibrate_method_names();
 
 }  // namespace trueaxis::sim
