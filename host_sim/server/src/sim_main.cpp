@@ -12,6 +12,7 @@
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 #include "trueaxis/modbus/modbus_core.hpp"
+#include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/server/modbus_server.hpp"
 #include "trueaxis/sim/server/simulator.hpp"
 #include "trueaxis/sim/server/variable_router.hpp"
@@ -22,28 +23,29 @@ volatile std::sig_atomic_t g_stop = 0;
 
 extern "C" void on_stop_signal(int) { g_stop = 1; }
 
-void usage() {
-  std::fprintf(stderr,
-               "usage: trueaxis-sim --port PORT [--host ADDR] [--nv PATH] [--seed N]\n"
-               "                    [--face-tilt DEG] [--face-azimuth DEG] [--face-height MM]\n"
-               "                    [--errors ideal|realistic] [--max-clients N]\n"
-               "                    [--frame-timeout MS] [--idle-timeout MS]\n"
-               "  --port PORT        TCP port; 0 picks a free one (printed)\n"
-               "  --host ADDR        IPv4 address to listen on (default 127.0.0.1)\n"
-               "  --nv PATH          non-volatile storage file (default ./trueaxis-sim.nv)\n"
-               "  --seed N           probe and ball noise seed (default 1)\n"
-               "  --face-tilt DEG    workpiece face tilt from horizontal, table at zero (default 12.5)\n"
-               "  --face-azimuth DEG direction the face falls towards, from +X to +Y (default 30)\n"
-               "  --face-height MM   Z of the face above the table centre (default 40)\n"
-               "  --errors KIND      the machine's geometric errors at start (sim_errors #12020):\n"
-               "                     ideal (none, the default) or realistic (cradle_errors.hpp)\n"
-               "  --max-clients N    connections served at once; the next is closed at once (default 32)\n"
-               "  --frame-timeout MS a connection holding a partial frame or an unsent reply that\n"
-               "                     long is closed (default 5000)\n"
-               "  --idle-timeout MS  a connection that sends no whole frame that long is closed\n"
-               "                     (default 0: never)\n"
-               "Serves until SIGINT or SIGTERM; exit 0 then, 1 on a start-up failure, 2 on bad usage.\n");
-}
+constexpr const char* kHelp =
+    "usage: trueaxis-sim --port PORT [--host ADDR] [--nv PATH] [--seed N]\n"
+    "                    [--face-tilt DEG] [--face-azimuth DEG] [--face-height MM]\n"
+    "                    [--errors ideal|realistic] [--max-clients N]\n"
+    "                    [--frame-timeout MS] [--idle-timeout MS]\n"
+    "  --port PORT        TCP port; 0 picks a free one (printed)\n"
+    "  --host ADDR        IPv4 address to listen on (default 127.0.0.1)\n"
+    "  --nv PATH          non-volatile storage file (default ./trueaxis-sim.nv)\n"
+    "  --seed N           probe and ball noise seed (default 1)\n"
+    "  --face-tilt DEG    workpiece face tilt from horizontal, table at zero (default 12.5)\n"
+    "  --face-azimuth DEG direction the face falls towards, from +X to +Y (default 30)\n"
+    "  --face-height MM   Z of the face above the table centre (default 40)\n"
+    "  --errors KIND      the machine's geometric errors at start (sim_errors #12020):\n"
+    "                     ideal (none, the default) or realistic (cradle_errors.hpp)\n"
+    "  --max-clients N    connections served at once; the next is closed at once (default 32)\n"
+    "  --frame-timeout MS a connection holding a partial frame or an unsent reply that\n"
+    "                     long is closed (default 5000)\n"
+    "  --idle-timeout MS  a connection that sends no whole frame that long is closed\n"
+    "                     (default 0: never)\n"
+    "  --help, --version  this text; the version line\n"
+    "Serves until SIGINT or SIGTERM; exit 0 then, 1 on a start-up failure, 2 on bad usage.\n";
+
+void usage() { std::fputs(kHelp, stderr); }
 
 bool parse_double(const char* text, double& out) {
   char* end = nullptr;
@@ -63,6 +65,7 @@ bool parse_u64(const char* text, unsigned long long& out) {
 
 int main(int argc, char** argv) {
   using namespace trueaxis;
+  if (sim::answered_help_or_version(argc, argv, "trueaxis-sim", kHelp)) return 0;
   std::string host = "127.0.0.1";
   std::string nv_path = "./trueaxis-sim.nv";
   unsigned long long port = 65536;

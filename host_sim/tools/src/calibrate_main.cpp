@@ -23,6 +23,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
 
 namespace {
@@ -80,6 +81,7 @@ void print_help() {
               "                         unlock, store, lock again\n"
               "  --port PORT, --host ADDR  the module's Modbus TCP server (default 127.0.0.1:502)\n"
               "  --unlock-code CODE     the machine's unlock code (#900) for --store, 1..9999 (default 2718)\n"
+              "  --help, --version      this text (METHOD --help: the method's files); the version line\n"
               "Exit 0 with one summary line on stdout; 1 with one line on stderr on any failure, and\n"
               "then no OUT.json and nothing stored.\n");
 }
@@ -100,21 +102,27 @@ std::string stored_text(trueaxis::macros::RecordKey key) {
   return "stored";
 }
 
-bool is_help(const std::string& arg) { return arg == "--help" || arg == "-h"; }
-
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) return usage_error("no METHOD");
   const std::string first = argv[1];
-  if (is_help(first)) {
-    print_help();
-    return 0;
-  }
   const CalibrateMethod* method = trueaxis::sim::find_calibrate_method(first);
-  for (int i = 2; method != nullptr && i < argc; ++i) {
-    if (is_help(argv[i])) {
-      print_method_help(*method);
+  // --help and --version anywhere after METHOD, or in its place.
+  const int options_from = method != nullptr ? 2 : 1;
+  const int options_to = method != nullptr ? argc : 2;
+  for (int i = options_from; i < options_to; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      if (method != nullptr) {
+        print_method_help(*method);
+      } else {
+        print_help();
+      }
+      return 0;
+    }
+    if (arg == "--version") {
+      std::printf("%s\n", trueaxis::sim::version_line("trueaxis-calibrate").c_str());
       return 0;
     }
   }

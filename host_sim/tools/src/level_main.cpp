@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/server/sim_map.hpp"
 #include "trueaxis/sim/tools/client.hpp"
 
@@ -43,13 +44,16 @@ struct Measurement {
   double true_tilt_deg = 0.0;  // #12013 at the probe pose
 };
 
-void usage() {
-  std::fprintf(stderr,
-               "usage: trueaxis-level --port PORT [--host ADDR] [--spread MM] [--axes ideal|calibrated] [--home 1]\n"
-               "  probes three points of the face (an equilateral triangle of side MM, default 100,\n"
-               "  centred on the table axis), levels the table with macro 9810 and measures again.\n"
-               "  Exit 0: true residual tilt within 3 sigma; 1: not; 2: usage; 3: communication or macro error.\n");
-}
+constexpr const char* kHelp =
+    "usage: trueaxis-level --port PORT [--host ADDR] [--spread MM] [--axes ideal|calibrated] [--home 1]\n"
+    "  probes three points of the face (an equilateral triangle of side MM, default 100,\n"
+    "  centred on the table axis), levels the table with macro 9810 and measures again.\n"
+    "  --axes ideal|calibrated  first sets level_axes (#508), unlocking and locking again\n"
+    "  --home 1                 first turns the table to A = 0, C = 0\n"
+    "  --help, --version        this text; the version line\n"
+    "  Exit 0: true residual tilt within 3 sigma; 1: not; 2: usage; 3: communication or macro error.\n";
+
+void usage() { std::fputs(kHelp, stderr); }
 
 bool fail(VariableClient& client, const char* what) {
   std::fprintf(stderr, "trueaxis-level: %s: %s\n", what, client.error_text().c_str());
@@ -91,6 +95,7 @@ double height_um(double tilt_deg) { return 100.0 * std::tan(tilt_deg * kPi / 180
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (trueaxis::sim::answered_help_or_version(argc, argv, "trueaxis-level", kHelp)) return 0;
   std::string host = "127.0.0.1";
   int port = -1;
   double spread_mm = 100.0;

@@ -12,6 +12,7 @@
 #include "trueaxis/macros/records.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/modbus/register_codec.hpp"
+#include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/server/sim_map.hpp"
 
 namespace {
@@ -302,7 +303,15 @@ void print_markdown() {
 
 }  // namespace
 
+constexpr const char* kHelp =
+    "usage: trueaxis-map [--json | --markdown]\n"
+    "  Prints the register map the code defines: macros/register_map.json (--json, the default)\n"
+    "  or macros/REGISTER_MAP.md (--markdown); toolchain/regenerate-map.sh writes both.\n"
+    "  --help, --version  this text; the version line\n"
+    "  Exit 0, or 2 on bad usage.\n";
+
 int main(int argc, char** argv) {
+  if (trueaxis::sim::answered_help_or_version(argc, argv, "trueaxis-map", kHelp)) return 0;
   if (argc > 2 || (argc == 2 && std::strcmp(argv[1], "--markdown") != 0 && std::strcmp(argv[1], "--json") != 0)) {
     std::fprintf(stderr, "usage: trueaxis-map [--json | --markdown]\n");
     return 2;

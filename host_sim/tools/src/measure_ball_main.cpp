@@ -15,12 +15,22 @@
 #include <fstream>
 #include <string>
 
+#include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/server/sim_map.hpp"
 #include "trueaxis/sim/tools/client.hpp"
 
 namespace {
 
 namespace simvar = trueaxis::sim::simvar;
+
+constexpr const char* kHelp =
+    "usage: trueaxis-measure-ball --port PORT [--host ADDR] --out SAMPLES.csv\n"
+    "         [--a-from DEG --a-to DEG --a-step DEG] [--c-step DEG]\n"
+    "  Measures the simulator's calibration ball over a grid of commanded A and C into the\n"
+    "  samples trueaxis-calibrate rigidity reads (a_deg,c_deg,x_mm,y_mm,z_mm).\n"
+    "  defaults: A from -90 to 90 every 30 (0 included), C every 10 over a turn.\n"
+    "  --help, --version  this text; the version line\n"
+    "  Exit 0, or 1 with one line on stderr.\n";
 
 int fail(const std::string& what) {
   std::fprintf(stderr, "trueaxis-measure-ball: %s\n", what.c_str());
@@ -36,6 +46,7 @@ bool number(const char* text, double& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (trueaxis::sim::answered_help_or_version(argc, argv, "trueaxis-measure-ball", kHelp)) return 0;
   std::string host = "127.0.0.1";
   std::string out_path;
   double port = 0, a_from = -90, a_to = 90, a_step = 30, c_step = 10;

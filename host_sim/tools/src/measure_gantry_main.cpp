@@ -20,9 +20,22 @@
 #include <fstream>
 #include <string>
 
+#include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/tools/gantry_measure.hpp"
 
 namespace {
+
+constexpr const char* kHelp =
+    "usage: trueaxis-measure-gantry --out SAMPLES.csv --machine MACHINE.csv [--seed N]\n"
+    "         [--tracker-distance M] [--noise on|off] [--truth TRUTH.json]\n"
+    "  Measures the virtual gantry (realistic errors, 4 sub-machines) with a virtual laser\n"
+    "  tracker into the files trueaxis-calibrate gantry reads; no simulator process needed.\n"
+    "  --seed N              noise seed (default 1): the same seed, the same files\n"
+    "  --tracker-distance M  metres from the machine's front to the tracker (default 2.5; 1..20)\n"
+    "  --noise on|off        the tracker's noise (default on)\n"
+    "  --truth TRUTH.json    also the TRUE values in the shape of OUT.json\n"
+    "  --help, --version     this text; the version line\n"
+    "  Exit 0, or 1 with one line on stderr.\n";
 
 int fail(const std::string& what) {
   std::fprintf(stderr, "trueaxis-measure-gantry: %s\n", what.c_str());
@@ -43,6 +56,7 @@ bool write_file(const std::string& path, const std::string& text) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (trueaxis::sim::answered_help_or_version(argc, argv, "trueaxis-measure-gantry", kHelp)) return 0;
   std::string out_path, machine_path, truth_path, noise = "on";
   double seed = 1, distance_m = 2.5;
   for (int i = 1; i + 1 < argc; i += 2) {

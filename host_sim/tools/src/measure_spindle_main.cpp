@@ -39,12 +39,29 @@
 #include <utility>
 #include <vector>
 
+#include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/tools/spindle_measure.hpp"
 
 namespace {
 
 using trueaxis::core::Vec3;
 using trueaxis::sim::VirtualSpindle;
+
+constexpr const char* kHelp =
+    "usage: trueaxis-measure-spindle --out SAMPLES.csv --machine MACHINE.csv [--seed N]\n"
+    "         [--revolutions R] [--step-deg S] [--noise on|off] [--form-nm F]\n"
+    "         [--tool-length L] [--truth TRUTH.json]\n"
+    "  Measures the virtual spindle (realistic errors) with a virtual spindle analyser into\n"
+    "  the files trueaxis-calibrate spindle reads; no simulator process needed.\n"
+    "  --seed N          noise and form seed (default 1): the same seed, the same files\n"
+    "  --revolutions R   whole revolutions measured (default 3; 1..100)\n"
+    "  --step-deg S      angle step (default 5; 360 / S a whole number of at least 8)\n"
+    "  --noise on|off    the probes' noise (15 nm) and the balls' form error (default on)\n"
+    "  --form-nm F       the balls' form error, RMS in nm (default 50; 0..1000)\n"
+    "  --tool-length L   MACHINE's tool_length_mm and the truth's tool tip (default 250)\n"
+    "  --truth TRUTH.json  the TRUE values in the shape of OUT.json\n"
+    "  --help, --version this text; the version line\n"
+    "  Exit 0, or 1 with one line on stderr.\n";
 
 int fail(const std::string& what) {
   std::fprintf(stderr, "trueaxis-measure-spindle: %s\n", what.c_str());
@@ -135,6 +152,7 @@ std::string truth_text(const VirtualSpindle& spindle, double tool_length_mm, dou
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (trueaxis::sim::answered_help_or_version(argc, argv, "trueaxis-measure-spindle", kHelp)) return 0;
   std::string out_path, machine_path, truth_path, noise = "on";
   double seed = 1, revolutions = 3, step_deg = 5, form_nm = 50, tool_length_mm = 250;
   for (int i = 1; i + 1 < argc; i += 2) {
