@@ -26,7 +26,7 @@ import subprocess
 import sys
 
 PRODUCT = ["trueaxis-sim", "trueaxis-level", "trueaxis-calibrate", "trueaxis-measure-ball",
-           "trueaxis-measure-gantry", "trueaxis-measure-spindle", "trueaxis-map"]
+           "trueaxis-measure-gantry", "trueaxis-measure-spindle", "trueaxis-map", "trueaxis-var"]
 
 
 def run(path, arg):

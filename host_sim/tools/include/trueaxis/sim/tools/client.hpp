@@ -1,5 +1,6 @@
-// A Modbus TCP client for trueaxis variables (libmodbus underneath), for the
-// host tools, the bench and the tests. Host only: it allocates and uses errno.
+// A Modbus client for trueaxis variables over TCP or RTU (libmodbus
+// underneath), for the host tools, the benches and the tests. Host only: it
+// allocates and uses errno.
 //
 // Contract
 //  1. Variables are transferred as INTERFACE.md "Encoding" says: #N is registers
@@ -10,6 +11,12 @@
 //  3. run_macro writes #9000 and polls #9001..#9003 until done_count has grown,
 //     at most `timeout_ms`; it returns the final status (2 done, 3 error) with the
 //     error code, or status -1 on a transport failure or timeout.
+//  4. connect_rtu opens a serial device as a Modbus RTU master (8 data bits,
+//     1 stop bit) addressing one slave. set_retries(n): a read or write that
+//     gets no reply within the response time-out is sent again, at most n
+//     times, once the line has been quiet for 100 ms, as a PLC on RS-485 does
+//     (a request torn on the line is discarded by the slave and executes
+//     nothing). 0 by default.
 #pragma once
 
 #include <cstdint>
@@ -32,6 +39,9 @@ class VariableClient {
   VariableClient& operator=(const VariableClient&) = delete;
 
   bool connect(const std::string& host, int port, int response_timeout_ms = 2000);
+  // Contract 4; parity 'N', 'E' or 'O'.
+  bool connect_rtu(const std::string& device, int baud, char parity, int slave, int response_timeout_ms = 1000);
+  void set_retries(int retries) { retries_ = retries; }
   void close();
   modbus_t* raw() { return ctx_; }
 
@@ -48,8 +58,12 @@ class VariableClient {
   std::string error_text() const;
 
  private:
+  bool open(modbus_t* ctx, int response_timeout_ms);
+  void drain();
+
   modbus_t* ctx_ = nullptr;
   int error_ = 0;
+  int retries_ = 0;
 };
 
 }  // namespace trueaxis::sim
