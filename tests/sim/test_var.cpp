@@ -241,6 +241,23 @@ TEST_CASE("trueaxis-var: refusals, time-outs and connections, each one line nami
                 "cannot open " + w.file("no-such-tty") + ": No such file or directory");
 }
 
+TEST_CASE("trueaxis-var: an unlock lasts one command, so configuration is written in the same one", "[var]") {
+  SimFixture sim;
+  Workspace w("trueaxis-var");
+  const double before = sim.get(500);  // a_min, the A axis travel limit
+  // #9004 and #500 are not adjacent: two requests on one connection, in order.
+  Run r = var(sim, w, {"set", "9004=2718", "500=-80", "9004=0"});
+  CHECK(r.exit_code == 0);
+  CHECK(sim.get(500) == -80.0);
+  CHECK(sim.get(v::kUnlock) == 0.0);
+  // The connection that opened it has closed: the next command finds it locked.
+  r = var(sim, w, {"set", "9004=2718"});
+  CHECK(r.exit_code == 0);
+  check_failure(var(sim, w, {"set", "500=-70"}), refusal("#500", m::AccessFault::kLocked, "02 illegal data address"));
+  CHECK(sim.get(500) == -80.0);
+  CHECK(before != -80.0);
+}
+
 TEST_CASE("trueaxis-var: bad usage is exit 2 with one line, and nothing is sent", "[var]") {
   SimFixture sim;
   Workspace w("trueaxis-var");
