@@ -14,7 +14,7 @@ constexpr std::uint8_t kIllegalFunction = 0x01;
 constexpr std::uint8_t kIllegalAddress = 0x02;
 constexpr std::uint8_t kIllegalValue = 0x03;
 
-// The variables this table reads and writes (INTERFACE.md and the map).
+// The variables this table reads and writes (docs/INTERFACE.md and the map).
 constexpr std::uint16_t kFirstArg = 1;        // #1..#9: arguments A B C I J K D E F
 constexpr std::uint16_t kArgCount = 9;        // #10 (G) is not defined
 constexpr std::uint16_t kFirstPoint = 1001;   // #1001..#1096: level points

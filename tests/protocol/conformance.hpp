@@ -13,7 +13,7 @@
 //     variables the case names in `changes` (a served write).
 //
 // The expected responses are written from the Modbus Application Protocol
-// V1.1b3 (6.3, 6.12, 6.17, 7) and INTERFACE.md ("Encoding": #N is registers
+// V1.1b3 (6.3, 6.12, 6.17, 7) and docs/INTERFACE.md ("Encoding": #N is registers
 // 4N..4N+3, the binary64 most significant word first), with their own
 // encoding of doubles; nothing here calls the code under test to decide what is
 // right. The list of variables read for the state comes from the map

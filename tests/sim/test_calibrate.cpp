@@ -1,4 +1,4 @@
-// `trueaxis-calibrate rigidity` as an integrator runs it (INTERFACE.md "The
+// `trueaxis-calibrate rigidity` as an integrator runs it (docs/INTERFACE.md "The
 // integrator's command", "M3 rigidity"): the tools run as child processes (argv,
 // no shell) against a trueaxis-sim; OUT.json is parsed and held against what the
 // module answers over Modbus (9832, 9834, 9833); every bad input gets exit 1, one

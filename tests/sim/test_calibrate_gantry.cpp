@@ -1,4 +1,4 @@
-// `trueaxis-calibrate gantry` (INTERFACE.md "The integrator's command", "M2
+// `trueaxis-calibrate gantry` (docs/INTERFACE.md "The integrator's command", "M2
 // gantry"): its flow (calibrate_gantry, store_gantry) driven in this process
 // against a simulator served in this process too (a thread, 127.0.0.1 port 0, RAM
 // storage), on files the virtual laser tracker measured off the virtual gantry

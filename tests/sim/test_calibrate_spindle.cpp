@@ -1,9 +1,9 @@
-// `trueaxis-calibrate spindle` (INTERFACE.md "The integrator's command", "M4
+// `trueaxis-calibrate spindle` (docs/INTERFACE.md "The integrator's command", "M4
 // spindle"): its flow (calibrate_spindle, store_spindle) driven in this process
 // against a simulator served in this process too (a thread, 127.0.0.1 port 0,
 // RAM storage), on files trueaxis-measure-spindle measured off the virtual
 // spindle, with that spindle's truth beside them:
-//  1. good data: OUT.json parses with INTERFACE.md's keys, the parameters and
+//  1. good data: OUT.json parses with docs/INTERFACE.md's keys, the parameters and
 //     the tool-tip errors within 3 sigma of the truth; after --store, 9843
 //     answers every per_angle entry bit for bit; the header's order, extra
 //     columns and comments change nothing; a later session replaces the model;
@@ -33,7 +33,7 @@ using namespace trueaxis::test;
 
 const std::vector<double> kNoTable = {static_cast<double>(Status::kNoTable)};
 
-// OUT.json's fixed shape (INTERFACE.md) and what this command adds; the
+// OUT.json's fixed shape (docs/INTERFACE.md) and what this command adds; the
 // maxima are the per_angle maxima.
 void check_shape(const Json& out, std::size_t samples) {
   CHECK(out["method"].text == "spindle");

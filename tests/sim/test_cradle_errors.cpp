@@ -189,7 +189,7 @@ TEST_CASE("the stiffness deflection turns the table by k_s sin 2A about its Y ax
   }
 }
 
-TEST_CASE("the true rotation vector follows INTERFACE.md's definition") {
+TEST_CASE("the true rotation vector follows docs/INTERFACE.md's definition") {
   const CradleMachine m(FaceConfig{}, trueaxis::sim::realistic_errors());
   SimRng rng(5);
   const Vec3 a_dir = m.a_axis().direction;

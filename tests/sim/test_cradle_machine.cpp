@@ -29,7 +29,7 @@ TEST_CASE("the face normal at table zero follows tilt and azimuth") {
   CHECK(m.tilt_deg_at(0.0, 0.0) == Approx(12.5).epsilon(1e-12));
 }
 
-TEST_CASE("turning the table to the METHODS.md M1 angles makes the face level") {
+TEST_CASE("turning the table to the docs/METHODS.md M1 angles makes the face level") {
   for (double azimuth : {-170.0, -90.0, 0.0, 30.0, 135.0}) {
     const CradleMachine m(FaceConfig{20.0, azimuth, 40.0});
     const Vec3 n = m.normal_table();

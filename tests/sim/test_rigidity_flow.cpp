@@ -83,7 +83,7 @@ PoseReading pose(Rig& rig, int q, bool stored) {
 
 TEST_CASE("recovered rotation vectors are within 3 sigma of the truth by the module's own figure",
           "[rigidity][flow]") {
-  // The truth is INTERFACE.md's definition applied to the true machine: the
+  // The truth is docs/INTERFACE.md's definition applied to the true machine: the
   // same build on noise-free ball positions (the definition's A axis is the
   // circle through the C centres). Without the stiffness term that equals the
   // simulator's own truth about its true A axis (checked below to 0.1"); with it

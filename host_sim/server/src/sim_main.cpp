@@ -1,5 +1,5 @@
 // trueaxis-sim: the module on a virtual cradle machine, served over Modbus TCP.
-// Usage and exit codes: usage() below; INTERFACE.md "The simulator's command line".
+// Usage and exit codes: usage() below; docs/INTERFACE.md "The simulator's command line".
 #include <cerrno>
 #include <csignal>
 #include <cstdio>

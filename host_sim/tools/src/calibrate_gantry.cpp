@@ -1,4 +1,4 @@
-// The gantry flow (INTERFACE.md "M2 gantry"): samples grouped by name -> session
+// The gantry flow (docs/INTERFACE.md "M2 gantry"): samples grouped by name -> session
 // 9820/9821, MACHINE rows -> 9822, frames 9823 (stored with --store), global
 // 9824 and per sub-machine 9826 -> OUT.json.
 #include <algorithm>
@@ -220,7 +220,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
            json_axes(global + 3, global + 6, global + 9) + ",\n    \"bed_flatness_mm\": " + json_number(global[12]) +
            ", \"gantry_straightness_mm\": " + json_number(global[13]) + " },\n  \"sub_machines\": [" + subs +
            "\n  ]\n}\n";
-  // What the module computed beyond INTERFACE.md's OUT.json, for the report only.
+  // What the module computed beyond docs/INTERFACE.md's OUT.json, for the report only.
   // A key of its own ("sub_machine_figures"): the report merges this file into
   // OUT.json's keys, and must not lose OUT.json's "sub_machines".
   r.report_extras = "{ \"global_origin_sigma_mm\": " + json_number(global[14]) +

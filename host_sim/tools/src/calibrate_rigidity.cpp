@@ -1,4 +1,4 @@
-// The rigidity flow (INTERFACE.md "M3 rigidity"): samples -> session 9830/9831
+// The rigidity flow (docs/INTERFACE.md "M3 rigidity"): samples -> session 9830/9831
 // -> build 9832 (stored with --store) -> per pose 9834 -> OUT.json.
 #include <cmath>
 #include <cstdio>
@@ -73,12 +73,12 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
                  json_vec3(p + 10) + ",\n      \"c_direction\": " + json_vec3(p + 13) +
                  ", \"c_circle_rms_mm\": " + json_number(p[16]) + " }";
   }
-  // INTERFACE.md writes the reference A as 0.0; keep that form when it is exactly 0.
+  // docs/INTERFACE.md writes the reference A as 0.0; keep that form when it is exactly 0.
   const std::string reference = reference_a_deg == 0.0 ? "0.0" : json_number(reference_a_deg);
   r.json = "{\n  \"method\": \"rigidity\",\n  \"reference_a_deg\": " + reference + ",\n" +
            "  \"a_axis\": { \"point_mm\": " + json_vec3(summary + 3) + ", \"direction\": " + json_vec3(summary + 6) +
            " },\n  \"poses\": [" + pose_json + "\n  ]\n}\n";
-  // What the module computed beyond INTERFACE.md's OUT.json, for the report only.
+  // What the module computed beyond docs/INTERFACE.md's OUT.json, for the report only.
   r.report_extras = "{ \"c_to_a_offset_mm\": " + json_number(summary[9]) +
                     ", \"c_to_a_squareness_arcsec\": " + json_number(summary[10]) + " }\n";
   char line[160];

@@ -1,4 +1,4 @@
-// The spindle flow (INTERFACE.md "M4 spindle"): analyser samples -> session
+// The spindle flow (docs/INTERFACE.md "M4 spindle"): analyser samples -> session
 // 9840/9841, MACHINE's lengths -> identification 9842 (stored with --store),
 // the parameters 9845 and one revolution of 9844 (R = 0: the identification
 // just made) -> OUT.json.
@@ -26,7 +26,7 @@ constexpr std::uint16_t kBuild = 9842;
 constexpr std::uint16_t kReport = 9844;
 constexpr std::uint16_t kModel = 9845;
 
-// MACHINE's names (INTERFACE.md), in the order the flow keeps their values.
+// MACHINE's names (docs/INTERFACE.md), in the order the flow keeps their values.
 enum Name : std::size_t { kBearingSpacing, kGauge, kBall1, kBall2, kToolLength, kNames };
 constexpr const char* kNameText[kNames] = {"bearing_spacing_mm", "gauge_from_upper_bearing_mm", "ball_1_mm",
                                            "ball_2_mm", "tool_length_mm"};

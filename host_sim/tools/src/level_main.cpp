@@ -1,4 +1,4 @@
-// trueaxis-level: the operator's three-point auto-level flow (METHODS.md M1)
+// trueaxis-level: the operator's three-point auto-level flow (docs/METHODS.md M1)
 // against trueaxis-sim, over Modbus TCP only:
 //   1. probe three points of the face into G57, G58, G59 with the table where it is;
 //   2. run macro 9810 with A = #1, C = #3 = that table position;

@@ -65,7 +65,7 @@ const SessionDoc kSessions[] = {
      9820, 9821, 9823},
 };
 
-// The gantry's group capacities (INTERFACE.md: "limited by capacities that the map states").
+// The gantry's group capacities (docs/INTERFACE.md: "limited by capacities that the map states").
 struct GroupCapacity {
   const char* group;
   std::size_t points;

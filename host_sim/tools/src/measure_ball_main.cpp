@@ -1,6 +1,6 @@
 // trueaxis-measure-ball: measures the simulator's calibration ball over a grid
 // of commanded A and C, as an operator with a ball and an instrument would for
-// M3, and writes the samples CSV trueaxis-calibrate reads (INTERFACE.md "M3
+// M3, and writes the samples CSV trueaxis-calibrate reads (docs/INTERFACE.md "M3
 // rigidity": a_deg,c_deg,x_mm,y_mm,z_mm).
 //
 // usage: trueaxis-measure-ball --port PORT [--host ADDR] --out SAMPLES.csv

@@ -1,6 +1,6 @@
 // trueaxis-measure-gantry: measures the virtual gantry (gantry_machine.hpp,
 // realistic_gantry()) with the virtual laser tracker (laser_tracker.hpp) and
-// writes the files trueaxis-calibrate gantry reads (INTERFACE.md "M2 gantry").
+// writes the files trueaxis-calibrate gantry reads (docs/INTERFACE.md "M2 gantry").
 // Standalone: no simulator process is needed, because the gantry is measured by
 // the tracker alone; the module only enters when the samples are calibrated.
 //

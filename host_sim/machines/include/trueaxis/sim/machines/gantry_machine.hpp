@@ -1,6 +1,6 @@
 // A virtual gantry drilling machine with several 5-axis AC-head sub-machines:
-// the ground truth against which the module's M2 zero definition (METHODS.md M2,
-// INTERFACE.md "M2 gantry") is judged. Written from the physics of the machine
+// the ground truth against which the module's M2 zero definition (docs/METHODS.md M2,
+// docs/INTERFACE.md "M2 gantry") is judged. Written from the physics of the machine
 // (rotations with Eigen's AngleAxis), never from firmware_core's fits. Host only:
 // it allocates.
 //
@@ -23,9 +23,9 @@
 //         s(u) = sin(pi (u - u_min) / (u_max - u_min)),
 //     n_h = unit(Z x g) (sideways), n_v = g x n_h. The bow is symmetric about
 //     mid-travel, so a least-squares line through points evenly spread over the
-//     whole travel has direction g exactly; its straightness (INTERFACE.md: twice
+//     whole travel has direction g exactly; its straightness (docs/INTERFACE.md: twice
 //     the largest distance from the fitted line) is 2 |bow| max_i |s_i - mean(s)|.
-//  4. Global frame O-XYZ (METHODS.md M2 S1): O is the common point of the bed
+//  4. Global frame O-XYZ (docs/METHODS.md M2 S1): O is the common point of the bed
 //     plane and the two side planes; x = g; y = unit(z0 x x); z = x x y.
 //     machine_T_global = [x y z | O].
 //  5. Sub-machine sp, all on the gantry at its home (u = 0), every axis at home
@@ -37,7 +37,7 @@
 //         d_z = alpha e1 + beta e2 + gamma e3,  alpha = -sin(s_zx),
 //               beta = (-sin(s_yz) + sin(s_xy) alpha) / cos(s_xy), gamma = sqrt(1 - alpha^2 - beta^2),
 //     so that angle(d_x, d_y) - 90 deg = s_xy, angle(d_y, d_z) - 90 deg = s_yz and
-//     angle(d_z, d_x) - 90 deg = s_zx exactly (squareness_arcsec of INTERFACE.md).
+//     angle(d_z, d_x) - 90 deg = s_zx exactly (squareness_arcsec of docs/INTERFACE.md).
 //     Axis k at position q_k (stroke [min, max] holds 0) moves the whole head by
 //         q_k d_k + bow_k (s_k(q_k) - s_k(0)) n_k,   n_k = unit(d_next - (d_next . d_k) d_k),
 //     s_k as in 3 over the stroke and d_next the next axis (x -> y -> z -> x).
@@ -56,9 +56,9 @@
 //     T_A = T + d v, R_a(A) = AngleAxis(A, a), R_c(C) = AngleAxis(C, c).
 //     The tracker target (SMR) sits at T + R_h (s_a a_nominal + s_p (tool_nominal
 //     x a_nominal) + s_c tool_nominal), s = smr_head_mm.
-//  7. Truth of sub-machine sp (INTERFACE.md OUT.json): O_sp = T + swing_mm c (the
+//  7. Truth of sub-machine sp (docs/INTERFACE.md OUT.json): O_sp = T + swing_mm c (the
 //     tool tip at home); master axis = the one with the longest stroke (the first
-//     of x, y, z on a tie); axes after METHODS.md S4: X master: y' = unit(d_z x d_x),
+//     of x, y, z on a tie); axes after docs/METHODS.md S4: X master: y' = unit(d_z x d_x),
 //     z' = d_x x y'; Y master: x' = unit(d_y x d_z), z' = x' x d_y; Z master:
 //     x' = unit(d_y x d_z), y' = d_z x x'. global_T_sub = global_T_machine [x' y' z' | O_sp];
 //     a_c_offset_mm = |d|, a_c_angle_deg = angle(a, c).

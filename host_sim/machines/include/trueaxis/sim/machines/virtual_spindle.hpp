@@ -9,7 +9,7 @@
 //
 // Conventions (lengths mm, run-out and collet phases degrees, tilts
 // arc-seconds, the spindle angle degrees)
-//  1. Frames. The analyser frame A has the machine's axes (INTERFACE.md); every
+//  1. Frames. The analyser frame A has the machine's axes (docs/INTERFACE.md); every
 //     returned point is written in it. O1, the centre of the upper bearing seat,
 //     is at o1_mm in A. The spindle housing is turned by
 //         R_s = AngleAxis(tilt_y, X) AngleAxis(tilt_x, -Y),
@@ -39,7 +39,7 @@
 //     tool (the seed's O5 = O4* + (l_chuck + l_cut)/l_chuck (O4 - O4*) stretches
 //     that by |O4 - O4*| / l_chuck - 1 = 3.6e-9 here: 0.2 to 0.9 nm at 50 to
 //     250 mm).
-//  3. Spindle angle phi (INTERFACE.md): from M19's zero, growing in the M03
+//  3. Spindle angle phi (docs/INTERFACE.md): from M19's zero, growing in the M03
 //     sense, right-handed about a. The body turns rigidly about the line (O1, a):
 //         P(phi) = o1 + AngleAxis(phi, a) P(0)     for every body point P.
 //  4. identifiable_truth(): the spindle_model.hpp convention-1 parameters q with
@@ -63,7 +63,7 @@
 //     (a_j = A_j's cross part, c_j the collet offsets, both in the e1, e2 plane):
 //         w = (a_2 - a_1) / h + (c_1 - c_2) / l_chuck,
 //         e = a_1 + (a_2 - a_1) G / h + c_1 + (c_2 - c_1) h1 / l_chuck.
-//  5. Screw error (INTERFACE.md OUT.json): the ideal axis is machine -Z through
+//  5. Screw error (docs/INTERFACE.md OUT.json): the ideal axis is machine -Z through
 //     O1; the actual axis the tool line (T(0) turned, d turned) at phi. With
 //     k = (-Z) x d_phi: theta_e = atan2(|k|, -Z . d_phi) and d_e = |(P - O1) . k| / |k|,
 //     P = T(0) turned; for k = 0 exactly, d_e is P's distance from the ideal axis.

@@ -97,17 +97,17 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
 // R = 1, lock again).
 bool store_gantry(VariableClient& client, FlowResult& fail);
 
-// The spindle angles of OUT.json's per_angle: 0, 5, ..., 355 (INTERFACE.md: at most 10).
+// The spindle angles of OUT.json's per_angle: 0, 5, ..., 355 (docs/INTERFACE.md: at most 10).
 inline constexpr double kSpindleStepDeg = 5.0;
 
 // Streams the analyser samples (file order) to the session 9840/9841,
 // identifies the tool-axis model with 9842 WITHOUT storing it (D, U, V from
 // MACHINE), and reads back the parameters (9845, R = 0) and one revolution of
 // the correction with its sigmas at tool_length_mm (9844, R = 0, every
-// kSpindleStepDeg). OUT.json adds to INTERFACE.md's keys the per-angle
+// kSpindleStepDeg). OUT.json adds to docs/INTERFACE.md's keys the per-angle
 // sigmas, tool_length_mm, the mean tool-tip error over a revolution with its
 // sigma, and "fit" (samples, noise, synchronous and overall RMS).
-// MACHINE holds `name,value` rows: exactly the five names INTERFACE.md
+// MACHINE holds `name,value` rows: exactly the five names docs/INTERFACE.md
 // requires, each once; any other name is refused (there are no optional names
 // yet, and a misspelt one would otherwise pass unnoticed). bearing_spacing_mm,
 // which the model does not take (the analyser sees the tool line, not the

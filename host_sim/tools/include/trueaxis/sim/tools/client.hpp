@@ -3,7 +3,7 @@
 // allocates and uses errno.
 //
 // Contract
-//  1. Variables are transferred as INTERFACE.md "Encoding" says: #N is registers
+//  1. Variables are transferred as docs/INTERFACE.md "Encoding" says: #N is registers
 //     4N..4N+3, most significant word first (modbus::encode_double).
 //  2. read/write return true on success; on failure, error() is the errno
 //     libmodbus left (EMBXILADD etc. for an exception reply: exception() gives

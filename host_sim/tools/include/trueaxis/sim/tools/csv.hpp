@@ -1,4 +1,4 @@
-// The CSV files of the calibration flows (INTERFACE.md, "The integrator's
+// The CSV files of the calibration flows (docs/INTERFACE.md, "The integrator's
 // command"): a header row with column names in any order (extra columns
 // ignored), `#` lines are comments wherever they stand, numbers as C strtod
 // reads them, a bad sample named by its physical line number (the first line is

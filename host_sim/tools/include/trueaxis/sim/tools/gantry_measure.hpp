@@ -1,10 +1,10 @@
 // Measuring the virtual gantry (gantry_machine.hpp) with the virtual laser
 // tracker (laser_tracker.hpp) as an operator would for M2, and the files of
-// INTERFACE.md "M2 gantry": the samples CSV, the MACHINE CSV and, for tests and
+// docs/INTERFACE.md "M2 gantry": the samples CSV, the MACHINE CSV and, for tests and
 // the demo's comparison, OUT.json holding the TRUE values. Host only.
 //
 // Conventions
-//  1. Groups and order (INTERFACE.md): `bed` (pads A, B, C, D in turn, each a
+//  1. Groups and order (docs/INTERFACE.md): `bed` (pads A, B, C, D in turn, each a
 //     pad_grid x pad_grid grid 10 mm inside its top face), `side_1` (pad A's -X
 //     face, side_cols along Y x side_rows down Z, 15 mm inside its edges and 10 mm
 //     inside top and bottom), `side_2` (its -Y face, along X likewise), `gantry_K`
