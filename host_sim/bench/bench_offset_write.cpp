@@ -27,8 +27,9 @@
 
 #include <modbus/modbus.h>
 
-#include "trueaxis/sim/client.hpp"
-#include "trueaxis/sim/sim_process.hpp"
+#include "trueaxis/sim/program.hpp"
+#include "trueaxis/sim/tools/client.hpp"
+#include "trueaxis/sim/tools/sim_process.hpp"
 
 namespace {
 
@@ -82,7 +83,16 @@ double write_rate(trueaxis::sim::VariableClient& client, int writes) {
 
 }  // namespace
 
+constexpr const char* kHelp =
+    "usage: bench_offset_write [--writes N] [--rounds R]\n"
+    "  A work-offset write over Modbus TCP (FC16, 12 registers) into trueaxis-sim against a\n"
+    "  bare libmodbus reply loop, alternating rounds: both rates and their ratio.\n"
+    "  --writes N         writes per round (default 2000)\n"
+    "  --rounds R         rounds (default 7)\n"
+    "  --help, --version  this text; the version line\n";
+
 int main(int argc, char** argv) {
+  if (trueaxis::sim::answered_help_or_version(argc, argv, "bench_offset_write", kHelp)) return 0;
   int writes = 2000;
   int rounds = 7;
   for (int i = 1; i + 1 < argc; i += 2) {

@@ -10,6 +10,7 @@
 #include "trueaxis/hal/clock.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
+#include "trueaxis/sim/program.hpp"
 
 namespace {
 
@@ -23,7 +24,14 @@ class ChronoClock final : public trueaxis::hal::Clock {
 
 }  // namespace
 
-int main() {
+constexpr const char* kHelp =
+    "usage: bench_level_host\n"
+    "  Host time of macro 9810 (a command write plus the step that runs it) on a Module over\n"
+    "  RAM storage: the median and p99 of per-run times over batches.\n"
+    "  --help, --version  this text; the version line\n";
+
+int main(int argc, char** argv) {
+  if (trueaxis::sim::answered_help_or_version(argc, argv, "bench_level_host", kHelp)) return 0;
   namespace m = trueaxis::macros;
   static std::array<std::uint8_t, m::kRequiredStorageBytes> nv{};
   trueaxis::hal::RamNvStorage storage(nv.data(), nv.size());

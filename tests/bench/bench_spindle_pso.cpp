@@ -17,6 +17,7 @@
 #include "trueaxis/core/levenberg_marquardt.hpp"
 #include "trueaxis/core/spindle_model.hpp"
 #include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/sim/program.hpp"
 
 namespace {
 
@@ -183,7 +184,15 @@ struct PsoRun {
 
 }  // namespace
 
-int main() {
+constexpr const char* kHelp =
+    "usage: bench_spindle_pso\n"
+    "  M4's Levenberg-Marquardt identification against seed 002's particle swarm on the same\n"
+    "  model and data: evaluations, time, RMS and how often the swarm reaches the fit\n"
+    "  (docs/M4_BENCHMARK.md).\n"
+    "  --help, --version  this text; the version line\n";
+
+int main(int argc, char** argv) {
+  if (trueaxis::sim::answered_help_or_version(argc, argv, "bench_spindle_pso", kHelp)) return 0;
   const SpindleParams t = truth();
   const std::vector<core::SpindleSample> s = make_samples(t);
   const std::size_t n = s.size();

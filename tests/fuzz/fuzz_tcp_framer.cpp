@@ -29,9 +29,9 @@
 
 #include "fuzz_support.hpp"
 #include "trueaxis/modbus/modbus_core.hpp"
-#include "trueaxis/sim/modbus_server.hpp"
-#include "trueaxis/sim/simulator.hpp"
-#include "trueaxis/sim/variable_router.hpp"
+#include "trueaxis/sim/server/modbus_server.hpp"
+#include "trueaxis/sim/server/simulator.hpp"
+#include "trueaxis/sim/server/variable_router.hpp"
 
 namespace trueaxis::sim {
 

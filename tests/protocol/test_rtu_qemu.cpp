@@ -32,6 +32,7 @@
 #include "crc16_reference.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/modbus/register_codec.hpp"
+#include "trueaxis/sim/program.hpp"
 
 namespace {
 
@@ -368,7 +369,15 @@ void run_conformance(int fd) {
 
 }  // namespace
 
+constexpr const char* kHelp =
+    "usage: test_rtu_qemu IMAGE [QEMU-ARGUMENTS...]\n"
+    "  Runs IMAGE (rtu_server_qemu_target of the Cortex-M7 build) under QEMU with UART0 on a\n"
+    "  pseudo-terminal and drives it over Modbus RTU: the conformance suite, then libmodbus's\n"
+    "  RTU client. Exit 0 when every check holds, 1 when one fails, 77 when IMAGE is missing.\n"
+    "  --help, --version  this text; the version line\n";
+
 int main(int argc, char** argv) {
+  if (trueaxis::sim::answered_help_or_version(argc, argv, "test_rtu_qemu", kHelp)) return 0;
   if (argc < 2) {
     std::fprintf(stderr, "usage: test_rtu_qemu IMAGE [QEMU-ARGUMENTS...]\n");
     return 2;

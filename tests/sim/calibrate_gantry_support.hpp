@@ -14,9 +14,9 @@
 #include "calibrate_support.hpp"
 #include "in_process_sim.hpp"
 #include "trueaxis/macros/register_map.hpp"
-#include "trueaxis/sim/calibrate.hpp"
-#include "trueaxis/sim/client.hpp"
-#include "trueaxis/sim/gantry_measure.hpp"
+#include "trueaxis/sim/tools/calibrate.hpp"
+#include "trueaxis/sim/tools/client.hpp"
+#include "trueaxis/sim/tools/gantry_measure.hpp"
 
 namespace trueaxis::test {
 

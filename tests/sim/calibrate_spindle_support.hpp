@@ -15,8 +15,8 @@
 #include "in_process_sim.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/macros/spindle/spindle_map.hpp"
-#include "trueaxis/sim/calibrate.hpp"
-#include "trueaxis/sim/client.hpp"
+#include "trueaxis/sim/tools/calibrate.hpp"
+#include "trueaxis/sim/tools/client.hpp"
 
 namespace trueaxis::test {
 

@@ -1,5 +1,5 @@
 // What the trueaxis-calibrate tests share: a child process run by argv (no
-// shell) with its exit code and stderr, files, a temporary directory, a
+// shell) with its exit code, stdout and stderr, files, a temporary directory, a
 // report's PNG figures, and a small strict JSON reader for OUT.json.
 #pragma once
 
@@ -30,6 +30,7 @@ namespace trueaxis::test {
 struct Run {
   int exit_code = -1;
   std::string err;  // all of stderr
+  std::string out;  // all of stdout
 };
 
 inline std::string slurp(const std::string& path) {
@@ -41,11 +42,12 @@ inline std::string slurp(const std::string& path) {
 
 inline bool exists(const std::string& path) { return ::access(path.c_str(), F_OK) == 0; }
 
-// argv[0] is the binary's path; stdout goes to /dev/null, stderr to err_path.
+// argv[0] is the binary's path; stderr goes to err_path, stdout to err_path + ".out".
 inline Run run(const std::vector<std::string>& argv, const std::string& err_path) {
+  const std::string out_path = err_path + ".out";
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
@@ -59,6 +61,7 @@ inline Run run(const std::vector<std::string>& argv, const std::string& err_path
   REQUIRE(::waitpid(pid, &status, 0) == pid);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   r.err = slurp(err_path);
+  r.out = slurp(out_path);
   return r;
 }
 

@@ -16,12 +16,12 @@
 #include "trueaxis/core/status.hpp"
 #include "trueaxis/hal/posix/steady_clock.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
-#include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/macros/module.hpp"
-#include "trueaxis/sim/client.hpp"
-#include "trueaxis/sim/modbus_server.hpp"
-#include "trueaxis/sim/simulator.hpp"
-#include "trueaxis/sim/variable_router.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
+#include "trueaxis/sim/server/modbus_server.hpp"
+#include "trueaxis/sim/server/simulator.hpp"
+#include "trueaxis/sim/server/variable_router.hpp"
+#include "trueaxis/sim/tools/client.hpp"
 
 namespace trueaxis::test {
 

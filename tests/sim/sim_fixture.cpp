@@ -7,7 +7,7 @@
 
 #include <unistd.h>
 
-#include "trueaxis/sim/sim_map.hpp"
+#include "trueaxis/sim/server/sim_map.hpp"
 
 namespace trueaxis::sim::test {
 

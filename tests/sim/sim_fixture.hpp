@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "trueaxis/sim/client.hpp"
-#include "trueaxis/sim/sim_process.hpp"
+#include "trueaxis/sim/tools/client.hpp"
+#include "trueaxis/sim/tools/sim_process.hpp"
 
 namespace trueaxis::sim::test {
 

@@ -1,4 +1,4 @@
-// `trueaxis-calibrate rigidity` as an integrator runs it (INTERFACE.md "The
+// `trueaxis-calibrate rigidity` as an integrator runs it (docs/INTERFACE.md "The
 // integrator's command", "M3 rigidity"): the tools run as child processes (argv,
 // no shell) against a trueaxis-sim; OUT.json is parsed and held against what the
 // module answers over Modbus (9832, 9834, 9833); every bad input gets exit 1, one
@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -160,6 +161,21 @@ std::string module_error(Status s) {
          trueaxis::macros::status_name(s) + ": " + trueaxis::macros::status_message(s);
 }
 
+// The command's one stdout line for OUT.json's poses (the largest rigidity with
+// its sigma and pose), then what it wrote and stored (`tail`).
+std::string summary_line(const Json& json, const std::string& tail) {
+  const Json* worst = nullptr;
+  for (const Json& p : json["poses"].items) {
+    if (worst == nullptr || p["rigidity_arcsec"].number > (*worst)["rigidity_arcsec"].number) worst = &p;
+  }
+  REQUIRE(worst != nullptr);
+  char line[200];
+  std::snprintf(line, sizeof line, "rigidity: %zu poses, worst rigidity %.2f\" +- %.2f\" (pose A=%g)",
+                json["poses"].items.size(), (*worst)["rigidity_arcsec"].number,
+                (*worst)["rigidity_sigma_arcsec"].number, (*worst)["a_deg"].number);
+  return line + tail + "\n";
+}
+
 }  // namespace
 
 TEST_CASE("calibrate rigidity: OUT.json holds exactly what the module computed, --store stores it, --report draws it",
@@ -180,6 +196,7 @@ TEST_CASE("calibrate rigidity: OUT.json holds exactly what the module computed, 
   const std::string built = slurp(w.file("built.json"));
   Json json;
   REQUIRE(JsonReader(built).parse(json));
+  CHECK(r.out == summary_line(json, "; wrote " + w.file("built.json") + "; not stored"));
   CHECK(json["method"].text == "rigidity");
   CHECK(json["reference_a_deg"].kind == Json::kNumber);
   CHECK(json["reference_a_deg"].number == 0.0);
@@ -225,6 +242,8 @@ TEST_CASE("calibrate rigidity: OUT.json holds exactly what the module computed, 
   r = calibrate(sim.port(), w, w.file("samples.csv"), w.file("stored.json"), true, w.file("report"));
   REQUIRE(r.exit_code == 0);
   CHECK(r.err.empty());
+  CHECK(r.out == summary_line(json, "; wrote " + w.file("stored.json") + ", report " + w.file("report") +
+                                        "/index.html; stored (record 3 rigidity_table)"));
   CHECK(read_var(client, v::kUnlock) == 0.0);  // locked again
   CHECK(slurp(w.file("stored.json")) == built);
   for (int q = 1; q <= 7; ++q) {
@@ -362,6 +381,7 @@ TEST_CASE("calibrate rigidity: a bad sample is named by its line or the module's
       CHECK(r.exit_code == 1);
       CHECK(r.err.compare(0, c.line.size(), c.line) == 0);
       CHECK(r.err.find('\n') == r.err.size() - 1);  // one line
+      CHECK(r.out.empty());
       CHECK_FALSE(exists(w.file("out.json")));
       CHECK_FALSE(exists(w.file("out.json.tmp")));
       CHECK_FALSE(exists(w.file("report")));
@@ -462,6 +482,7 @@ TEST_CASE("calibrate rigidity: a report that cannot be made leaves no OUT.json a
   const Run r = calibrate(sim.port(), w, w.file("samples.csv"), w.file("out.json"), true, w.file("a_file/report"));
   CHECK(r.exit_code == 1);
   CHECK(r.err.find('\n') == r.err.size() - 1);  // one line
+  CHECK(r.out.empty());
   CHECK_FALSE(exists(w.file("out.json")));
   CHECK(query(sim.client(), 45.0, 0, 0) == kNoTable);
   CHECK(read_var(sim.client(), v::kUnlock) == 0.0);
@@ -492,4 +513,56 @@ TEST_CASE("calibrate --store unlocks with the machine's own code (--unlock-code)
   CHECK(read_var(client, v::kUnlock) == 0.0);  // locked again
   argv.back() = "0";
   CHECK(run(argv, w.file("calibrate.err")).exit_code == 1);  // 1..9999 only
+}
+
+TEST_CASE("calibrate: --help lists the methods, METHOD --help gives its files' columns and units, bad usage is one line",
+          "[calibrate]") {
+  Workspace w("trueaxis-calibrate-help");
+  const auto command = [&](const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {TRUEAXIS_CALIBRATE_BINARY};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return run(argv, w.file("help.err"));
+  };
+  Run r = command({"--help"});
+  CHECK(r.exit_code == 0);
+  CHECK(r.err.empty());
+  CHECK(r.out.compare(0, 26, "usage: trueaxis-calibrate ") == 0);
+  for (const char* method : {"rigidity", "gantry", "spindle"}) {
+    CAPTURE(method);
+    CHECK(r.out.find(std::string("\n  ") + method + " ") != std::string::npos);
+  }
+  // Each method's own columns, with units, and whether it reads MACHINE.
+  const std::vector<std::vector<std::string>> expected = {
+      {"rigidity", "SAMPLES.csv: a_deg,c_deg,x_mm,y_mm,z_mm", "the commanded A and C (deg)", "MACHINE.csv: not read"},
+      {"gantry", "SAMPLES.csv: group,x_mm,y_mm,z_mm", "(mm, tracker frame",
+       "MACHINE.csv (--machine, required): sub_machine,swing_mm,tool_x,tool_y,tool_z"},
+      {"spindle", "SAMPLES.csv: phi_deg,ball,x_mm,y_mm,z_mm", "(deg; may pass 360)", "tool_length_mm"}};
+  for (const auto& e : expected) {
+    CAPTURE(e[0]);
+    for (const std::vector<std::string>& args : {std::vector<std::string>{e[0], "--help"},
+                                                 std::vector<std::string>{e[0], "--in", "x.csv", "-h"}}) {
+      r = command(args);
+      CHECK(r.exit_code == 0);
+      CHECK(r.err.empty());
+      const std::string title = "trueaxis-calibrate " + e[0] + ": ";
+      CHECK(r.out.compare(0, title.size(), title) == 0);
+      for (std::size_t k = 1; k < e.size(); ++k) CHECK(r.out.find(e[k]) != std::string::npos);
+    }
+  }
+  CHECK(command({"gantry", "--help"}).out.find("a_deg") == std::string::npos);  // not another method's
+
+  // Bad usage: exit 1, one line on stderr, nothing on stdout.
+  const std::vector<std::pair<std::vector<std::string>, std::string>> bad = {
+      {{}, "no METHOD"},
+      {{"nope", "--help"}, "unknown METHOD 'nope': rigidity, gantry or spindle"},
+      {{"rigidity", "--in", "x.csv"}, "--in and --json are required"},
+      {{"rigidity", "--in", "x.csv", "--json", "o.json", "--port", "0"}, "--port takes 1..65535"},
+      {{"rigidity", "--frobnicate"}, "unknown or incomplete option '--frobnicate'"}};
+  for (const auto& [args, why] : bad) {
+    CAPTURE(why);
+    r = command(args);
+    CHECK(r.exit_code == 1);
+    CHECK(r.err == "trueaxis-calibrate: " + why + " (trueaxis-calibrate --help)\n");
+    CHECK(r.out.empty());
+  }
 }

@@ -1,4 +1,4 @@
-// `trueaxis-calibrate gantry` (INTERFACE.md "The integrator's command", "M2
+// `trueaxis-calibrate gantry` (docs/INTERFACE.md "The integrator's command", "M2
 // gantry"): its flow (calibrate_gantry, store_gantry) driven in this process
 // against a simulator served in this process too (a thread, 127.0.0.1 port 0, RAM
 // storage), on files the virtual laser tracker measured off the virtual gantry
@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -159,10 +160,12 @@ TEST_CASE("calibrate gantry: the command with --store and --report, the page dra
   Run r = command(samples, w.file("out.json"), {"--store", "--report", w.file("report")});
   CHECK(r.exit_code == 1);
   CHECK(r.err == "trueaxis-calibrate: gantry needs --machine MACHINE.csv (sub_machine,swing_mm,tool_x,tool_y,tool_z)\n");
+  CHECK(r.out.empty());
   w.write("bad.csv", "group,x_mm,y_mm,z_mm\nbed,1,2,3\nsp1_q,1,2,3\n");
   r = command(w.file("bad.csv"), w.file("out.json"), {"--machine", machine, "--store", "--report", w.file("report")});
   CHECK(r.exit_code == 1);
   CHECK(r.err == "trueaxis-calibrate: " + w.file("bad.csv") + ":3: unknown group 'sp1_q'\n");
+  CHECK(r.out.empty());
   CHECK_FALSE(exists(w.file("out.json")));
   CHECK_FALSE(exists(w.file("report")));
   for (const auto& c : conversions(sim.client())) CHECK(c == std::vector<double>{404.0});
@@ -173,6 +176,16 @@ TEST_CASE("calibrate gantry: the command with --store and --report, the page dra
   CHECK(r.err.empty());
   const Json out = parse(slurp(w.file("out.json")));
   REQUIRE(out["sub_machines"].items.size() == 4);
+  // One stdout line: the largest origin sigma and its sub-machine, what was written and stored.
+  const Json* worst = &out["sub_machines"].items[0];
+  for (const Json& sub : out["sub_machines"].items) {
+    if (sub["origin_sigma_mm"].number > (*worst)["origin_sigma_mm"].number) worst = &sub;
+  }
+  char summary[120];
+  std::snprintf(summary, sizeof summary, "gantry: 4 sub-machines, worst origin 1-sigma %.1f um (sp%g)",
+                1000.0 * (*worst)["origin_sigma_mm"].number, (*worst)["id"].number);
+  CHECK(r.out == summary + ("; wrote " + w.file("out.json") + ", report " + w.file("report") +
+                            "/index.html; stored (record 4 gantry_frames)\n"));
   const std::vector<std::vector<double>> converted = conversions(sim.client());
   for (std::size_t n = 0; n < 4; ++n) {
     REQUIRE(converted[n].size() == 3);

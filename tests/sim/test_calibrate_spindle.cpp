@@ -1,9 +1,9 @@
-// `trueaxis-calibrate spindle` (INTERFACE.md "The integrator's command", "M4
+// `trueaxis-calibrate spindle` (docs/INTERFACE.md "The integrator's command", "M4
 // spindle"): its flow (calibrate_spindle, store_spindle) driven in this process
 // against a simulator served in this process too (a thread, 127.0.0.1 port 0,
 // RAM storage), on files trueaxis-measure-spindle measured off the virtual
 // spindle, with that spindle's truth beside them:
-//  1. good data: OUT.json parses with INTERFACE.md's keys, the parameters and
+//  1. good data: OUT.json parses with docs/INTERFACE.md's keys, the parameters and
 //     the tool-tip errors within 3 sigma of the truth; after --store, 9843
 //     answers every per_angle entry bit for bit; the header's order, extra
 //     columns and comments change nothing; a later session replaces the model;
@@ -14,6 +14,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -21,7 +22,7 @@
 #include "calibrate_support.hpp"
 #include "in_process_sim.hpp"
 #include "trueaxis/core/status.hpp"
-#include "trueaxis/sim/virtual_spindle.hpp"
+#include "trueaxis/sim/machines/virtual_spindle.hpp"
 
 namespace {
 
@@ -32,7 +33,7 @@ using namespace trueaxis::test;
 
 const std::vector<double> kNoTable = {static_cast<double>(Status::kNoTable)};
 
-// OUT.json's fixed shape (INTERFACE.md) and what this command adds; the
+// OUT.json's fixed shape (docs/INTERFACE.md) and what this command adds; the
 // maxima are the per_angle maxima.
 void check_shape(const Json& out, std::size_t samples) {
   CHECK(out["method"].text == "spindle");
@@ -231,6 +232,7 @@ TEST_CASE("calibrate spindle: the command with --store and --report, the page dr
   CHECK(r.err ==
         "trueaxis-calibrate: spindle needs --machine MACHINE.csv (name,value: bearing_spacing_mm, "
         "gauge_from_upper_bearing_mm, ball_1_mm, ball_2_mm, tool_length_mm)\n");
+  CHECK(r.out.empty());
   std::vector<std::string> lines = lines_of(slurp(f.samples));
   lines.erase(std::remove_if(lines.begin() + 3, lines.end(),
                              [](const std::string& l) { return std::stod(fields_of(l)[0]) >= 290.0; }),
@@ -238,6 +240,7 @@ TEST_CASE("calibrate spindle: the command with --store and --report, the page dr
   r = command(w.write("short.csv", text_of(lines)), {"--machine", f.machine});
   CHECK(r.exit_code == 1);
   CHECK(r.err == "trueaxis-calibrate: " + module_error(Status::kRevolutionIncomplete) + " (macro 9842)\n");
+  CHECK(r.out.empty());
   CHECK_FALSE(exists(w.file("out.json")));
   CHECK_FALSE(exists(w.file("report")));
   for (const auto& c : corrections(sim.client(), tool)) CHECK(c == kNoTable);
@@ -250,6 +253,19 @@ TEST_CASE("calibrate spindle: the command with --store and --report, the page dr
   check_shape(out, data_rows(f.samples));
   check_stored(sim.client(), out);
   CHECK(read_var(sim.client(), v::kUnlock) == 0.0);
+  // One stdout line: the largest theta_e with its sigma and angle, what was written and stored.
+  const Json* worst = &out["per_angle"].items[0];
+  for (const Json& a : out["per_angle"].items) {
+    if (a["theta_e_arcsec"].number > (*worst)["theta_e_arcsec"].number) worst = &a;
+  }
+  CHECK((*worst)["theta_e_arcsec"].number == out["theta_e_max_arcsec"].number);
+  char summary[160];
+  std::snprintf(summary, sizeof summary, "spindle: %g samples, worst theta_e %.3f\" +- %.3f\" (phi=%g), d_e up to %.2f um",
+                out["fit"]["samples"].number, (*worst)["theta_e_arcsec"].number,
+                (*worst)["theta_e_sigma_arcsec"].number, (*worst)["phi_deg"].number,
+                1000.0 * out["d_e_max_mm"].number);
+  CHECK(r.out == summary + ("; wrote " + w.file("out.json") + ", report " + w.file("report") +
+                            "/index.html; stored (record 5 spindle_model)\n"));
 
   const std::string page = slurp(w.file("report/index.html"));
   CHECK(page.find("<html") != std::string::npos);

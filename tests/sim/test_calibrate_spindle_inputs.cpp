@@ -108,7 +108,7 @@ TEST_CASE("calibrate spindle: every bad input has its own error and stores nothi
   }
   cases.push_back({"an empty samples file", "", machine, at(1, "no header row"), true});
   cases.push_back({"no samples file", "", machine, "", false});  // the path is replaced below
-  // MACHINE: line 1 a comment, 2 the header, 3..7 the five names in INTERFACE.md's order.
+  // MACHINE: line 1 a comment, 2 the header, 3..7 the five names in docs/INTERFACE.md's order.
   cases.push_back({"no MACHINE file", samples, "", "spindle needs --machine MACHINE.csv", false});
   cases.push_back(
       {"a missing MACHINE name", samples, machine_with(7, ""), bad_machine + ": no row for 'tool_length_mm'", true});

@@ -1,11 +1,13 @@
 // The virtual cradle's geometric errors (cradle_errors.hpp) and its M3 ground
-// truth (cradle_machine.hpp convention 5), each term alone against a closed form
+// truth (cradle_machine.hpp convention 3), each term alone against a closed form
 // or an independent construction (Eigen's AngleAxis for rotations and logs).
 #include <catch2/catch.hpp>
 
 #include <cmath>
 
-#include "trueaxis/sim/cradle_machine.hpp"
+#include "trueaxis/sim/instruments/calibration_ball.hpp"
+#include "trueaxis/sim/instruments/touch_probe.hpp"
+#include "trueaxis/sim/machines/cradle_machine.hpp"
 
 namespace {
 
@@ -16,6 +18,7 @@ using trueaxis::sim::CradleErrors;
 using trueaxis::sim::CradleMachine;
 using trueaxis::sim::FaceConfig;
 using trueaxis::sim::SimRng;
+using trueaxis::sim::TouchProbe;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kRadPerArcsec = kPi / (180.0 * 3600.0);
@@ -56,9 +59,9 @@ TEST_CASE("a tilted, displaced A axis turns the ball about the true line") {
   CHECK(m.c_axis_at(0.0).point_mm == e.a_point_mm);
   for (double a : {-90.0, -30.0, 45.0, 90.0, 120.0}) {
     for (double c : {0.0, 77.0}) {
-      const Vec3 rest = m.ball_centre(0.0, c, kBall);
+      const Vec3 rest = kBall.centre_mm(m.machine_T_table(0.0, c));
       const Vec3 expected = e.a_point_mm + turn(dir, a * kRadPerDeg) * (rest - e.a_point_mm);
-      CHECK((m.ball_centre(a, c, kBall) - expected).norm() < 1e-12);
+      CHECK((kBall.centre_mm(m.machine_T_table(a, c)) - expected).norm() < 1e-12);
     }
     // Rigid: no rotation vector, no positioning error.
     CHECK(arcsec(m.rotation_vector_rad(a, 50.0)).norm() < 1e-7);
@@ -66,7 +69,7 @@ TEST_CASE("a tilted, displaced A axis turns the ball about the true line") {
   }
   // The effect is real: at A = 90 deg the ball is microns away from the ideal machine's.
   const Vec3 ideal = CradleMachine::table_rotation(90.0, 0.0) * kBall.centre_table_mm;
-  CHECK((m.ball_centre(90.0, 0.0, kBall) - ideal).norm() > 0.02);
+  CHECK((kBall.centre_mm(m.machine_T_table(90.0, 0.0)) - ideal).norm() > 0.02);
 }
 
 TEST_CASE("the C offset moves the C circle's centre by that offset") {
@@ -76,7 +79,7 @@ TEST_CASE("the C offset moves the C circle's centre by that offset") {
   for (double a : {0.0, 60.0, -90.0}) {
     // The circle's centre as the mean of four quarter-turn positions.
     Vec3 centre = Vec3::Zero();
-    for (double c : {0.0, 90.0, 180.0, 270.0}) centre += 0.25 * m.ball_centre(a, c, kBall);
+    for (double c : {0.0, 90.0, 180.0, 270.0}) centre += 0.25 * kBall.centre_mm(m.machine_T_table(a, c));
     const Vec3 expected = CradleMachine::table_rotation(a, 0.0) * Vec3(0.0, 0.030, 50.0);
     CHECK((centre - expected).norm() < 1e-12);
     CHECK((m.c_centre_at(a, 50.0) - expected).norm() < 1e-12);
@@ -116,9 +119,9 @@ TEST_CASE("C squareness tilts the C axis towards the A axis by that angle") {
   e.c_squareness_arcsec = 20.0;
   const CradleMachine m(FaceConfig{}, e);
   // The C direction from three ball positions (right-handed for increasing C).
-  const Vec3 p0 = m.ball_centre(0.0, 0.0, kBall);
-  const Vec3 p1 = m.ball_centre(0.0, 120.0, kBall);
-  const Vec3 p2 = m.ball_centre(0.0, 240.0, kBall);
+  const Vec3 p0 = kBall.centre_mm(m.machine_T_table(0.0, 0.0));
+  const Vec3 p1 = kBall.centre_mm(m.machine_T_table(0.0, 120.0));
+  const Vec3 p2 = kBall.centre_mm(m.machine_T_table(0.0, 240.0));
   const Vec3 n = (p1 - p0).cross(p2 - p0).normalized();
   const double s = 20.0 * kRadPerArcsec;
   CHECK((n - Vec3(-std::sin(s), 0.0, std::cos(s))).norm() < 1e-12);
@@ -139,7 +142,7 @@ TEST_CASE("the positioning error shifts the actual angle by e(A)") {
     CHECK(m.a_drive_error_arcsec(a) == Approx(e_arcsec).epsilon(1e-14));
     CHECK(m.actual_a_deg(a) == Approx(a + e_arcsec / 3600.0).epsilon(1e-15));
     const Mat3 r = turn(Vec3::UnitX(), a * kRadPerDeg + e_arcsec * kRadPerArcsec) * turn(Vec3::UnitZ(), 0.3);
-    CHECK((m.ball_centre(a, 0.3 / kRadPerDeg, kBall) - r * kBall.centre_table_mm).norm() < 1e-12);
+    CHECK((kBall.centre_mm(m.machine_T_table(a, 0.3 / kRadPerDeg)) - r * kBall.centre_table_mm).norm() < 1e-12);
     // M3 measures the angle relative to the reference pose: e0 cancels.
     CHECK(m.a_positioning_error_arcsec(a, 50.0) == Approx(6.0 * std::sin(a * kRadPerDeg)).margin(1e-7));
     CHECK(arcsec(m.rotation_vector_rad(a, 50.0)).norm() < 1e-7);
@@ -186,7 +189,7 @@ TEST_CASE("the stiffness deflection turns the table by k_s sin 2A about its Y ax
   }
 }
 
-TEST_CASE("the true rotation vector follows INTERFACE.md's definition") {
+TEST_CASE("the true rotation vector follows docs/INTERFACE.md's definition") {
   const CradleMachine m(FaceConfig{}, trueaxis::sim::realistic_errors());
   SimRng rng(5);
   const Vec3 a_dir = m.a_axis().direction;
@@ -256,7 +259,7 @@ TEST_CASE("the probe touches the true face, so leveling on the ideal axes misses
   CHECK(miss_arcsec < 120.0);
   for (double a : {0.0, 15.0, -30.0}) {
     Vec3 p;
-    REQUIRE(m.touch(a, 45.0, 25.0, -10.0, p));
+    REQUIRE(TouchProbe::touch(m.face_at(a, 45.0), 25.0, -10.0, p));
     const auto machine_T = m.machine_T_table(a, 45.0);
     const Vec3 p_table = machine_T.rotation.transpose() * (p - machine_T.translation_mm);
     CHECK(n.dot(p_table - Vec3(0.0, 0.0, face.height_mm)) == Approx(0.0).margin(1e-10));
@@ -268,15 +271,15 @@ TEST_CASE("the instrument's noise has the configured sigma and is reproducible")
   for (double sigma : {0.001, 0.02}) {
     CalibrationBall ball = kBall;
     ball.sigma_mm = sigma;
-    const Vec3 truth = m.ball_centre(35.0, 210.0, ball);
+    const Vec3 truth = ball.centre_mm(m.machine_T_table(35.0, 210.0));
     SimRng rng(42);
     SimRng again(42);
     constexpr int kN = 5000;
     Vec3 sum = Vec3::Zero();
     Vec3 sum_sq = Vec3::Zero();
     for (int i = 0; i < kN; ++i) {
-      const Vec3 d = m.measure_ball(35.0, 210.0, ball, rng) - truth;
-      REQUIRE(m.measure_ball(35.0, 210.0, ball, again) - truth == d);
+      const Vec3 d = ball.measure(m.machine_T_table(35.0, 210.0), rng) - truth;
+      REQUIRE(ball.measure(m.machine_T_table(35.0, 210.0), again) - truth == d);
       sum += d;
       sum_sq += d.cwiseProduct(d);
     }

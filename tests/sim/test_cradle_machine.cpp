@@ -4,7 +4,9 @@
 
 #include <cmath>
 
-#include "trueaxis/sim/cradle_machine.hpp"
+#include "trueaxis/sim/instruments/calibration_ball.hpp"
+#include "trueaxis/sim/instruments/touch_probe.hpp"
+#include "trueaxis/sim/machines/cradle_machine.hpp"
 
 namespace {
 
@@ -12,6 +14,7 @@ using trueaxis::core::Vec3;
 using trueaxis::sim::CradleMachine;
 using trueaxis::sim::FaceConfig;
 using trueaxis::sim::SimRng;
+using trueaxis::sim::TouchProbe;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -26,7 +29,7 @@ TEST_CASE("the face normal at table zero follows tilt and azimuth") {
   CHECK(m.tilt_deg_at(0.0, 0.0) == Approx(12.5).epsilon(1e-12));
 }
 
-TEST_CASE("turning the table to the METHODS.md M1 angles makes the face level") {
+TEST_CASE("turning the table to the docs/METHODS.md M1 angles makes the face level") {
   for (double azimuth : {-170.0, -90.0, 0.0, 30.0, 135.0}) {
     const CradleMachine m(FaceConfig{20.0, azimuth, 40.0});
     const Vec3 n = m.normal_table();
@@ -48,7 +51,7 @@ TEST_CASE("a touch point lies on the face and below the probe") {
   const CradleMachine m(FaceConfig{12.5, 30.0, 40.0});
   for (double a : {0.0, 10.0, -30.0}) {
     Vec3 p;
-    REQUIRE(m.touch(a, 45.0, 25.0, -10.0, p));
+    REQUIRE(TouchProbe::touch(m.face_at(a, 45.0), 25.0, -10.0, p));
     CHECK(p.x() == 25.0);
     CHECK(p.y() == -10.0);
     const auto R = CradleMachine::table_rotation(a, 45.0);
@@ -60,9 +63,9 @@ TEST_CASE("a touch point lies on the face and below the probe") {
 TEST_CASE("the probe refuses a face too steep to touch from above") {
   const CradleMachine m(FaceConfig{12.5, 90.0, 40.0});
   Vec3 p(1.0, 2.0, 3.0);
-  CHECK_FALSE(m.touch(-70.0, 0.0, 0.0, 0.0, p));  // 82.5 deg
+  CHECK_FALSE(TouchProbe::touch(m.face_at(-70.0, 0.0), 0.0, 0.0, p));  // 82.5 deg
   CHECK(p == Vec3(1.0, 2.0, 3.0));
-  CHECK(m.touch(-60.0, 0.0, 0.0, 0.0, p));  // 72.5 deg
+  CHECK(TouchProbe::touch(m.face_at(-60.0, 0.0), 0.0, 0.0, p));  // 72.5 deg
 }
 
 TEST_CASE("the noise generator is deterministic and has unit variance") {
@@ -101,7 +104,7 @@ TEST_CASE("with no errors the true machine is Rx(A) Rz(C) about the origin, bit 
                         static_cast<double>(std::sin(ar) * y + std::cos(ar) * pz));
     trueaxis::sim::CalibrationBall ball;
     ball.centre_table_mm = Vec3(200.0, -30.0, 50.0);
-    CHECK((m.ball_centre(a, c, ball) - expected).norm() < 1e-12);
+    CHECK((ball.centre_mm(m.machine_T_table(a, c)) - expected).norm() < 1e-12);
     CHECK(m.actual_a_deg(a) == a);
   }
   CHECK(m.a_axis().point_mm == Vec3::Zero());

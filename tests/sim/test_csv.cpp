@@ -1,6 +1,6 @@
 #include <catch2/catch.hpp>
 
-#include "trueaxis/sim/csv.hpp"
+#include "trueaxis/sim/tools/csv.hpp"
 
 using trueaxis::sim::parse_csv;
 

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "gantry_geometry.hpp"
-#include "trueaxis/sim/gantry_machine.hpp"
+#include "trueaxis/sim/machines/gantry_machine.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <cmath>
 
 #include "gantry_geometry.hpp"
-#include "trueaxis/sim/gantry_machine.hpp"
+#include "trueaxis/sim/machines/gantry_machine.hpp"
 
 namespace {
 
@@ -220,7 +220,7 @@ TEST_CASE("the squareness errors are the axes' angles minus 90 degrees and S4 ke
   CHECK(m.truth(3).master == MasterAxis::kY);
 }
 
-TEST_CASE("S4 rebuilds the other axes by the cross products METHODS.md gives") {
+TEST_CASE("S4 rebuilds the other axes by the cross products docs/METHODS.md gives") {
   const Vec3 x = Vec3(1.0, 2e-4, -1e-4).normalized();
   const Vec3 y = Vec3(-1e-4, 1.0, 3e-4).normalized();
   const Vec3 z = Vec3(2e-4, -1e-4, 1.0).normalized();

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <map>
 
-#include "trueaxis/sim/csv.hpp"
-#include "trueaxis/sim/gantry_measure.hpp"
+#include "trueaxis/sim/tools/csv.hpp"
+#include "trueaxis/sim/tools/gantry_measure.hpp"
 
 namespace {
 

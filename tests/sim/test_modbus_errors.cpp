@@ -1,4 +1,4 @@
-// Every refusal INTERFACE.md promises, over real Modbus TCP against trueaxis-sim,
+// Every refusal docs/INTERFACE.md promises, over real Modbus TCP against trueaxis-sim,
 // and in each case proof that nothing else changed.
 #include <catch2/catch.hpp>
 
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "sim_fixture.hpp"
-#include "trueaxis/sim/sim_map.hpp"
+#include "trueaxis/sim/server/sim_map.hpp"
 
 namespace {
 

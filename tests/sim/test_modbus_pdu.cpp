@@ -10,10 +10,10 @@
 #include "alloc_counter.hpp"
 #include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
-#include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/macros/module.hpp"
-#include "trueaxis/sim/simulator.hpp"
-#include "trueaxis/sim/variable_router.hpp"
+#include "trueaxis/modbus/modbus_core.hpp"
+#include "trueaxis/sim/server/simulator.hpp"
+#include "trueaxis/sim/server/variable_router.hpp"
 
 namespace {
 

@@ -14,7 +14,7 @@
 #include <unistd.h>
 
 #include "sim_fixture.hpp"
-#include "trueaxis/sim/sim_map.hpp"
+#include "trueaxis/sim/server/sim_map.hpp"
 
 namespace {
 
@@ -156,7 +156,7 @@ TEST_CASE("9810 finds the virtual face's normal, tilt and leveling angles within
     CHECK(std::abs(r[7] - truth[3]) * 3600.0 < 5.0 * r[8]);
     CHECK(r[8] > 0.1);
     CHECK(r[8] < 10.0);
-    // The angles METHODS.md M1 gives for the true normal.
+    // The angles docs/METHODS.md M1 gives for the true normal.
     const double rho = std::hypot(truth[0], truth[1]);
     const double c1 = std::atan2(truth[0], truth[1]) * 180.0 / kPi;
     const double a1 = std::atan2(rho, truth[2]) * 180.0 / kPi;

@@ -15,7 +15,9 @@
 #include "trueaxis/core/rigidity_compensation.hpp"
 #include "trueaxis/core/so3.hpp"
 #include "trueaxis/macros/module.hpp"
-#include "trueaxis/sim/cradle_machine.hpp"
+#include "trueaxis/sim/instruments/calibration_ball.hpp"
+#include "trueaxis/sim/instruments/touch_probe.hpp"
+#include "trueaxis/sim/machines/cradle_machine.hpp"
 
 namespace {
 
@@ -59,7 +61,7 @@ double measure_and_build(Rig& rig, const sim::CradleMachine& mc, double sigma_mm
   for (double a : kPosesDeg) {
     for (int k = 0; k < 36; ++k) {
       const double c = 10.0 * k;
-      const Vec3 p = mc.measure_ball(a, c, ball, rng);
+      const Vec3 p = ball.measure(mc.machine_T_table(a, c), rng);
       const double ac[3] = {a, 0.0, c};
       const double xyz[3] = {p.x(), p.y(), p.z()};
       REQUIRE(rig.module.write(v::kArgA, 3, ac) == F::kNone);
@@ -89,7 +91,7 @@ PoseReading pose(Rig& rig, int q, bool stored) {
 
 TEST_CASE("recovered rotation vectors are within 3 sigma of the truth by the module's own figure",
           "[rigidity][flow]") {
-  // The truth is INTERFACE.md's definition applied to the true machine: the
+  // The truth is docs/INTERFACE.md's definition applied to the true machine: the
   // same build on noise-free ball positions (the definition's A axis is the
   // circle through the C centres). Without the stiffness term that equals the
   // simulator's own truth about its true A axis (checked below to 0.1"); with it
@@ -306,7 +308,7 @@ TEST_CASE("a failed build stores nothing and keeps the live table", "[rigidity][
     for (double a : {0.0, 30.0}) {
       for (int k = 0; k < 6; ++k) {
         const double ac[3] = {a, 0.0, 60.0 * k};
-        const Vec3 p = mc.ball_centre(a, 60.0 * k, sim::CalibrationBall{});
+        const Vec3 p = sim::CalibrationBall{}.centre_mm(mc.machine_T_table(a, 60.0 * k));
         const double xyz[3] = {p.x(), p.y(), p.z()};
         REQUIRE(rig.module.write(v::kArgA, 3, ac) == F::kNone);
         REQUIRE(rig.module.write(v::kArgX, 3, xyz) == F::kNone);
@@ -348,7 +350,7 @@ TEST_CASE("leveling on the calibrated axes is within 3 sigma where the ideal axe
       for (int i = 0; i < 3; ++i) {  // an equilateral triangle of side 100 mm, table at zero
         const double angle = core::kPi / 2 + 2 * core::kPi * i / 3;
         Vec3 p;
-        REQUIRE(mc.touch(0.0, 0.0, 57.735 * std::cos(angle), 57.735 * std::sin(angle), p));
+        REQUIRE(sim::TouchProbe::touch(mc.face_at(0.0, 0.0), 57.735 * std::cos(angle), 57.735 * std::sin(angle), p));
         const double noisy[3] = {p.x() + 0.0005 * rng.normal(), p.y() + 0.0005 * rng.normal(), p.z() + 0.0005 * rng.normal()};
         REQUIRE(rig.module.write(targets[i], 3, noisy) == F::kNone);
       }

@@ -11,7 +11,8 @@
 #include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
-#include "trueaxis/sim/simulator.hpp"
+#include "trueaxis/sim/instruments/calibration_ball.hpp"
+#include "trueaxis/sim/server/simulator.hpp"
 
 namespace {
 
@@ -88,7 +89,7 @@ TEST_CASE("sim_ball_measure measures the ball at the commanded axes") {
     trueaxis::sim::CalibrationBall ball;
     ball.centre_table_mm = Vec3(100.0, 0.0, 10.0);
     const CradleMachine real(FaceConfig{}, trueaxis::sim::realistic_errors());
-    CHECK(b.last_ball() == real.ball_centre(90.0, 0.0, ball));
+    CHECK(b.last_ball() == ball.centre_mm(real.machine_T_table(90.0, 0.0)));
   }
 }
 

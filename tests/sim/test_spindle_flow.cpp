@@ -1,6 +1,6 @@
 // M4 through the register interface, in process: the analyser's samples
 // streamed with 9841, the model identified with 9842 (several steps), stored
-// through the keyed store, and queried with 9843 (INTERFACE.md), 9844 and 9845;
+// through the keyed store, and queried with 9843 (docs/INTERFACE.md), 9844 and 9845;
 // each answer held against the core's own functions bit for bit, each refusal
 // checked to leave the outputs, the session and the stored bytes as they were.
 #include <catch2/catch.hpp>

@@ -14,7 +14,8 @@
 #include <cstdio>
 #include <cstdlib>
 
-#include "trueaxis/sim/virtual_spindle.hpp"
+#include "trueaxis/sim/machines/virtual_spindle.hpp"
+#include "trueaxis/sim/tools/spindle_measure.hpp"
 
 namespace {
 
@@ -70,7 +71,7 @@ McStats run_mc(double form_rms_mm, std::uint64_t seed) {
     ac.form_rms_mm = form_rms_mm;
     ac.form_seed = seed + static_cast<std::uint64_t>(run);
     sim::SimRng noise(seed * 7919u + 1000003u + static_cast<std::uint64_t>(run));
-    const auto samples = sim::VirtualAnalyser(ac).measure(spindle, noise);
+    const auto samples = sim::measure_spindle(sim::VirtualAnalyser(ac), spindle, noise);
     core::SpindleFit fit;
     REQUIRE(core::fit_spindle(samples.data(), samples.size(), g, fit) == core::Status::kOk);
     st.rms_mm += fit.rms_mm / kRuns;

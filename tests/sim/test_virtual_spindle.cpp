@@ -14,8 +14,9 @@
 #include <vector>
 
 #include "calibrate_support.hpp"
-#include "trueaxis/sim/csv.hpp"
-#include "trueaxis/sim/virtual_spindle.hpp"
+#include "trueaxis/sim/machines/virtual_spindle.hpp"
+#include "trueaxis/sim/tools/csv.hpp"
+#include "trueaxis/sim/tools/spindle_measure.hpp"
 
 namespace {
 
@@ -233,7 +234,7 @@ TEST_CASE("the analyser reads revolutions in order, repeats its form error and a
   ac.noise_sigma_mm = 0.0;
   const sim::VirtualAnalyser quiet(ac);
   sim::SimRng rng(3);
-  const auto samples = quiet.measure(s, rng);
+  const auto samples = sim::measure_spindle(quiet, s, rng);
   REQUIRE(samples.size() == 3u * 72u * 2u);
   CHECK(rng.next_u64() == sim::SimRng(3).next_u64());  // no noise: no draws
   for (std::size_t i = 0; i < samples.size(); ++i) {
@@ -248,7 +249,7 @@ TEST_CASE("the analyser reads revolutions in order, repeats its form error and a
   ac.revolutions = 40;
   const sim::VirtualAnalyser noisy(ac);
   sim::SimRng noise(4);
-  const auto read = noisy.measure(s, noise);
+  const auto read = sim::measure_spindle(noisy, s, noise);
   Vec3 sum = Vec3::Zero(), sq = Vec3::Zero();
   for (const auto& x : read) {
     const Vec3 d = x.p_mm - s.ball_mm(x.ball, x.phi_deg);

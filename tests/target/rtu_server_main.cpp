@@ -46,6 +46,7 @@ constexpr std::uint32_t kBaud = TRUEAXIS_RTU_BAUD;
 int main() {
   namespace mps2 = trueaxis::hal::mps2;
   namespace macros = trueaxis::macros;
+  namespace modbus = trueaxis::modbus;
   static trueaxis::hal::RamNvStorage storage = mps2::board_nv_storage();
   static mps2::SysTickClock clock;
   static macros::Module module(storage, clock);

@@ -1,0 +1,150 @@
+// trueaxis-calibrate: the integrator's command (docs/INTERFACE.md, "The
+// integrator's command"). Its methods as one table (calibrate_methods()), and the
+// shared pieces of their flows: options, the connection to the module, failures
+// as one line, and the JSON writer. Host only.
+//
+// Contract
+//  1. Every flow reads its CSV files, streams the samples to the module over
+//     Modbus, runs the method's macros there, and returns the JSON text of what
+//     the module computed; it computes nothing of the method itself.
+//  2. A failure is one line for stderr: "FILE:LINE: what" for a bad sample,
+//     "module error CODE NAME: MESSAGE" for a macro the module refused (with the
+//     sample's file and line when a sample caused it), or a transport problem.
+//     The caller then writes no JSON and exits 1; with --store the module has
+//     stored nothing and is locked again: the command stores last, after the
+//     JSON is written (to a temporary file) and the report is made, and only
+//     then moves OUT.json into place.
+//  3. On success a flow also gives a summary: "METHOD: what was computed, the
+//     worst figure with its sigma", the start of the command's one stdout line.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "trueaxis/macros/platform_map.hpp"
+#include "trueaxis/macros/records.hpp"
+#include "trueaxis/sim/tools/client.hpp"
+
+namespace trueaxis::sim {
+
+struct CalibrateOptions {
+  std::string method;
+  std::string in_path;
+  std::string json_path;
+  std::string machine_path;  // "" when absent
+  std::string report_dir;    // "" when absent
+  bool store = false;
+  double unlock_code = macros::kUnlockCode;  // --unlock-code: the machine's own (#900)
+  std::string host = "127.0.0.1";
+  int port = 502;
+};
+
+// #number = value: one argument of a macro.
+struct MacroArgument {
+  std::uint16_t number = 0;
+  double value = 0.0;
+};
+
+struct FlowResult {
+  bool ok = false;
+  std::string error;          // one line, when !ok
+  std::string json;           // the OUT.json text, when ok
+  std::string report_extras;  // JSON of the module's figures beyond OUT.json, for the report
+  std::string summary;        // contract 3, when ok
+  // The build macro's arguments besides R, written again by the store (the
+  // module clears the arguments after every macro); empty when it takes none.
+  std::vector<MacroArgument> build_arguments;
+  // The code the store unlocks with (CalibrateOptions::unlock_code).
+  double unlock_code = macros::kUnlockCode;
+};
+
+// The text of a module error code, "module error 402 session_full: The session is full ...".
+std::string module_error_text(int code);
+
+// Runs `macro` and turns anything but done into a FlowResult error; `context`
+// (e.g. "samples.csv:12") is prefixed when not empty.
+bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail);
+
+// `ok` as it is; when false, fail.error names the transport problem ("Modbus: ...").
+bool transport(VariableClient& client, bool ok, FlowResult& fail);
+
+// JSON pieces, numbers with 17 significant digits.
+std::string json_number(double v);
+std::string json_vec3(const double* v);
+
+// Unlocks, runs `build_macro` with `arguments` and R = 1 on the session
+// already in the module (the method stores what it computes), and locks again
+// whatever happened; false with fail.error set when anything failed.
+bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail,
+                 const std::vector<MacroArgument>& arguments = {});
+
+// Streams the samples and builds the table WITHOUT storing it; reads back
+// what the module computed.
+FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& options);
+
+// Stores the table of the samples already in the module's session (unlock,
+// build with R = 1, lock again); false with fail.error set otherwise.
+bool store_rigidity(VariableClient& client, FlowResult& fail);
+
+// Streams the tracker points (grouped by name, measuring order kept) and the
+// MACHINE rows, computes the frames WITHOUT storing them; reads back what the
+// module computed (9824, 9826).
+FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& options);
+
+// Stores the frames of the session already in the module (unlock, 9823 with
+// R = 1, lock again).
+bool store_gantry(VariableClient& client, FlowResult& fail);
+
+// The spindle angles of OUT.json's per_angle: 0, 5, ..., 355 (docs/INTERFACE.md: at most 10).
+inline constexpr double kSpindleStepDeg = 5.0;
+
+// Streams the analyser samples (file order) to the session 9840/9841,
+// identifies the tool-axis model with 9842 WITHOUT storing it (D, U, V from
+// MACHINE), and reads back the parameters (9845, R = 0) and one revolution of
+// the correction with its sigmas at tool_length_mm (9844, R = 0, every
+// kSpindleStepDeg). OUT.json adds to docs/INTERFACE.md's keys the per-angle
+// sigmas, tool_length_mm, the mean tool-tip error over a revolution with its
+// sigma, and "fit" (samples, noise, synchronous and overall RMS).
+// MACHINE holds `name,value` rows: exactly the five names docs/INTERFACE.md
+// requires, each once; any other name is refused (there are no optional names
+// yet, and a misspelt one would otherwise pass unnoticed). bearing_spacing_mm,
+// which the model does not take (the analyser sees the tool line, not the
+// bearings), is only checked (> 0) and shown in the report. A ball other than
+// 1 or 2 is refused at its line; a length the module refuses names MACHINE.
+FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& options);
+
+// Stores the model of the session already in the module (unlock, 9842 with
+// result.build_arguments and R = 1, lock again).
+bool store_spindle(VariableClient& client, FlowResult& result);
+
+// One method of trueaxis-calibrate: all the command knows of it. The command
+// looks a method up by name in the one table (calibrate_methods()) and does
+// what the entry says; nothing else in the command names a method.
+struct CalibrateMethod {
+  const char* name;     // METHOD on the command line, OUT.json's "method"
+  const char* title;    // what it calibrates, one line
+  const char* files;    // the CSV files' columns with their units (METHOD --help)
+  FlowResult (*calibrate)(VariableClient&, const CalibrateOptions&);  // streams, computes; stores nothing
+  bool (*store)(VariableClient&, FlowResult&);  // stores the session's result: unlock, build, lock
+  macros::RecordKey record;   // the record --store writes (the JSON map's "records")
+  const char* report_module;  // host_sim/report/<report_module>.py draws --report
+};
+
+// The table, in the order --help lists the methods.
+struct CalibrateMethods {
+  const CalibrateMethod* first;
+  std::size_t count;
+  const CalibrateMethod* begin() const { return first; }
+  const CalibrateMethod* end() const { return first + count; }
+};
+CalibrateMethods calibrate_methods();
+
+// The method called `name`; nullptr when there is none.
+const CalibrateMethod* find_calibrate_method(const std::string& name);
+
+// "rigidity, gantry or spindle": the methods' names, for messages.
+std::string calibrate_method_names();
+
+}  // namespace trueaxis::sim

@@ -1,0 +1,59 @@
+#include <cstdio>
+
+#include "trueaxis/core/status.hpp"
+#include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/sim/tools/calibrate.hpp"
+
+namespace trueaxis::sim {
+
+std::string module_error_text(int code) {
+  const auto status = static_cast<core::Status>(code);
+  return "module error " + std::to_string(code) + " " + macros::status_name(status) + ": " +
+         macros::status_message(status);
+}
+
+bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail) {
+  const MacroOutcome outcome = client.run_macro(macro, 20000);
+  if (outcome.status == 2) return true;
+  const std::string where = context.empty() ? "" : context + ": ";
+  if (outcome.status == 3) {
+    fail.error = where + module_error_text(outcome.error) + " (macro " + std::to_string(macro) + ")";
+  } else {
+    fail.error = where + "macro " + std::to_string(macro) + " did not finish: " + client.error_text();
+  }
+  return false;
+}
+
+bool transport(VariableClient& client, bool ok, FlowResult& fail) {
+  if (!ok) fail.error = "Modbus: " + client.error_text();
+  return ok;
+}
+
+bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail,
+                 const std::vector<MacroArgument>& arguments) {
+  namespace var = macros::var;
+  if (!transport(client, client.write_one(var::kUnlock, fail.unlock_code), fail)) return false;
+  // The same session computed again, now stored: the computation is
+  // deterministic, so what is stored is what OUT.json describes.
+  bool stored = true;
+  for (const MacroArgument& a : arguments) {
+    stored = stored && transport(client, client.write_one(a.number, a.value), fail);
+  }
+  stored = stored && transport(client, client.write_one(var::kArgR, 1.0), fail) &&
+           run_or_fail(client, build_macro, "", fail);
+  const bool locked = client.write_one(var::kUnlock, 0.0);  // lock again, whatever happened
+  if (stored && !locked) fail.error = "Modbus: the controller could not be locked again: " + client.error_text();
+  return stored && locked;
+}
+
+std::string json_number(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::string json_vec3(const double* v) {
+  return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
+}
+
+}  // namespace trueaxis::sim

@@ -1,0 +1,240 @@
+// The gantry flow (docs/INTERFACE.md "M2 gantry"): samples grouped by name -> session
+// 9820/9821, MACHINE rows -> 9822, frames 9823 (stored with --store), global
+// 9824 and per sub-machine 9826 -> OUT.json.
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <vector>
+
+#include "trueaxis/macros/gantry/gantry_map.hpp"
+#include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/sim/tools/calibrate.hpp"
+#include "trueaxis/sim/tools/csv.hpp"
+
+namespace trueaxis::sim {
+
+namespace var = macros::var;
+using macros::gantry::GroupKind;
+
+namespace {
+
+constexpr std::uint16_t kClear = 9820;
+constexpr std::uint16_t kAdd = 9821;
+constexpr std::uint16_t kSubMachine = 9822;
+constexpr std::uint16_t kBuild = 9823;
+constexpr std::uint16_t kGlobal = 9824;
+constexpr std::uint16_t kSub = 9826;
+
+// A group's name as (T, Q, D) (gantry_map.hpp convention 3) and its order in
+// the stream: the machine's groups first, then each sub-machine's.
+struct Group {
+  int t = 0;
+  GroupKind q = GroupKind::kBed;
+  int d = 0;
+  int order() const { return (t * 16 + static_cast<int>(q)) * 16 + d; }
+};
+
+// A whole number in lo..hi written in decimal digits only, without a leading zero.
+bool whole(const std::string& s, int lo, int hi, int& out) {
+  if (s.empty() || s.size() > 3 || s[0] == '0' || !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    return false;
+  }
+  out = std::atoi(s.c_str());
+  return out >= lo && out <= hi;
+}
+
+// "bed", "side_1", "side_2", "gantry_K", "spN_x_K", "spN_y_K", "spN_z_K",
+// "spN_c", "spN_a"; an empty string on success, else what is wrong.
+std::string parse_group(const std::string& name, Group& g) {
+  const int passes = macros::gantry::kMaxPasses;
+  const std::string pass_range = "1.." + std::to_string(passes);
+  if (name == "bed") return g = {0, GroupKind::kBed, 0}, "";
+  if (name == "side_1") return g = {0, GroupKind::kSide1, 0}, "";
+  if (name == "side_2") return g = {0, GroupKind::kSide2, 0}, "";
+  if (name.rfind("gantry_", 0) == 0) {
+    if (!whole(name.substr(7), 1, passes, g.d)) return "group '" + name + "': the pass K must be " + pass_range;
+    g.t = 0;
+    g.q = GroupKind::kGantryPass;
+    return "";
+  }
+  const std::size_t us = name.find('_');
+  if (name.rfind("sp", 0) != 0 || us == std::string::npos) return "unknown group '" + name + "'";
+  if (!whole(name.substr(2, us - 2), 1, 8, g.t)) return "group '" + name + "': the sub-machine N must be 1..8";
+  const std::string rest = name.substr(us + 1);
+  if (rest == "c") return g.q = GroupKind::kCCircle, g.d = 0, "";
+  if (rest == "a") return g.q = GroupKind::kACircle, g.d = 0, "";
+  if (rest.size() >= 3 && rest[1] == '_' && (rest[0] == 'x' || rest[0] == 'y' || rest[0] == 'z')) {
+    g.q = static_cast<GroupKind>(static_cast<int>(GroupKind::kXPass) + (rest[0] - 'x'));
+    if (!whole(rest.substr(2), 1, passes, g.d)) return "group '" + name + "': the pass K must be " + pass_range;
+    return "";
+  }
+  return "unknown group '" + name + "'";
+}
+
+std::string json_axes(const double* x, const double* y, const double* z) {
+  return "\"x\": " + json_vec3(x) + ", \"y\": " + json_vec3(y) + ", \"z\": " + json_vec3(z);
+}
+
+}  // namespace
+
+FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& options) {
+  FlowResult r;
+  if (options.machine_path.empty()) {
+    r.error = "gantry needs --machine MACHINE.csv (sub_machine,swing_mm,tool_x,tool_y,tool_z)";
+    return r;
+  }
+  const CsvResult csv =
+      read_csv(options.in_path, {{"group", false}, {"x_mm"}, {"y_mm"}, {"z_mm"}});
+  if (!csv.ok) {
+    r.error = csv.error;
+    return r;
+  }
+  const CsvResult machine = read_csv(options.machine_path,
+                                     {{"sub_machine"}, {"swing_mm"}, {"tool_x"}, {"tool_y"}, {"tool_z"}});
+  if (!machine.ok) {
+    r.error = machine.error;
+    return r;
+  }
+  // Each row's group; then the rows grouped (stably: measuring order kept).
+  struct Sample {
+    Group group;
+    const CsvRow* row;
+  };
+  std::vector<Sample> samples;
+  bool mentioned[9] = {};
+  for (const CsvRow& row : csv.rows) {
+    Group g;
+    const std::string what = parse_group(row.texts[0], g);
+    if (!what.empty()) {
+      r.error = options.in_path + ":" + std::to_string(row.line) + ": " + what;
+      return r;
+    }
+    mentioned[g.t] = true;
+    samples.push_back({g, &row});
+  }
+  std::stable_sort(samples.begin(), samples.end(),
+                   [](const Sample& a, const Sample& b) { return a.group.order() < b.group.order(); });
+  std::map<int, const CsvRow*> parameters;
+  for (const CsvRow& row : machine.rows) {
+    const double n = row.numbers[0];
+    const std::string where = options.machine_path + ":" + std::to_string(row.line);
+    if (!(n >= 1 && n <= 8 && n == static_cast<int>(n))) {
+      r.error = where + ": sub_machine must be 1..8";
+      return r;
+    }
+    if (!parameters.emplace(static_cast<int>(n), &row).second) {
+      r.error = where + ": sub-machine " + std::to_string(static_cast<int>(n)) + " is given twice";
+      return r;
+    }
+  }
+  for (int n = 1; n <= 8; ++n) {
+    if (mentioned[n] && parameters.count(n) == 0) {
+      r.error = options.machine_path + ": no row for sub-machine " + std::to_string(n) + ", which " +
+                options.in_path + " measures";
+      return r;
+    }
+  }
+
+  if (!run_or_fail(client, kClear, "", r)) return r;
+  for (const Sample& s : samples) {
+    const std::string where = options.in_path + ":" + std::to_string(s.row->line);
+    const double tqd[3] = {static_cast<double>(s.group.t), static_cast<double>(s.group.q),
+                           static_cast<double>(s.group.d)};
+    const double xyz[3] = {s.row->numbers[1], s.row->numbers[2], s.row->numbers[3]};
+    if (!client.write_one(var::kArgT, tqd[0]) || !client.write_one(var::kArgQ, tqd[1]) ||
+        !client.write_one(var::kArgD, tqd[2]) || !client.write(var::kArgX, 3, xyz)) {
+      r.error = where + ": the module refused the sample: " + client.error_text();
+      return r;
+    }
+    if (!run_or_fail(client, kAdd, where, r)) return r;
+  }
+  // Only the sub-machines the samples measure: a MACHINE file may describe the
+  // whole machine while one sub-machine is measured again (the module computes
+  // every sub-machine given a 9822, and one without points is missing_group).
+  for (const auto& [n, row] : parameters) {
+    if (!mentioned[n]) continue;
+    const std::string where = options.machine_path + ":" + std::to_string(row->line);
+    const double tool[3] = {row->numbers[2], row->numbers[3], row->numbers[4]};
+    if (!client.write_one(var::kArgT, n) || !client.write_one(var::kArgD, row->numbers[1]) ||
+        !client.write(var::kArgI, 3, tool)) {
+      r.error = where + ": the module refused the row: " + client.error_text();
+      return r;
+    }
+    if (!run_or_fail(client, kSubMachine, where, r)) return r;
+  }
+
+  // Computed without storing: the command stores only after the JSON and the
+  // report are made (store_gantry), so a later failure stores nothing.
+  if (!transport(client, client.write_one(var::kArgR, 0.0), r) || !run_or_fail(client, kBuild, "", r)) return r;
+  double build[4];
+  double global[20];
+  if (!transport(client, client.read(var::kGantryBuilt, 4, build), r) ||
+      !transport(client, client.write_one(var::kArgR, 0.0), r) || !run_or_fail(client, kGlobal, "", r) ||
+      !transport(client, client.read(var::kGlobalOriginX, 20, global), r)) {
+    return r;
+  }
+  const int mask = static_cast<int>(global[19]);
+  std::string subs;
+  std::string extras;
+  int count = 0;
+  int worst_id = 0;
+  double worst_sigma_mm = -1.0;
+  for (int n = 1; n <= 8; ++n) {
+    if ((mask & (1 << (n - 1))) == 0) continue;
+    double s[27];
+    if (!transport(client, client.write_one(var::kArgR, 0.0), r) ||  // R = 0: the frames just computed
+        !transport(client, client.write_one(var::kArgT, n), r) || !run_or_fail(client, kSub, "", r) ||
+        !transport(client, client.read(var::kSubOriginX, 27, s), r)) {
+      return r;
+    }
+    ++count;
+    if (s[3] > worst_sigma_mm) {
+      worst_sigma_mm = s[3];
+      worst_id = n;
+    }
+    const double* o = s;
+    const double* x = s + 4;
+    const double* y = s + 7;
+    const double* z = s + 10;
+    std::string t = "[";
+    for (int row = 0; row < 3; ++row) {
+      t += json_number(x[row]) + ", " + json_number(y[row]) + ", " + json_number(z[row]) + ", " +
+           json_number(o[row]) + ", ";
+    }
+    t += "0, 0, 0, 1]";
+    const char* master[3] = {"x", "y", "z"};
+    subs += subs.empty() ? "\n" : ",\n";
+    subs += "    { \"id\": " + std::to_string(n) + ", \"origin_mm\": " + json_vec3(o) +
+            ", \"origin_sigma_mm\": " + json_number(s[3]) + ",\n      " + json_axes(x, y, z) +
+            ", \"master_axis\": \"" + master[static_cast<int>(s[13]) % 3] + "\",\n      \"squareness_arcsec\": { \"xy\": " +
+            json_number(s[14]) + ", \"yz\": " + json_number(s[15]) + ", \"zx\": " + json_number(s[16]) +
+            " },\n      \"a_c_offset_mm\": " + json_number(s[17]) + ", \"a_c_angle_deg\": " + json_number(s[18]) +
+            ",\n      \"global_T_sub\": " + t + " }";
+    extras += extras.empty() ? "\n" : ",\n";
+    extras += "    { \"id\": " + std::to_string(n) + ", \"angle_sigma_arcsec\": " + json_vec3(s + 19) +
+              ", \"straightness_mm\": " + json_vec3(s + 22) + ", \"c_circle_rms_mm\": " + json_number(s[25]) +
+              ", \"a_circle_rms_mm\": " + json_number(s[26]) + " }";
+  }
+  r.json = "{\n  \"method\": \"gantry\",\n  \"global\": { \"origin_mm\": " + json_vec3(global) + ",\n    " +
+           json_axes(global + 3, global + 6, global + 9) + ",\n    \"bed_flatness_mm\": " + json_number(global[12]) +
+           ", \"gantry_straightness_mm\": " + json_number(global[13]) + " },\n  \"sub_machines\": [" + subs +
+           "\n  ]\n}\n";
+  // What the module computed beyond docs/INTERFACE.md's OUT.json, for the report only.
+  // A key of its own ("sub_machine_figures"): the report merges this file into
+  // OUT.json's keys, and must not lose OUT.json's "sub_machines".
+  r.report_extras = "{ \"global_origin_sigma_mm\": " + json_number(global[14]) +
+                    ", \"global_angle_sigma_arcsec\": " + json_vec3(global + 15) +
+                    ",\n  \"sub_machine_figures\": [" +
+                    extras + "\n  ] }\n";
+  char line[200];
+  std::snprintf(line, sizeof line, "gantry: %d sub-machines, worst origin 1-sigma %.1f um (sp%d)", count,
+                1000.0 * worst_sigma_mm, worst_id);
+  r.summary = line;
+  r.ok = true;
+  return r;
+}
+
+bool store_gantry(VariableClient& client, FlowResult& fail) { return store_built(client, kBuild, fail); }
+
+}  // namespace trueaxis::sim

@@ -1,0 +1,198 @@
+// trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
+//                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
+// The integrator's command (docs/INTERFACE.md, "The integrator's command"):
+// reads the samples, streams them to the module over Modbus (default
+// 127.0.0.1:502), runs the method's macros there and writes what the module
+// computed into OUT.json; --report DIR also writes DIR/index.html with plots;
+// --store stores the result as the controller's calibration table (unlocking
+// with --unlock-code, default the published 2718, and locking again). The
+// methods are the table of calibrate.hpp; this file names none of them.
+// Exit 0 with one summary line on stdout: what was computed, the worst figure
+// with its sigma, what was written and what stored. Exit 1 with one line on
+// stderr on any failure, bad usage included, and then nothing on stdout, no
+// OUT.json, no report and nothing stored.
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "trueaxis/sim/program.hpp"
+#include "trueaxis/sim/tools/calibrate.hpp"
+
+namespace {
+
+using trueaxis::sim::CalibrateMethod;
+using trueaxis::sim::CalibrateOptions;
+using trueaxis::sim::FlowResult;
+
+constexpr const char* kUsage =
+    "usage: trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]\n"
+    "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n";
+
+int fail(const std::string& line) {
+  std::fprintf(stderr, "trueaxis-calibrate: %s\n", line.c_str());
+  return 1;
+}
+
+int usage_error(const std::string& why) { return fail(why + " (trueaxis-calibrate --help)"); }
+
+bool write_file(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  return static_cast<bool>(out << text) && static_cast<bool>(out.flush());
+}
+
+// Runs Debian's python3 (where python3-matplotlib installs, whatever else is
+// first on PATH) on the report script with argv, no shell; true on exit 0.
+// Its stderr goes nowhere: a failure is the command's one line.
+bool make_report(const CalibrateMethod& method, const CalibrateOptions& o, const std::string& json_path) {
+  const std::string script = TRUEAXIS_REPORT_SCRIPT;
+  const char* args[] = {TRUEAXIS_PYTHON, script.c_str(), method.report_module, json_path.c_str(),
+                        o.report_dir.c_str(), nullptr};
+  posix_spawn_file_actions_t quiet;
+  posix_spawn_file_actions_init(&quiet);
+  posix_spawn_file_actions_addopen(&quiet, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&quiet, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, TRUEAXIS_PYTHON, &quiet, nullptr, const_cast<char* const*>(args), environ);
+  posix_spawn_file_actions_destroy(&quiet);
+  if (spawned != 0) return false;
+  int status = 0;
+  return waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+void print_help() {
+  std::printf("%s\n", kUsage);
+  std::printf("Calibrates in the module over Modbus TCP and writes what it computed into OUT.json.\n"
+              "METHOD (trueaxis-calibrate METHOD --help: its files' columns and units):\n");
+  for (const CalibrateMethod& m : trueaxis::sim::calibrate_methods()) std::printf("  %-9s %s\n", m.name, m.title);
+  std::printf("\n"
+              "  --in SAMPLES.csv       the measurements (required)\n"
+              "  --json OUT.json        where the result goes (required)\n"
+              "  --machine MACHINE.csv  the machine's nominal data (gantry, spindle)\n"
+              "  --report DIR           also DIR/index.html with plots (DIR made if absent)\n"
+              "  --store                store the result as the controller's calibration table:\n"
+              "                         unlock, store, lock again\n"
+              "  --port PORT, --host ADDR  the module's Modbus TCP server (default 127.0.0.1:502)\n"
+              "  --unlock-code CODE     the machine's unlock code (#900) for --store, 1..9999 (default 2718)\n"
+              "  --help, --version      this text (METHOD --help: the method's files); the version line\n"
+              "Exit 0 with one summary line on stdout; 1 with one line on stderr on any failure, and\n"
+              "then no OUT.json and nothing stored.\n");
+}
+
+void print_method_help(const CalibrateMethod& m) {
+  std::printf("trueaxis-calibrate %s: %s\n\n%s\n%s\n", m.name, m.title, kUsage, m.files);
+  std::printf("CSV: a header row, columns in any order (others ignored); '#' lines are comments;\n"
+              "numbers as C strtod reads them (not NaN or infinite).\n");
+}
+
+// "; stored (record 3 rigidity_table)".
+std::string stored_text(trueaxis::macros::RecordKey key) {
+  for (const trueaxis::macros::RecordSpec& spec : trueaxis::macros::kRecordSpecs) {
+    if (spec.key == trueaxis::macros::record_key(key)) {
+      return "stored (record " + std::to_string(spec.key) + " " + spec.name + ")";
+    }
+  }
+  return "stored";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) return usage_error("no METHOD");
+  const std::string first = argv[1];
+  const CalibrateMethod* method = trueaxis::sim::find_calibrate_method(first);
+  // --help and --version anywhere after METHOD, or in its place.
+  const int options_from = method != nullptr ? 2 : 1;
+  const int options_to = method != nullptr ? argc : 2;
+  for (int i = options_from; i < options_to; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      if (method != nullptr) {
+        print_method_help(*method);
+      } else {
+        print_help();
+      }
+      return 0;
+    }
+    if (arg == "--version") {
+      std::printf("%s\n", trueaxis::sim::version_line("trueaxis-calibrate").c_str());
+      return 0;
+    }
+  }
+  if (method == nullptr) {
+    return usage_error("unknown METHOD '" + first + "': " + trueaxis::sim::calibrate_method_names());
+  }
+
+  CalibrateOptions o;
+  o.method = method->name;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--store") {
+      o.store = true;
+    } else if (arg == "--in" && has_value) {
+      o.in_path = argv[++i];
+    } else if (arg == "--json" && has_value) {
+      o.json_path = argv[++i];
+    } else if (arg == "--machine" && has_value) {
+      o.machine_path = argv[++i];
+    } else if (arg == "--report" && has_value) {
+      o.report_dir = argv[++i];
+    } else if (arg == "--unlock-code" && has_value) {
+      char* end = nullptr;
+      const long code = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || code < 1 || code > 9999) return usage_error("--unlock-code takes 1..9999");
+      o.unlock_code = static_cast<double>(code);
+    } else if (arg == "--host" && has_value) {
+      o.host = argv[++i];
+    } else if (arg == "--port" && has_value) {
+      char* end = nullptr;
+      const long port = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || port < 1 || port > 65535) return usage_error("--port takes 1..65535");
+      o.port = static_cast<int>(port);
+    } else {
+      return usage_error("unknown or incomplete option '" + arg + "'");
+    }
+  }
+  if (o.in_path.empty() || o.json_path.empty()) return usage_error("--in and --json are required");
+
+  trueaxis::sim::VariableClient client;
+  if (!client.connect(o.host, o.port)) {
+    return fail("cannot connect to " + o.host + ":" + std::to_string(o.port) + ": " + client.error_text());
+  }
+  FlowResult r = method->calibrate(client, o);
+  if (!r.ok) return fail(r.error);
+
+  // OUT.json goes to a temporary file first and into place last, after the
+  // report and the store: on any failure it is absent and nothing is stored.
+  const std::string tmp = o.json_path + ".tmp";
+  const auto fail_clean = [&tmp](const std::string& line) {
+    std::remove(tmp.c_str());
+    return fail(line);
+  };
+  if (!write_file(tmp, r.json)) return fail_clean(o.json_path + ": cannot be written");
+  std::string summary = r.summary + "; wrote " + o.json_path;
+  if (!o.report_dir.empty()) {
+    struct stat st {};
+    if ((::mkdir(o.report_dir.c_str(), 0755) != 0 && errno != EEXIST) || ::stat(o.report_dir.c_str(), &st) != 0 ||
+        !S_ISDIR(st.st_mode) || !write_file(o.report_dir + "/module_figures.json", r.report_extras) ||
+        !make_report(*method, o, tmp)) {
+      return fail_clean(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
+    }
+    summary += ", report " + o.report_dir + "/index.html";
+  }
+  r.unlock_code = o.unlock_code;
+  if (o.store && !method->store(client, r)) return fail_clean(r.error);
+  summary += o.store ? "; " + stored_text(method->record) : "; not stored";
+  client.close();
+  if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
+  std::printf("%s\n", summary.c_str());
+  return 0;
+}

@@ -1,0 +1,94 @@
+// The rigidity flow (docs/INTERFACE.md "M3 rigidity"): samples -> session 9830/9831
+// -> build 9832 (stored with --store) -> per pose 9834 -> OUT.json.
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "trueaxis/core/rigidity_table.hpp"
+
+#include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/macros/rigidity/rigidity_map.hpp"
+#include "trueaxis/sim/tools/calibrate.hpp"
+#include "trueaxis/sim/tools/csv.hpp"
+
+namespace trueaxis::sim {
+
+namespace var = macros::var;
+
+namespace {
+
+constexpr std::uint16_t kClear = 9830;
+constexpr std::uint16_t kAdd = 9831;
+constexpr std::uint16_t kBuild = 9832;
+constexpr std::uint16_t kPose = 9834;
+
+}  // namespace
+
+FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& options) {
+  FlowResult r;
+  const CsvResult csv = read_csv(options.in_path, {{"a_deg"}, {"c_deg"}, {"x_mm"}, {"y_mm"}, {"z_mm"}});
+  if (!csv.ok) {
+    r.error = csv.error;
+    return r;
+  }
+  if (!run_or_fail(client, kClear, "", r)) return r;
+  for (const CsvRow& row : csv.rows) {
+    const std::string where = options.in_path + ":" + std::to_string(row.line);
+    const double ac[3] = {row.numbers[0], 0.0, row.numbers[1]};
+    const double xyz[3] = {row.numbers[2], row.numbers[3], row.numbers[4]};
+    if (!client.write(var::kArgA, 3, ac) || !client.write(var::kArgX, 3, xyz)) {
+      r.error = where + ": the module refused the sample: " + client.error_text();
+      return r;
+    }
+    if (!run_or_fail(client, kAdd, where, r)) return r;
+  }
+
+  // Built without storing: the command stores only after the JSON and the
+  // report are made (store_rigidity), so a later failure stores nothing.
+  if (!transport(client, client.write_one(var::kArgR, 0.0), r) || !run_or_fail(client, kBuild, "", r)) return r;
+
+  double summary[12];
+  if (!transport(client, client.read(var::kRigidityPoses, 12, summary), r)) return r;
+  const int poses = static_cast<int>(summary[0]);
+  double reference_a_deg = 0.0;
+  double worst[3] = {-1.0, 0.0, 0.0};  // rigidity, its sigma, A (arcsec, arcsec, deg)
+  std::string pose_json;
+  for (int q = 1; q <= poses; ++q) {
+    const double args[2] = {static_cast<double>(q), 0.0};  // Q = pose, R = 0: the table just built
+    if (!transport(client, client.write(var::kArgQ, 2, args), r)) return r;
+    if (!run_or_fail(client, kPose, "", r)) return r;
+    double p[18];
+    if (!transport(client, client.read(var::kPoseA, 18, p), r)) return r;
+    if (std::fabs(p[0]) <= core::kPoseAToleranceDeg) reference_a_deg = p[0];
+    if (p[7] > worst[0]) {
+      worst[0] = p[7];
+      worst[1] = p[8];
+      worst[2] = p[0];
+    }
+    pose_json += q > 1 ? ",\n" : "\n";
+    pose_json += "    { \"a_deg\": " + json_number(p[0]) + ", \"rotation_vector_arcsec\": " + json_vec3(p + 1) +
+                 ",\n      \"rotation_vector_sigma_arcsec\": " + json_vec3(p + 4) +
+                 ", \"rigidity_arcsec\": " + json_number(p[7]) + ", \"rigidity_sigma_arcsec\": " + json_number(p[8]) +
+                 ",\n      \"a_positioning_error_arcsec\": " + json_number(p[9]) + ", \"c_centre_mm\": " +
+                 json_vec3(p + 10) + ",\n      \"c_direction\": " + json_vec3(p + 13) +
+                 ", \"c_circle_rms_mm\": " + json_number(p[16]) + " }";
+  }
+  // docs/INTERFACE.md writes the reference A as 0.0; keep that form when it is exactly 0.
+  const std::string reference = reference_a_deg == 0.0 ? "0.0" : json_number(reference_a_deg);
+  r.json = "{\n  \"method\": \"rigidity\",\n  \"reference_a_deg\": " + reference + ",\n" +
+           "  \"a_axis\": { \"point_mm\": " + json_vec3(summary + 3) + ", \"direction\": " + json_vec3(summary + 6) +
+           " },\n  \"poses\": [" + pose_json + "\n  ]\n}\n";
+  // What the module computed beyond docs/INTERFACE.md's OUT.json, for the report only.
+  r.report_extras = "{ \"c_to_a_offset_mm\": " + json_number(summary[9]) +
+                    ", \"c_to_a_squareness_arcsec\": " + json_number(summary[10]) + " }\n";
+  char line[160];
+  std::snprintf(line, sizeof line, "rigidity: %d poses, worst rigidity %.2f\" +- %.2f\" (pose A=%g)", poses,
+                worst[0], worst[1], worst[2]);
+  r.summary = line;
+  r.ok = true;
+  return r;
+}
+
+bool store_rigidity(VariableClient& client, FlowResult& fail) { return store_built(client, kBuild, fail); }
+
+}  // namespace trueaxis::sim

@@ -1,0 +1,195 @@
+// The spindle flow (docs/INTERFACE.md "M4 spindle"): analyser samples -> session
+// 9840/9841, MACHINE's lengths -> identification 9842 (stored with --store),
+// the parameters 9845 and one revolution of 9844 (R = 0: the identification
+// just made) -> OUT.json.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <string>
+
+#include "trueaxis/core/status.hpp"
+#include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/macros/spindle/spindle_map.hpp"
+#include "trueaxis/sim/tools/calibrate.hpp"
+#include "trueaxis/sim/tools/csv.hpp"
+
+namespace trueaxis::sim {
+
+namespace var = macros::var;
+
+namespace {
+
+constexpr std::uint16_t kClear = 9840;
+constexpr std::uint16_t kAdd = 9841;
+constexpr std::uint16_t kBuild = 9842;
+constexpr std::uint16_t kReport = 9844;
+constexpr std::uint16_t kModel = 9845;
+
+// MACHINE's names (docs/INTERFACE.md), in the order the flow keeps their values.
+enum Name : std::size_t { kBearingSpacing, kGauge, kBall1, kBall2, kToolLength, kNames };
+constexpr const char* kNameText[kNames] = {"bearing_spacing_mm", "gauge_from_upper_bearing_mm", "ball_1_mm",
+                                           "ball_2_mm", "tool_length_mm"};
+
+struct Machine {
+  double value[kNames] = {};
+  int line[kNames] = {};  // 0: not given
+};
+
+// An empty string when MACHINE's rows give each name once, else the one line saying what is wrong.
+std::string read_machine(const std::string& path, Machine& m) {
+  const CsvResult csv = read_csv(path, {{"name", false}, {"value"}});
+  if (!csv.ok) return csv.error;
+  for (const CsvRow& row : csv.rows) {
+    const std::string where = path + ":" + std::to_string(row.line) + ": ";
+    const auto* const known = std::find(std::begin(kNameText), std::end(kNameText), row.texts[0]);
+    if (known == std::end(kNameText)) {
+      std::string names;
+      for (const char* n : kNameText) names += (names.empty() ? "" : ", ") + std::string(n);
+      return where + "unknown name '" + row.texts[0] + "' (MACHINE names: " + names + ")";
+    }
+    const auto k = static_cast<std::size_t>(known - std::begin(kNameText));
+    if (m.line[k] != 0) {
+      return where + "'" + row.texts[0] + "' is given twice (first at line " + std::to_string(m.line[k]) + ")";
+    }
+    m.line[k] = row.line;
+    m.value[k] = row.numbers[1];
+  }
+  for (std::size_t k = 0; k < kNames; ++k) {
+    if (m.line[k] == 0) return path + ": no row for '" + kNameText[k] + "'";
+  }
+  // The one length the module never sees: checked here.
+  if (!(m.value[kBearingSpacing] > 0.0)) {
+    return path + ":" + std::to_string(m.line[kBearingSpacing]) + ": bearing_spacing_mm must be more than 0";
+  }
+  return "";
+}
+
+std::string json_bool(double flag) { return flag != 0.0 ? "true" : "false"; }
+
+}  // namespace
+
+FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& options) {
+  FlowResult r;
+  if (options.machine_path.empty()) {
+    r.error =
+        "spindle needs --machine MACHINE.csv (name,value: bearing_spacing_mm, gauge_from_upper_bearing_mm, "
+        "ball_1_mm, ball_2_mm, tool_length_mm)";
+    return r;
+  }
+  const CsvResult csv = read_csv(options.in_path, {{"phi_deg"}, {"ball"}, {"x_mm"}, {"y_mm"}, {"z_mm"}});
+  if (!csv.ok) {
+    r.error = csv.error;
+    return r;
+  }
+  Machine m;
+  r.error = read_machine(options.machine_path, m);
+  if (!r.error.empty()) return r;
+  for (const CsvRow& row : csv.rows) {
+    if (row.numbers[1] != 1.0 && row.numbers[1] != 2.0) {
+      r.error = options.in_path + ":" + std::to_string(row.line) + ": ball must be 1 or 2, not '" + row.texts[1] + "'";
+      return r;
+    }
+  }
+
+  if (!run_or_fail(client, kClear, "", r)) return r;
+  for (const CsvRow& row : csv.rows) {
+    const std::string where = options.in_path + ":" + std::to_string(row.line);
+    const double st[2] = {row.numbers[0], row.numbers[1]};  // S = #19, T = #20
+    const double xyz[3] = {row.numbers[2], row.numbers[3], row.numbers[4]};
+    if (!client.write(var::kArgS, 2, st) || !client.write(var::kArgX, 3, xyz)) {
+      r.error = where + ": the module refused the sample: " + client.error_text();
+      return r;
+    }
+    if (!run_or_fail(client, kAdd, where, r)) return r;
+  }
+
+  // Identified without storing: the command stores only after the JSON and the
+  // report are made (store_spindle), so a later failure stores nothing.
+  r.build_arguments = {{var::kArgD, m.value[kGauge]}, {var::kArgU, m.value[kBall1]}, {var::kArgV, m.value[kBall2]}};
+  bool written = true;
+  for (const MacroArgument& a : r.build_arguments) written = written && client.write_one(a.number, a.value);
+  if (!transport(client, written && client.write_one(var::kArgR, 0.0), r)) return r;
+  if (!run_or_fail(client, kBuild, "", r)) {
+    // D, U and V are MACHINE's lengths: name the file when the module refuses one.
+    const std::string refused = module_error_text(static_cast<int>(core::Status::kArgumentOutOfRange));
+    if (r.error.compare(0, refused.size(), refused) == 0) {
+      r.error =
+          options.machine_path + ": " + r.error + " (gauge_from_upper_bearing_mm > 0, 0 <= ball_1_mm < ball_2_mm)";
+    }
+    return r;
+  }
+  double build[5];  // evaluations, noise sigma, synchronous RMS, noise from repeats, samples
+  if (!transport(client, client.read(var::kSpindleEvaluations, 5, build), r)) return r;
+
+  std::string parameters;
+  double model[12] = {};  // 9845's outputs, the last parameter's; the fit's figures are every parameter's
+  for (int q = 1; q <= core::kSpindleParams; ++q) {
+    const double qr[2] = {static_cast<double>(q), 0.0};  // Q = parameter, R = 0: the identification just made
+    if (!transport(client, client.write(var::kArgQ, 2, qr), r) || !run_or_fail(client, kModel, "", r) ||
+        !transport(client, client.read(var::kSpindleParamValue, 12, model), r)) {
+      return r;
+    }
+    parameters += q > 1 ? ",\n" : "\n";
+    parameters += "    \"" + std::string(macros::spindle::kParameterNames[q - 1]) +
+                  "\": { \"value\": " + json_number(model[0]) + ", \"sigma\": " + json_number(model[1]) + " }";
+  }
+
+  const double tool_mm = m.value[kToolLength];
+  const std::string tool_where = options.machine_path + ":" + std::to_string(m.line[kToolLength]);
+  const int steps = static_cast<int>(360.0 / kSpindleStepDeg);
+  std::string per_angle;
+  double theta_max = 0.0;
+  double theta_max_sigma = 0.0;
+  double theta_max_phi = 0.0;
+  double d_e_max = 0.0;
+  double c[16] = {};  // 9844's outputs: the mean tip error is the same at every angle
+  for (int i = 0; i < steps; ++i) {
+    const double phi = kSpindleStepDeg * i;
+    const double rs[2] = {0.0, phi};  // R = 0: the identification just made, S
+    if (!transport(client, client.write(var::kArgR, 2, rs), r) ||
+        !transport(client, client.write_one(var::kArgZ, tool_mm), r) || !run_or_fail(client, kReport, tool_where, r) ||
+        !transport(client, client.read(var::kSpindleThetaE, 16, c), r)) {
+      return r;
+    }
+    if (i == 0 || c[0] > theta_max) {
+      theta_max = c[0];
+      theta_max_sigma = c[5];
+      theta_max_phi = phi;
+    }
+    d_e_max = std::max(d_e_max, c[1]);
+    per_angle += i > 0 ? ",\n" : "\n";
+    per_angle += "    { \"phi_deg\": " + json_number(phi) + ", \"theta_e_arcsec\": " + json_number(c[0]) +
+                 ", \"d_e_mm\": " + json_number(c[1]) + ", \"tool_tip_error_mm\": " + json_vec3(c + 2) +
+                 ",\n      \"theta_e_sigma_arcsec\": " + json_number(c[5]) +
+                 ", \"d_e_sigma_mm\": " + json_number(c[6]) + ", \"tool_tip_error_sigma_mm\": " + json_vec3(c + 7) +
+                 " }";
+  }
+
+  r.json = "{\n  \"method\": \"spindle\",\n  \"parameters\": {" + parameters + "\n  },\n  \"per_angle\": [" +
+           per_angle + "\n  ],\n  \"theta_e_max_arcsec\": " + json_number(theta_max) +
+           ", \"d_e_max_mm\": " + json_number(d_e_max) + ", \"evaluations\": " + json_number(build[0]) +
+           ",\n  \"tool_length_mm\": " + json_number(tool_mm) + ", \"mean_tool_tip_error_mm\": " + json_vec3(c + 10) +
+           ", \"mean_tool_tip_error_sigma_mm\": " + json_vec3(c + 13) +
+           ",\n  \"fit\": { \"samples\": " + json_number(build[4]) + ", \"noise_sigma_mm\": " + json_number(build[1]) +
+           ", \"noise_from_repeats\": " + json_bool(build[3]) + ", \"synchronous_rms_mm\": " + json_number(build[2]) +
+           ", \"rms_mm\": " + json_number(model[2]) + " }\n}\n";
+  // What the module holds beyond OUT.json, and MACHINE's informative length, for the report only.
+  r.report_extras = "{ \"model_gauge_mm\": " + json_number(model[8]) + ", \"model_ball_mm\": [" +
+                    json_number(model[9]) + ", " + json_number(model[10]) +
+                    "], \"eigenvalue_ratio\": " + json_number(model[11]) +
+                    ", \"bearing_spacing_mm\": " + json_number(m.value[kBearingSpacing]) + " }\n";
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "spindle: %.0f samples, worst theta_e %.3f\" +- %.3f\" (phi=%g), d_e up to %.2f um", build[4],
+                theta_max, theta_max_sigma, theta_max_phi, 1000.0 * d_e_max);
+  r.summary = line;
+  r.ok = true;
+  return r;
+}
+
+bool store_spindle(VariableClient& client, FlowResult& result) {
+  return store_built(client, kBuild, result, result.build_arguments);
+}
+
+}  // namespace trueaxis::sim

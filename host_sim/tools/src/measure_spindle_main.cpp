@@ -1,0 +1,203 @@
+// trueaxis-measure-spindle: measures the virtual spindle (virtual_spindle.hpp,
+// realistic_spindle()) with the virtual spindle analyser (spindle_analyser.hpp)
+// and writes the files trueaxis-calibrate spindle reads (docs/INTERFACE.md "M4
+// spindle"). Standalone: no simulator process is needed.
+//
+// usage: trueaxis-measure-spindle --out SAMPLES.csv --machine MACHINE.csv [--seed N]
+//          [--revolutions R] [--step-deg S] [--noise on|off] [--form-nm F]
+//          [--tool-length L] [--truth TRUTH.json]
+//   --seed N          noise and form seed (default 1): the same seed, the same files
+//   --revolutions R   whole revolutions measured (default 3; 1..100)
+//   --step-deg S      angle step (default 5; 360 / S a whole number of at least 8)
+//   --noise on|off    the probes' noise (15 nm per axis) and the balls' form error
+//                     (default on); off: the true ball centres
+//   --form-nm F       the balls' form error, RMS in nm (default 50; 0..1000)
+//   --tool-length L   MACHINE's tool_length_mm and the truth's tool tip (default
+//                     250: beyond the balls, a length the fit does not use)
+//   --truth TRUTH.json  the TRUE values in the shape of OUT.json
+// Files (conventions of virtual_spindle.hpp and spindle_analyser.hpp):
+//   SAMPLES  `phi_deg,ball,x_mm,y_mm,z_mm`, the analyser's order; phi_deg keeps
+//            growing past 360 on later revolutions; mm with 9 decimals.
+//   MACHINE  `name,value`: bearing_spacing_mm, gauge_from_upper_bearing_mm,
+//            ball_1_mm, ball_2_mm, tool_length_mm, all nominal.
+//   TRUTH    OUT.json's keys, with "parameters" identifiable_truth() (sigma 0;
+//            o_x_mm, o_y_mm, o_z_mm, a_x, a_y, e_x_mm, e_y_mm, w_x, w_y; a and w
+//            unitless direction components), "per_angle" every 5 deg from the
+//            spindle's own geometry (convention 5), "evaluations" 0, and three
+//            keys more: "truth": true, "tool_length_mm", and "axial_error_mm"
+//            (delta of convention 4: o = O1 + delta a; the analyser cannot see
+//            it, and the true tip's z error holds about -delta of it).
+// Prints the sample count and the truth's extremes. Exit 0, or 1 with one line
+// on stderr; the files are written only after everything is computed, samples
+// first, then MACHINE, then the truth.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "trueaxis/sim/program.hpp"
+#include "trueaxis/sim/tools/spindle_measure.hpp"
+
+namespace {
+
+using trueaxis::core::Vec3;
+using trueaxis::sim::VirtualSpindle;
+
+constexpr const char* kHelp =
+    "usage: trueaxis-measure-spindle --out SAMPLES.csv --machine MACHINE.csv [--seed N]\n"
+    "         [--revolutions R] [--step-deg S] [--noise on|off] [--form-nm F]\n"
+    "         [--tool-length L] [--truth TRUTH.json]\n"
+    "  Measures the virtual spindle (realistic errors) with a virtual spindle analyser into\n"
+    "  the files trueaxis-calibrate spindle reads; no simulator process needed.\n"
+    "  --seed N          noise and form seed (default 1): the same seed, the same files\n"
+    "  --revolutions R   whole revolutions measured (default 3; 1..100)\n"
+    "  --step-deg S      angle step (default 5; 360 / S a whole number of at least 8)\n"
+    "  --noise on|off    the probes' noise (15 nm) and the balls' form error (default on)\n"
+    "  --form-nm F       the balls' form error, RMS in nm (default 50; 0..1000)\n"
+    "  --tool-length L   MACHINE's tool_length_mm and the truth's tool tip (default 250)\n"
+    "  --truth TRUTH.json  the TRUE values in the shape of OUT.json\n"
+    "  --help, --version this text; the version line\n"
+    "  Exit 0, or 1 with one line on stderr.\n";
+
+int fail(const std::string& what) {
+  std::fprintf(stderr, "trueaxis-measure-spindle: %s\n", what.c_str());
+  return 1;
+}
+
+bool number(const char* text, double& out) {
+  char* end = nullptr;
+  out = std::strtod(text, &end);
+  return end != text && *end == '\0' && std::isfinite(out);
+}
+
+bool whole(double v) { return v == std::floor(v); }
+
+// 360 / step a whole number from 8 (kMinSpindleSamples) to 3600.
+bool splits_revolution(double step_deg) {
+  const double n = 360.0 / step_deg;
+  return n >= 8 && n <= 3600 && std::abs(n - std::round(n)) < 1e-9 * n;
+}
+
+bool write_file(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::trunc | std::ios::binary);
+  return out && (out << text) && out.flush();
+}
+
+std::string num(double v) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.15g", v == 0.0 ? 0.0 : v);  // no "-0"
+  return text;
+}
+
+std::string samples_text(const std::vector<trueaxis::core::SpindleSample>& samples, const std::string& about) {
+  std::string text = "# trueaxis-measure-spindle: the virtual spindle (realistic errors), analyser frame, mm\n# " +
+                     about + "\nphi_deg,ball,x_mm,y_mm,z_mm\n";
+  for (const auto& s : samples) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%.10g,%d,%.9f,%.9f,%.9f\n", s.phi_deg, s.ball, s.p_mm.x(), s.p_mm.y(),
+                  s.p_mm.z());
+    text += line;
+  }
+  return text;
+}
+
+std::string machine_text(const VirtualSpindle& spindle, double tool_length_mm) {
+  const auto& c = spindle.config();
+  const std::pair<const char*, double> rows[] = {{"bearing_spacing_mm", c.bearing_spacing_mm},
+                                                 {"gauge_from_upper_bearing_mm", spindle.gauge_mm()},
+                                                 {"ball_1_mm", c.ball_mm[0]},
+                                                 {"ball_2_mm", c.ball_mm[1]},
+                                                 {"tool_length_mm", tool_length_mm}};
+  std::string text = "# nominal lengths of the virtual spindle, mm\nname,value\n";
+  for (const auto& row : rows) {
+    char line[120];
+    std::snprintf(line, sizeof line, "%s,%.9f\n", row.first, row.second);
+    text += line;
+  }
+  return text;
+}
+
+std::string truth_text(const VirtualSpindle& spindle, double tool_length_mm, double& theta_max_arcsec,
+                       double& d_e_max_mm, double& tip_max_mm) {
+  const char* names[9] = {"o_x_mm", "o_y_mm", "o_z_mm", "a_x", "a_y", "e_x_mm", "e_y_mm", "w_x", "w_y"};
+  const trueaxis::core::SpindleParams q = spindle.identifiable_truth();
+  std::string json = "{\n  \"method\": \"spindle\",\n  \"truth\": true,\n  \"parameters\": {";
+  for (int k = 0; k < 9; ++k) {
+    json += std::string(k > 0 ? "," : "") + "\n    \"" + names[k] + "\": { \"value\": " + num(q(k)) + ", \"sigma\": 0 }";
+  }
+  json += "\n  },\n  \"per_angle\": [";
+  theta_max_arcsec = d_e_max_mm = tip_max_mm = 0.0;
+  for (int i = 0; i < 72; ++i) {
+    const double phi = 5.0 * i;
+    const trueaxis::sim::ScrewError s = spindle.screw_error(phi);
+    const Vec3 tip = spindle.tool_tip_error_mm(tool_length_mm, phi);
+    const double theta = s.theta_e_rad * trueaxis::sim::kArcsecPerRad;
+    theta_max_arcsec = std::max(theta_max_arcsec, theta);
+    d_e_max_mm = std::max(d_e_max_mm, s.d_e_mm);
+    tip_max_mm = std::max(tip_max_mm, std::hypot(tip.x(), tip.y()));
+    json += std::string(i > 0 ? "," : "") + "\n    { \"phi_deg\": " + num(phi) + ", \"theta_e_arcsec\": " +
+            num(theta) + ", \"d_e_mm\": " + num(s.d_e_mm) + ", \"tool_tip_error_mm\": [" + num(tip.x()) + ", " +
+            num(tip.y()) + ", " + num(tip.z()) + "] }";
+  }
+  json += "\n  ],\n  \"theta_e_max_arcsec\": " + num(theta_max_arcsec) + ", \"d_e_max_mm\": " + num(d_e_max_mm) +
+          ", \"evaluations\": 0,\n  \"tool_length_mm\": " + num(tool_length_mm) +
+          ", \"axial_error_mm\": " + num(spindle.axial_error_mm()) + "\n}\n";
+  return json;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (trueaxis::sim::answered_help_or_version(argc, argv, "trueaxis-measure-spindle", kHelp)) return 0;
+  std::string out_path, machine_path, truth_path, noise = "on";
+  double seed = 1, revolutions = 3, step_deg = 5, form_nm = 50, tool_length_mm = 250;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string arg = argv[i];
+    bool ok = true;
+    if (arg == "--out") out_path = argv[i + 1];
+    else if (arg == "--machine") machine_path = argv[i + 1];
+    else if (arg == "--truth") truth_path = argv[i + 1];
+    else if (arg == "--noise") noise = argv[i + 1];
+    else if (arg == "--seed") ok = number(argv[i + 1], seed) && seed >= 0 && whole(seed) && seed < 9e15;
+    else if (arg == "--revolutions") ok = number(argv[i + 1], revolutions) && whole(revolutions) && revolutions >= 1 && revolutions <= 100;
+    else if (arg == "--step-deg") ok = number(argv[i + 1], step_deg) && step_deg > 0 && splits_revolution(step_deg);
+    else if (arg == "--form-nm") ok = number(argv[i + 1], form_nm) && form_nm >= 0 && form_nm <= 1000;
+    else if (arg == "--tool-length") ok = number(argv[i + 1], tool_length_mm) && tool_length_mm > 0 && tool_length_mm <= 1000;
+    else ok = false;
+    if (!ok) return fail("bad option '" + arg + "'");
+  }
+  if (argc % 2 == 0 || out_path.empty() || machine_path.empty() || (noise != "on" && noise != "off")) {
+    return fail("usage: trueaxis-measure-spindle --out SAMPLES.csv --machine MACHINE.csv [--seed N] "
+                "[--revolutions R] [--step-deg S] [--noise on|off] [--form-nm F] [--tool-length L] "
+                "[--truth TRUTH.json]");
+  }
+
+  using namespace trueaxis::sim;
+  const VirtualSpindle spindle(realistic_spindle());
+  AnalyserConfig ac;
+  ac.revolutions = static_cast<int>(revolutions);
+  ac.step_deg = step_deg;
+  ac.form_seed = static_cast<std::uint64_t>(seed);
+  ac.noise_sigma_mm = noise == "on" ? 15e-6 : 0.0;
+  ac.form_rms_mm = noise == "on" ? form_nm * 1e-6 : 0.0;
+  const VirtualAnalyser analyser(ac);
+  SimRng rng(static_cast<std::uint64_t>(seed));
+  const std::vector<trueaxis::core::SpindleSample> samples = measure_spindle(analyser, spindle, rng);
+
+  char about[200];
+  std::snprintf(about, sizeof about, "seed %.0f, %d revolutions at %g deg, noise %s (15 nm), form %g nm RMS", seed,
+                ac.revolutions, step_deg, noise.c_str(), 1e6 * ac.form_rms_mm);
+  double theta_max = 0, d_e_max = 0, tip_max = 0;
+  const std::string truth = truth_text(spindle, tool_length_mm, theta_max, d_e_max, tip_max);
+  if (!write_file(out_path, samples_text(samples, about))) return fail(out_path + ": cannot be written");
+  if (!write_file(machine_path, machine_text(spindle, tool_length_mm))) return fail(machine_path + ": cannot be written");
+  if (!truth_path.empty() && !write_file(truth_path, truth)) return fail(truth_path + ": cannot be written");
+  std::printf("measured %zu ball centres (%s) into %s\n", samples.size(), about, out_path.c_str());
+  std::printf("truth: theta_e up to %.3f arcsec, d_e up to %.3f um, tool tip at %g mm up to %.3f um across the axis\n",
+              theta_max, 1000.0 * d_e_max, tool_length_mm, 1000.0 * tip_max);
+  return 0;
+}
