@@ -233,7 +233,9 @@ AccessFault Module::save_variables(Access group, std::uint16_t first, std::uint1
     const std::uint16_t number = numbers[i];
     const bool written = number >= first && number - first < count;
     put_u16(variable_record_ + kEntryBytes * i, number);
-    put_f64(variable_record_ + kEntryBytes * i + 2, written ? values[number - first] : value(number));
+    // The stored value, not value(): #900 reads 0 (write-only), and a save of
+    // another configuration variable must keep the unlock code.
+    put_f64(variable_record_ + kEntryBytes * i + 2, written ? values[number - first] : values_[slot_of(number)]);
   }
   const core::Status s = store_.save(static_cast<std::uint8_t>(record_of(group)), variable_record_, kEntryBytes * n);
   return s == core::Status::kOk ? AccessFault::kNone : AccessFault::kStorageFailure;

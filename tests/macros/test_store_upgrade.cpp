@@ -247,7 +247,7 @@ TEST_CASE("a store written by 5f22699 loads with every record intact", "[store][
     d.check();
   }
 
-  SECTION("a configuration and a work offset saved afterwards keep every other record loadable") {
+  SECTION("a configuration and a work offset saved afterwards keep every other record loadable, and the unlock code") {
     // The first saves of the new code rewrite the config and work-offset
     // records in their slots; the tables beside them must stay readable, and
     // a module started again must read the new values and the old tables.
@@ -256,11 +256,14 @@ TEST_CASE("a store written by 5f22699 loads with every record intact", "[store][
     REQUIRE(s.put(v::kUnlock, 0.0) == F::kNone);
     REQUIRE(s.put(v::kG54, -1.5) == F::kNone);
 
-    // #900 is not among the values checked: it reads 0. (Nor is it kept: a
-    // save of another configuration value stores #900 as it reads, 0, which
-    // start() refuses, so the code falls back to 2718 at the next start; so
-    // did 5f22699.)
+    // #900 reads 0, so it is not among the values checked; the saves must
+    // keep it (5f22699 stored #900 as it reads, 0, which start() refuses, so
+    // its code fell back to 2718 at the next start).
     Started again(copy.path);
+    CHECK(again.put(v::kUnlock, m::kUnlockCode) == F::kBadUnlockCode);
+    again.clock.now += 2'000'000;  // past the back-off of one wrong code
+    CHECK(again.put(v::kUnlock, kStoredUnlockCode) == F::kNone);
+    CHECK(again.module.unlocked());
     Differences d;
     for (const expected::Value& want : expected::kStored) {
       const double saved = want.number == v::kLevelAxes ? 0.0 : want.number == v::kG54 ? -1.5 : want.value;

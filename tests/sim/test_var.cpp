@@ -214,9 +214,9 @@ TEST_CASE("trueaxis-var: a macro error is one line with the module's code, name 
   sim.set_points(collinear);
   const auto s = trueaxis::core::Status::kPointsCollinear;
   check_failure(var(sim, w, {"run", "9810"}), "macro 9810 level_3pt: module error 201 points_collinear: " +
-                                                  std::string(trueaxis::core::status_message(s)));
+                                                  std::string(trueaxis::macros::status_message(s)));
   check_failure(var(sim, w, {"run", "9999"}), "macro 9999: module error 400 unknown_macro: " +
-                                                  std::string(trueaxis::core::status_message(
+                                                  std::string(trueaxis::macros::status_message(
                                                       trueaxis::core::Status::kUnknownMacro)));
 }
 

@@ -42,7 +42,7 @@ std::uint64_t stack_used_bytes() {
 namespace var = trueaxis::macros::var;
 
 // Levelling is built into this image's module.
-constexpr bool kLevelBuilt = trueaxis::macros::find_macro(9810) != nullptr;
+constexpr bool kLevelBuilt = trueaxis::macros::is_macro(9810);
 
 bool load_face(trueaxis::macros::Module& module) {
   const double g57[3] = {0.0, 0.0, 0.0};

@@ -93,13 +93,9 @@ void print_method_help(const CalibrateMethod& m) {
 }
 
 // "; stored (record 3 rigidity_table)".
-std::string stored_text(trueaxis::macros::RecordKey key) {
-  for (const trueaxis::macros::RecordSpec& spec : trueaxis::macros::kRecordSpecs) {
-    if (spec.key == trueaxis::macros::record_key(key)) {
-      return "stored (record " + std::to_string(spec.key) + " " + spec.name + ")";
-    }
-  }
-  return "stored";
+std::string stored_text(const char* method) {
+  const trueaxis::macros::RecordSpec* spec = trueaxis::sim::stored_record(method);
+  return spec != nullptr ? "stored (record " + std::to_string(spec->key) + " " + spec->name + ")" : "stored";
 }
 
 }  // namespace
@@ -190,7 +186,7 @@ int main(int argc, char** argv) {
   }
   r.unlock_code = o.unlock_code;
   if (o.store && !method->store(client, r)) return fail_clean(r.error);
-  summary += o.store ? "; " + stored_text(method->record) : "; not stored";
+  summary += o.store ? "; " + stored_text(method->name) : "; not stored";
   client.close();
   if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
   std::printf("%s\n", summary.c_str());

@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "trueaxis/core/status.hpp"
-#include "trueaxis/macros/methods.hpp"
+#include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/macros/var_info.hpp"
 #include "trueaxis/sim/program.hpp"
@@ -209,10 +209,10 @@ int run(VarSession& s, const std::vector<std::string>& args, const Options& o) {
   const auto status = static_cast<trueaxis::core::Status>(end.error);
   if (end.status != static_cast<int>(trueaxis::macros::MacroState::kDone)) {
     return fail("macro " + title + ": module error " + std::to_string(end.error) + " " +
-                trueaxis::core::status_name(status) + ": " + trueaxis::core::status_message(status));
+                trueaxis::macros::status_name(status) + ": " + trueaxis::macros::status_message(status));
   }
   std::printf("%s: done, error %d %s, %d step%s, %.0f us%s\n", title.c_str(), end.error,
-              trueaxis::core::status_name(status), end.steps, end.steps == 1 ? "" : "s", end.run_time_us,
+              trueaxis::macros::status_name(status), end.steps, end.steps == 1 ? "" : "s", end.run_time_us,
               info != nullptr ? "" : " (not in this map: its results unnamed)");
   return print_results(s, info);
 }

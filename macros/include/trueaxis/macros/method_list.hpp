@@ -69,6 +69,15 @@ constexpr std::size_t table_align() {
   }
 }
 template <typename M>
+constexpr RecordSpec table_record_of() {
+  if constexpr (has_table<M>()) {
+    return M::Table::kRecord;
+  } else {
+    return RecordSpec{0, 0, 0, ""};
+  }
+}
+
+template <typename M>
 constexpr std::size_t record_capacity_of() {
   if constexpr (has_table<M>()) {
     return M::Table::kRecord.capacity_bytes;
@@ -115,6 +124,8 @@ struct MethodSet<MethodList<Ms...>> {
   static constexpr std::array<StatusBlock, kCount> kStatusBlocks{{Ms::kStatusBlock...}};
   static constexpr std::array<SessionInfo, kCount> kSessions{{Ms::kSession...}};
   static constexpr std::array<bool, kCount> kHasTable{{detail::has_table<Ms>()...}};
+  // Each method's table record (key 0 when it stores none).
+  static constexpr std::array<RecordSpec, kCount> kTableRecordOf{{detail::table_record_of<Ms>()...}};
   static constexpr std::array<List<OutputInfo>, kCount> kNamedResults{{detail::named_results_of<Ms>()...}};
 
   // Each method's own slots follow the platform's, in list order
@@ -145,17 +156,8 @@ struct MethodSet<MethodList<Ms...>> {
   static constexpr std::array<RecordSpec, kTableCount> table_records() {
     std::array<RecordSpec, kTableCount> out{};
     std::size_t n = 0;
-    ((detail::has_table<Ms>() ? void(out[n++] = table_record<Ms>()) : void()), ...);
+    ((detail::has_table<Ms>() ? void(out[n++] = detail::table_record_of<Ms>()) : void()), ...);
     return out;
-  }
-
-  template <typename M>
-  static constexpr RecordSpec table_record() {
-    if constexpr (detail::has_table<M>()) {
-      return M::Table::kRecord;
-    } else {
-      return RecordSpec{};
-    }
   }
 
   static constexpr std::size_t kNamedResultMethods = (std::size_t{0} + ... + (detail::HasNamedResults<Ms>::value ? 1 : 0));

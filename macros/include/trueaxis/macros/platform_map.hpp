@@ -7,8 +7,8 @@
 //                    meaning is per macro (each macro's outputs in the JSON map).
 //  3. #500 .. #999   configuration; persistent; writable only while unlocked.
 //                    Each method owns a block (its descriptor's kBlock,
-//                    method.hpp); #900 .. #999 is the platform's (the unlock
-//                    code, #900).
+//                    method.hpp); #900 is the platform's (the unlock code),
+//                    #901 .. #999 is free for further methods.
 //  4. #1000 .. #4999 macro-input data of the methods (point lists), one block
 //                    per method; volatile, cleared after every macro.
 //  5. #5221 .. #5326 work offsets G54 .. G59 (+0 X .. +5 C); persistent.

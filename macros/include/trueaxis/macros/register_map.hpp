@@ -97,24 +97,33 @@ constexpr bool inside(std::uint16_t first, std::uint16_t last, const VarInfo& v)
 constexpr bool overlaps_any_block(const VarInfo& v, const MethodBlock* blocks, std::size_t block_count) {
   for (std::size_t b = 0; b < block_count; ++b) {
     const std::uint32_t end = static_cast<std::uint32_t>(v.number) + v.count - 1;
-    if (end >= blocks[b].config_first && v.number <= blocks[b].config_last) return true;
-    if (end >= blocks[b].data_first && v.number <= blocks[b].data_last) return true;
+    if (blocks[b].has_config() && end >= blocks[b].config_first && v.number <= blocks[b].config_last) return true;
+    if (blocks[b].has_data() && end >= blocks[b].data_first && v.number <= blocks[b].data_last) return true;
   }
   return false;
 }
 
 }  // namespace detail
 
-// Blocks inside #500..#999 and #1000..#4999, in order, not overlapping.
+// Blocks inside #500..#999 (not #900, the unlock code) and #1000..#4999, in
+// order, not overlapping; a method may have no block of either kind.
 constexpr bool blocks_are_well_formed(const MethodBlock* blocks, std::size_t count) {
+  std::uint16_t config_end = 0;  // the last number of the blocks so far
+  std::uint16_t data_end = 0;
   for (std::size_t b = 0; b < count; ++b) {
     const MethodBlock& m = blocks[b];
-    if (m.config_first > m.config_last || m.data_first > m.data_last) return false;
-    if (m.config_first < var::kConfigFirst || m.config_last > var::kConfigLast) return false;
-    if (m.data_first < var::kDataFirst || m.data_last > var::kDataLast) return false;
-    if (m.config_first <= var::kUnlockCodeSetting && var::kUnlockCodeSetting <= m.config_last) return false;
-    if (b > 0 && (blocks[b - 1].config_last >= m.config_first || blocks[b - 1].data_last >= m.data_first)) {
-      return false;
+    if (m.has_config()) {
+      if (m.config_first > m.config_last) return false;
+      if (m.config_first < var::kConfigFirst || m.config_last > var::kConfigLast) return false;
+      if (m.config_first <= var::kUnlockCodeSetting && var::kUnlockCodeSetting <= m.config_last) return false;
+      if (m.config_first <= config_end) return false;
+      config_end = m.config_last;
+    }
+    if (m.has_data()) {
+      if (m.data_first > m.data_last) return false;
+      if (m.data_first < var::kDataFirst || m.data_last > var::kDataLast) return false;
+      if (m.data_first <= data_end) return false;
+      data_end = m.data_last;
     }
   }
   return true;
@@ -127,8 +136,8 @@ constexpr bool source_is_well_formed(const RowSource& s, const MethodBlock* bloc
   for (const VarInfo& v : s.rows) {
     if (s.block == nullptr) {
       if (detail::overlaps_any_block(v, blocks, block_count)) return false;
-    } else if (!detail::inside(s.block->config_first, s.block->config_last, v) &&
-               !detail::inside(s.block->data_first, s.block->data_last, v)) {
+    } else if (!(s.block->has_config() && detail::inside(s.block->config_first, s.block->config_last, v)) &&
+               !(s.block->has_data() && detail::inside(s.block->data_first, s.block->data_last, v))) {
       return false;
     }
   }
@@ -278,6 +287,16 @@ constexpr MacroEntry find_macro_entry(std::uint16_t number) {
   return {nullptr, 0};
 }
 constexpr const MacroInfo* find_macro(std::uint16_t number) { return find_macro_entry(number).info; }
+
+// True when a built method has macro `number`.
+constexpr bool is_macro(std::uint16_t number) {
+  for (const List<MacroInfo>& l : BuiltMethods::kMacros) {
+    for (const MacroInfo& m : l) {
+      if (m.number == number) return true;
+    }
+  }
+  return false;
+}
 
 // Status codes (convention 6): the platform's and each method's, joined.
 constexpr bool statuses_are_well_formed(const List<core::StatusInfo>* lists, const StatusBlock* blocks,

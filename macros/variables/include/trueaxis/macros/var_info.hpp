@@ -130,12 +130,16 @@ struct InputRef {
 };
 
 // The numbers a method may define rows in: its block of the persistent range
-// #500..#999 and its block of macro-input data (#1000..#4999). Both are
-// published in the JSON map; register_map.hpp checks every row against them.
+// #500..#999 and its block of macro-input data (#1000..#4999); a block of
+// {0, 0} is none. Both are published in the JSON map; register_map.hpp checks
+// every row against them.
 struct MethodBlock {
   const char* method;
   std::uint16_t config_first, config_last;
   std::uint16_t data_first, data_last;
+
+  constexpr bool has_config() const { return config_first != 0 || config_last != 0; }
+  constexpr bool has_data() const { return data_first != 0 || data_last != 0; }
 };
 
 // The first fault a value would meet being written to `info` (kind and range only;

@@ -121,16 +121,22 @@ bool store_spindle(VariableClient& client, FlowResult& result);
 
 // One method of trueaxis-calibrate: all the command knows of it. The command
 // looks a method up by name in the one table (calibrate_methods()) and does
-// what the entry says; nothing else in the command names a method.
+// what the entry says; nothing else in the command names a method. The record
+// --store writes is the method descriptor's (stored_record()); a test holds the
+// table to the module's method list (every method that stores a table has an
+// entry, and every entry is such a method).
 struct CalibrateMethod {
   const char* name;     // METHOD on the command line, OUT.json's "method"
   const char* title;    // what it calibrates, one line
   const char* files;    // the CSV files' columns with their units (METHOD --help)
   FlowResult (*calibrate)(VariableClient&, const CalibrateOptions&);  // streams, computes; stores nothing
   bool (*store)(VariableClient&, FlowResult&);  // stores the session's result: unlock, build, lock
-  macros::RecordKey record;   // the record --store writes (the JSON map's "records")
   const char* report_module;  // host_sim/report/<report_module>.py draws --report
 };
+
+// The record that method `name` of the module's method list stores its table
+// in (the JSON map's "records"), or nullptr when it stores none or is not built.
+const macros::RecordSpec* stored_record(const char* name);
 
 // The table, in the order --help lists the methods.
 struct CalibrateMethods {
