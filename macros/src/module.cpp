@@ -31,18 +31,35 @@ struct SlotRun {
 
 // Slot runs of the variables cleared after every macro (kReadWrite rows), merged
 // where adjacent (slots follow the platform, then each method: not map order).
+constexpr std::size_t readwrite_row_count() {
+  std::size_t n = 0;
+  for (const VarInfo& v : kRegisterMap) n += v.access == Access::kReadWrite ? 1 : 0;
+  return n;
+}
+
+// The kReadWrite rows as slot runs, sorted by slot.
+constexpr std::array<SlotRun, readwrite_row_count()> readwrite_rows() {
+  std::array<SlotRun, readwrite_row_count()> rows{};
+  std::size_t n = 0;
+  for (const VarInfo& v : kRegisterMap) {
+    if (v.access == Access::kReadWrite) rows[n++] = {slot_of(v.number), v.count};
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    for (std::size_t j = i; j > 0 && rows[j - 1].first > rows[j].first; --j) {
+      const SlotRun t = rows[j];
+      rows[j] = rows[j - 1];
+      rows[j - 1] = t;
+    }
+  }
+  return rows;
+}
+constexpr auto kReadWriteRows = readwrite_rows();
+
 constexpr std::size_t readwrite_run_count() {
   std::size_t runs = 0;
-  for (std::size_t slot = 0; slot < kVariableCount; ++slot) {
-    bool rw = false;
-    bool rw_before = false;
-    for (const VarInfo& v : kRegisterMap) {
-      if (v.access != Access::kReadWrite) continue;
-      const std::size_t first = slot_of(v.number);
-      rw = rw || (slot >= first && slot < first + v.count);
-      rw_before = rw_before || (slot > 0 && slot - 1 >= first && slot - 1 < first + v.count);
-    }
-    if (rw && !rw_before) ++runs;
+  for (std::size_t i = 0; i < kReadWriteRows.size(); ++i) {
+    const bool joins = i > 0 && kReadWriteRows[i - 1].first + kReadWriteRows[i - 1].count == kReadWriteRows[i].first;
+    runs += joins ? 0 : 1;
   }
   return runs;
 }
@@ -50,17 +67,11 @@ constexpr std::size_t readwrite_run_count() {
 constexpr std::array<SlotRun, readwrite_run_count()> readwrite_runs() {
   std::array<SlotRun, readwrite_run_count()> runs{};
   std::size_t n = 0;
-  for (std::size_t slot = 0; slot < kVariableCount; ++slot) {
-    bool rw = false;
-    for (const VarInfo& v : kRegisterMap) {
-      const std::size_t first = slot_of(v.number);
-      rw = rw || (v.access == Access::kReadWrite && slot >= first && slot < first + v.count);
-    }
-    if (!rw) continue;
-    if (n > 0 && runs[n - 1].first + runs[n - 1].count == slot) {
-      ++runs[n - 1].count;
+  for (const SlotRun& row : kReadWriteRows) {
+    if (n > 0 && runs[n - 1].first + runs[n - 1].count == row.first) {
+      runs[n - 1].count += row.count;
     } else {
-      runs[n++] = {slot, 1};
+      runs[n++] = row;
     }
   }
   return runs;
