@@ -1,6 +1,8 @@
 #include "trueaxis/sim/program.hpp"
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #include "trueaxis/macros/platform_map.hpp"
@@ -33,6 +35,12 @@ bool answered_help_or_version(int argc, char** argv, const char* name, const cha
     }
   }
   return false;
+}
+
+bool finite_number(const char* text, double& out) {
+  char* end = nullptr;
+  out = std::strtod(text, &end);
+  return end != text && *end == '\0' && std::isfinite(out);
 }
 
 }  // namespace trueaxis::sim

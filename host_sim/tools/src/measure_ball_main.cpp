@@ -37,11 +37,7 @@ int fail(const std::string& what) {
   return 1;
 }
 
-bool number(const char* text, double& out) {
-  char* end = nullptr;
-  out = std::strtod(text, &end);
-  return end != text && *end == '\0' && std::isfinite(out);
-}
+bool number(const char* text, double& out) { return trueaxis::sim::finite_number(text, out); }
 
 }  // namespace
 

@@ -13,6 +13,8 @@
 //     line; whichever comes first. It returns true then, and the caller exits
 //     0; otherwise false, having printed nothing.
 //  3. A help text starts with "usage: NAME ..." and ends with a newline.
+//  4. finite_number(text, out): the whole of `text` read as C's strtod reads
+//     it, and finite; false (out unspecified) otherwise.
 #pragma once
 
 #include <string>
@@ -27,5 +29,8 @@ std::string version_line(const char* name);
 
 // Contract 2.
 bool answered_help_or_version(int argc, char** argv, const char* name, const char* help);
+
+// Contract 4.
+bool finite_number(const char* text, double& out);
 
 }  // namespace trueaxis::sim
