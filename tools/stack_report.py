@@ -54,16 +54,30 @@ Conventions
     from the disassembly of the linked image. --elf IMAGE checks every stated
     bound a root relies on against that image's disassembly (conventions of
     the disassembly: see the comment above Disassembly).
- 6. Errors, never counted as zero, in what a root reaches: an indirect call no
+ 6. A library function's bound may depend on its arguments (libm's sin and cos
+    need 744 B only to reduce |x| >= 2^20 pi/2). CALL_BOUNDS states a smaller
+    bound for the calls made through a chain of callers (patterns of
+    consecutive functions on the call path, the last one the library
+    function's caller) whose code guarantees the arguments for every input,
+    the reason in the entry; the analysis is context-sensitive for them (a
+    function reached through the chain and otherwise is two cases), and a
+    root's report lists the entries its figure relies on. With --elf, each
+    entry a root relies on is checked: its bound is at least the
+    disassembly's with the entry's `skip` functions cut off, and each of them
+    is on the library function's path there.
+ 7. Errors, never counted as zero, in what a root reaches: an indirect call no
     rule resolves, a rule whose targets match no function, a table entry no
     rule target covers, a recursion not in RECURSIONS, a call to a function
     with no stack information and no LIBRARY entry, a dynamic frame not in
-    DYNAMIC_FRAMES, a library bound below its disassembly, a root pattern
-    that matches no function or several, a --bound naming no root. Also a
-    rule, table or RECURSIONS entry that nothing matches any more (stale), an
-    object of an analysed library without its .ci or with a .ci older than it
-    (a build without TRUEAXIS_STACK_INFO, or a ccache hit, which restores no
-    .ci). Problems in code no root reaches are not errors.
+    DYNAMIC_FRAMES, a library bound below its disassembly, a CALL_BOUNDS
+    bound below its disassembly or cutting off a function its library
+    function does not call, a root pattern that matches no function or
+    several, a --bound naming no root. Also a rule, table, RECURSIONS or
+    CALL_BOUNDS entry that nothing matches any more (stale: for CALL_BOUNDS,
+    one no root relies on), an object of an analysed library without its .ci
+    or with a .ci older than it (a build without TRUEAXIS_STACK_INFO, or a
+    ccache hit, which restores no .ci). Problems in code no root reaches are
+    not errors.
 
 Exit status: 0 when every root is analysed and within its bound; 1 when a root
 exceeds its --bound (its path is printed); 2 on an analysis error (printed).
@@ -168,6 +182,45 @@ LIBRARY = {
     "__aeabi_d2lz": (8, "libgcc"),
     "__aeabi_d2ulz": (0, "libgcc; no frame"),
 }
+
+# Library calls bounded by their callers (convention 6): a call of one of
+# `functions` by a function matching the last pattern of `chain`, called by one
+# matching the pattern before it, and so on up to the first, costs `bytes`
+# instead of its LIBRARY bound. `why` states what those callers guarantee for
+# every input (any finite double from the controller, any table a record
+# decodes to) and why the library's deeper path, `skip`, is then never taken;
+# --elf checks `bytes` against the disassembly with `skip` cut off.
+CallBound = namedtuple("CallBound", "chain functions bytes skip why")
+
+# newlib's sin and cos (libm/math/s_sin.c, s_cos.c, e_rem_pio2.c): |x| <= pi/4
+# goes to __kernel_sin/cos directly; otherwise __ieee754_rem_pio2 reduces x,
+# and calls __kernel_rem_pio2 (656 B, the multi-precision reduction) only when
+# x's high word is above 0x413921fb, |x| >= 2^20 pi/2 = 1,647,099 (NaN and
+# infinity return before it): the literal and the branch are in the image's
+# __ieee754_rem_pio2 (cmp with 0x413921fb, bls to the medium reduction).
+_SMALL_TRIG = ("newlib: below 2^20 pi/2 the reduction is __ieee754_rem_pio2's own (no __kernel_rem_pio2): "
+               "sin or cos 24 + __ieee754_rem_pio2 48")
+
+CALL_BOUNDS = [
+    CallBound([r"\bcore::\{anonymous\}::blend_rotvec\(", r"\bcore::so3_exp\("], ("sin",), 72, ("__kernel_rem_pio2",),
+              "so3_exp(w) takes sin(theta) and sin(theta / 2), theta = |w|. blend_rotvec (rigidity_compensation.cpp, "
+              "the geodesic blend) calls it only with w = b.w * geodesic_step_rad[k]: b.w in [0, 1] (find_bracket: "
+              "A_k <= A < A_k+1 for any finite A, clamped or refused outside the table), and geodesic_step_rad is "
+              "so3_log(R_k^T R_k+1) as prepare_rigidity_table computes it for every table, built or decoded "
+              "(rigidity_table.hpp convention 8: never stored), of norm 2 atan(x) or 2 atan2(|q_v|, q_w >= 0): at "
+              "most pi up to rounding, or NaN. So theta <= 3.15 or NaN: never the large reduction. " + _SMALL_TRIG),
+    CallBound([r"\bmacros::spindle::tool_tip_correction\(", r"\bcore::spindle_correction\("], ("sin", "cos"), 72,
+              ("__kernel_rem_pio2",),
+              "spindle_correction takes cos(phi) and sin(phi) of its angle. tool_tip_correction (spindle_macros.cpp) "
+              "refuses a phi_deg that is not finite and passes phi = deg_to_rad(fmod(phi_deg, 360)): fmod is exact "
+              "and below 360 in magnitude, so |phi| < 2 pi (1 + 2^-52). " + _SMALL_TRIG),
+    CallBound([r"\bcore::decode_rigidity_table\(", r"\bcore::prepare_rigidity_table\(RigidityTable&\)",
+               r"\bcore::prepare_rigidity_table\(RigidityTable&, RigiditySplineWork&\)", r"\bcore::so3_exp\("],
+              ("sin",), 72, ("__kernel_rem_pio2",),
+              "prepare_rigidity_table calls so3_exp(rotvec_rad) of each pose and nothing else of so3_exp; "
+              "decode_rigidity_table (rigidity_codec.cpp) refuses a record with a pose whose |rotvec_rad| is not "
+              "<= pi (the same norm so3_exp takes) before it prepares the table. " + _SMALL_TRIG),
+]
 
 # Dynamic frames accepted, with the bound that holds for them: (pattern, bytes, why).
 DYNAMIC_FRAMES = []
@@ -399,8 +452,12 @@ class Graph:
 
 class Analysis:
     def __init__(self, graph, roots=ROOTS, rules=INDIRECT_CALLS, library=LIBRARY, dynamic=DYNAMIC_FRAMES,
-                 recursions=RECURSIONS):
+                 recursions=RECURSIONS, call_bounds=CALL_BOUNDS):
         self.g, self.roots, self.rules, self.library, self.dynamic = graph, roots, rules, library, dynamic
+        self.call_bounds = call_bounds
+        self.call_bound_hits = [0] * len(call_bounds)
+        self._chain_rx = [[re.compile(p) for p in cb.chain] for cb in call_bounds]
+        self._applied = {}     # node -> indices of CALL_BOUNDS applied to its own library calls
         self.rule_hits = [0] * len(rules)
         # Accepted self-recursions: key -> depth; their self edge is not a cycle.
         self.repeat = {}
@@ -411,7 +468,7 @@ class Analysis:
                     self.repeat[f.key] = depth
                     self.recursion_hits[i] += 1
         self._targets = {}
-        self._worst = {}       # key -> (bytes, next hop: key | ('lib', name) | None)
+        self._worst = {}       # node (key, context) -> (bytes, next hop: node | ('lib', name, entry) | None)
         self._errors = {}      # key -> [messages] of the function itself
         self._state = {}
         self.cycles = []
@@ -472,26 +529,59 @@ class Analysis:
     def frame(self, key):
         return self.g.functions[key].frame * self.repeat.get(key, 1)
 
+    # Call bounds (convention 6) ---------------------------------------------
+    def _enter(self, ctx, key):
+        """The context of function `key` called from a function in context ctx:
+        the (entry, depth) pairs whose chain's first `depth` patterns match the
+        call path ending at key."""
+        label = self.g.functions[key].label
+        out = {(e, 1) for e, rxs in enumerate(self._chain_rx) if rxs[0].search(label)}
+        for e, d in ctx:
+            rxs = self._chain_rx[e]
+            if d < len(rxs) and rxs[d].search(label):
+                out.add((e, d + 1))
+        return frozenset(out)
+
+    def library_bound(self, ctx, name):
+        """(bytes, index of the CALL_BOUNDS entry that gives them or None) of a
+        call of library function `name` by a function in context ctx."""
+        best, which = self.library.get(name, (0, ""))[0], None
+        for e, d in sorted(ctx):
+            cb = self.call_bounds[e]
+            if d == len(cb.chain) and name in cb.functions and cb.bytes < best:
+                best, which = cb.bytes, e
+        return best, which
+
+    def node(self, key):
+        """A root's node: the function in the context of its own name."""
+        return (key, self._enter(frozenset(), key))
+
+    def _children(self, node):
+        key, ctx = node
+        return [(c, self._enter(ctx, c)) for c in sorted(self.callees(self.g.functions[key]), key=str)]
+
     # Worst case -------------------------------------------------------------
-    def worst(self, key):
-        """(bytes, next hop) of the worst path from function key; cycles are recorded."""
-        if key in self._worst:
-            return self._worst[key]
+    def worst(self, node):
+        """(bytes, next hop) of the worst path from node (function key, context);
+        cycles are recorded. A hop is a node or ('lib', name, CALL_BOUNDS index or None)."""
+        if node in self._worst:
+            return self._worst[node]
         # Iterative depth-first search (no recursion limit on deep graphs).
-        stack = [(key, None)]
+        stack = [(node, None)]
         while stack:
-            k, it = stack[-1]
+            n, it = stack[-1]
+            k = n[0]
             f = self.g.functions[k]
             if it is None:
-                self._state[k] = "open"
-                it = iter(sorted(self.callees(f), key=str))
-                stack[-1] = (k, it)
+                self._state[n] = "open"
+                it = iter(self._children(n))
+                stack[-1] = (n, it)
             advanced = False
             for c in it:
                 st = self._state.get(c)
                 if st == "open":
-                    path = [s[0] for s in stack]
-                    cyc = path[path.index(c):] + [c]
+                    path = [s[0][0] for s in stack]
+                    cyc = path[path.index(c[0]):] + [c[0]]
                     self.cycles.append(cyc)
                     for m in cyc:
                         self._errors.setdefault(m, []).append(
@@ -504,31 +594,50 @@ class Analysis:
             if advanced:
                 continue
             best, hop = 0, None
-            for c in sorted(self.callees(f), key=str):
+            for c in self._children(n):
                 if self._state.get(c) == "done" and self._worst[c][0] > best:
                     best, hop = self._worst[c][0], c
             for name in sorted(f.externals):
-                b = self.library.get(name, (0, ""))[0]
+                b, which = self.library_bound(n[1], name)
+                if which is not None:
+                    self._applied.setdefault(n, set()).add(which)
                 if b > best:
-                    best, hop = b, ("lib", name)
-            self._worst[k] = (self.frame(k) + best, hop)
-            self._state[k] = "done"
+                    best, hop = b, ("lib", name, which)
+            self._worst[n] = (self.frame(k) + best, hop)
+            self._state[n] = "done"
             stack.pop()
-        return self._worst[key]
+        return self._worst[node]
 
-    def path(self, key):
+    def path(self, node):
         out, cum = [], 0
-        while key is not None:
-            if isinstance(key, tuple) and key[0] == "lib":
-                b = self.library[key[1]][0]
-                out.append({"function": key[1], "frame": b, "cumulative": cum + b, "library": True})
+        while node is not None:
+            if node[0] == "lib":
+                _, name, which = node
+                b, _ = (self.call_bounds[which].bytes, None) if which is not None else (self.library[name][0], None)
+                step = {"function": name, "frame": b, "cumulative": cum + b, "library": True}
+                if which is not None:
+                    step["call_bound"] = which
+                out.append(step)
                 break
+            key = node[0]
             f = self.g.functions[key]
             cum += self.frame(key)
             out.append({"function": f.name, "frame": self.frame(key), "cumulative": cum,
                         "qualifier": f.qualifier, "repeat": self.repeat.get(key, 1)})
-            key = self._worst[key][1]
+            node = self._worst[node][1]
         return out
+
+    def applied(self, node):
+        """The CALL_BOUNDS entries the figure of node relies on (anywhere below it)."""
+        seen, todo, used = set(), [node], set()
+        while todo:
+            n = todo.pop()
+            if n in seen:
+                continue
+            seen.add(n)
+            used |= self._applied.get(n, set())
+            todo.extend(self._children(n))
+        return used
 
     def reach(self, key):
         seen, todo = set(), [key]
@@ -549,15 +658,19 @@ class Analysis:
                                 f"{len(found)} functions: " + "; ".join(sorted(f.name for f in found)))]
             return res
         f = found[0]
-        b, _ = self.worst(f.key)
+        start = self.node(f.key)
+        b, _ = self.worst(start)
         reach = self.reach(f.key)
         errs = []
         for k in sorted(reach, key=str):
             for e in self._errors.get(k, []):
                 errs.append(f"{self.g.functions[k].name}: {e}")
         libs = sorted({n for k in reach for n in self.g.functions[k].externals})
-        res.update({"function": f.name, "bytes": b, "path": self.path(f.key), "functions": len(reach),
-                    "library": libs, "errors": sorted(set(errs))})
+        used = sorted(self.applied(start))
+        for e in used:
+            self.call_bound_hits[e] += 1
+        res.update({"function": f.name, "bytes": b, "path": self.path(start), "functions": len(reach),
+                    "library": libs, "call_bounds": used, "errors": sorted(set(errs))})
         return res
 
 
@@ -700,8 +813,11 @@ class Disassembly:
         i = bisect.bisect_right(self.starts, addr) - 1
         return self.starts[i] if i >= 0 else None
 
-    def bound(self, name):
-        """(bytes, [problems], [path names]) of a function of the image, or None if absent."""
+    def bound(self, name, skip=()):
+        """(bytes, [problems], [path names]) of a function of the image, or None if
+        absent; the functions named in `skip` are cut off (CALL_BOUNDS):
+        self.skipped tells which of them the walk met."""
+        self.skipped = set()
         if name not in self.by_name:
             return None
         memo, problems = {}, []
@@ -722,6 +838,9 @@ class Disassembly:
                 c = self._containing(t)
                 if c is None:
                     problems.append(f"{f[0]}: branch to {t:#x} outside every function")
+                    continue
+                if self.funcs[c][0] in skip:
+                    self.skipped.add(self.funcs[c][0])
                     continue
                 r = visit(c, trail + [a])
                 if r[0] > best[0]:
@@ -806,6 +925,39 @@ def check_library(analysis, dis, needed):
     return rows, errors, notes
 
 
+def check_call_bounds(analysis, dis, used):
+    """Errors, notes and rows (index, function, stated, disassembly, image, path) of
+    the CALL_BOUNDS entries the roots rely on: each bound at least the
+    disassembly's with its `skip` cut off, each skipped function really on the
+    library function's path (else the entry states nothing)."""
+    rows, errors, notes = [], [], []
+    for e in sorted(used):
+        cb = analysis.call_bounds[e]
+        for name in cb.functions:
+            found = []
+            for d in dis:
+                r = d.bound(name, cb.skip)
+                if r is not None:
+                    found.append((r, d.image, set(d.skipped)))
+            if not found:
+                notes.append(f"CALL_BOUNDS[{e}] {name}: linked in no image given with --elf; its bound "
+                             f"({cb.bytes} B) is unchecked")
+                rows.append((e, name, cb.bytes, None, None, []))
+                continue
+            (b, probs, path), img, skipped = max(found, key=lambda x: x[0][0])
+            for p in probs:
+                errors.append(f"CALL_BOUNDS[{e}] {name} ({os.path.basename(img)}): {p}")
+            missing = set(cb.skip) - set().union(*(x[2] for x in found))
+            for m in sorted(missing):
+                errors.append(f"CALL_BOUNDS[{e}] {name}: {m} is on no path of {name} in the images: the entry "
+                              "cuts off nothing there (stale?)")
+            if b > cb.bytes:
+                errors.append(f"CALL_BOUNDS[{e}] {name}: the disassembly of {os.path.basename(img)} needs {b} B "
+                              f"without {', '.join(cb.skip)}, over the stated {cb.bytes} B: " + " -> ".join(path))
+            rows.append((e, name, cb.bytes, b, img, path))
+    return rows, errors, notes
+
+
 # ---------------------------------------------------------------------------
 # Report.
 
@@ -880,10 +1032,14 @@ def main(argv=None):
             reach_of[res["root"]] = an.reach(graph.matching(res["pattern"])[0].key)
     reached = set().union(*reach_of.values())
     needed = {n for k in reached for n in graph.functions[k].externals if n in LIBRARY}
-    lib_rows, notes = [], []
+    used_bounds = set().union(*(set(r.get("call_bounds", [])) for r in results))
+    lib_rows, notes, bound_rows = [], [], []
     if dis:
         lib_rows, lib_errors, notes = check_library(an, dis, needed)
         errors.extend(lib_errors)
+        bound_rows, bound_errors, bound_notes = check_call_bounds(an, dis, used_bounds)
+        errors.extend(bound_errors)
+        notes.extend(bound_notes)
         try:
             table_errors, table_notes = check_tables(an, dis)
         except AnalysisError as e:
@@ -899,6 +1055,8 @@ def main(argv=None):
     else:
         notes.append("no --elf image: library bounds and gcc's frames are not checked against a disassembly")
         lib_rows = [(n, LIBRARY[n][0], None, None, []) for n in sorted(needed)]
+        bound_rows = [(e, n, an.call_bounds[e].bytes, None, None, []) for e in sorted(used_bounds)
+                      for n in an.call_bounds[e].functions]
     if not args.root:
         for i, r in enumerate(INDIRECT_CALLS):
             if an.rule_hits[i] == 0:
@@ -906,6 +1064,10 @@ def main(argv=None):
         for i, r in enumerate(RECURSIONS):
             if an.recursion_hits[i] == 0:
                 errors.append(f"RECURSIONS entry {r[0]!r} matches no recursive function: stale pattern?")
+        for i, cb in enumerate(an.call_bounds):
+            if an.call_bound_hits[i] == 0:
+                errors.append(f"CALL_BOUNDS[{i}] ({' -> '.join(cb.chain)} -> {'/'.join(cb.functions)}) bounds no "
+                              "call a root makes: stale pattern?")
 
     over = [r for r in results if r.get("bytes") is not None and r["bound"] is not None and r["bytes"] > r["bound"]]
     top = sorted((graph.functions[k] for k in reached), key=lambda f: (-f.frame, f.name))[:args.top]
@@ -920,6 +1082,9 @@ def main(argv=None):
                    "roots": results, "top_frames": top_rows,
                    "library": [{"function": n, "stated": s, "disassembly": d, "image": img, "path": p}
                                for n, s, d, img, p in lib_rows],
+                   "call_bounds": [{"index": e, "chain": an.call_bounds[e].chain,
+                                    "function": n, "stated": b, "disassembly": d, "image": img, "path": p}
+                                   for e, n, b, d, img, p in bound_rows],
                    "cycles": [[graph.functions[k].name for k in c] for c in an.cycles],
                    "notes": notes, "errors": errors, "over_bound": [r["root"] for r in over]}, sys.stdout, indent=2)
         print()
@@ -938,8 +1103,13 @@ def main(argv=None):
             print(f"\n{r['root']}: {r['bytes']} bytes, worst path ({r['functions']} functions reached"
                   + (f"; library: {', '.join(r['library'])}" if r["library"] else "") + ")")
             print(f"  {'frame':>6} {'cumul':>6}  function")
+            if r.get("call_bounds"):
+                print("  relies on CALL_BOUNDS " + ", ".join(f"[{e}]" for e in r["call_bounds"])
+                      + " (library calls bounded by their callers)")
             for p in r["path"]:
                 q = " (library)" if p.get("library") else ("" if p.get("qualifier") == "static" else f" ({p.get('qualifier')})")
+                if "call_bound" in p:
+                    q = f" (library; CALL_BOUNDS[{p['call_bound']}], LIBRARY {LIBRARY.get(p['function'], ('?',))[0]})"
                 if p.get("repeat", 1) > 1:
                     q += f" (recursion: {p['repeat']} x {p['frame'] // p['repeat']} bytes)"
                 print(f"  {p['frame']:>6} {p['cumulative']:>6}  {_fit(p['function'], 110)}{q}")
@@ -953,6 +1123,13 @@ def main(argv=None):
             for n, s, d, img, p in lib_rows:
                 extra = f"  disassembly {d} B ({os.path.basename(img)}): {' -> '.join(p)}" if d is not None else ""
                 print(f"  {n:18} {s:>5} B{extra}")
+        if bound_rows:
+            print("\nLibrary calls bounded by their callers (CALL_BOUNDS"
+                  + (", disassembly with the skipped functions cut off" if args.elf else "; --elf checks them") + "):")
+            for e, n, b, d, img, p in bound_rows:
+                chain = " -> ".join(an.call_bounds[e].chain)
+                extra = f"  disassembly {d} B ({os.path.basename(img)}): {' -> '.join(p)}" if d is not None else ""
+                print(f"  [{e}] {n:6} {b:>5} B  via {chain}{extra}")
         if notes:
             print()
             for n in notes:

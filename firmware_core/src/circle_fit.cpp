@@ -3,7 +3,6 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <array>
 #include <limits>
 
 #include "trueaxis/core/so3.hpp"
@@ -30,11 +29,13 @@ struct Circle {
   double r = 1.0;
 };
 
-struct NormalEquations {
-  Mat6 jtj = Mat6::Zero();
-  Vec6 jtr = Vec6::Zero();
-  double cost = 0.0;  // sum of squared 3-D distances
-};
+using NormalEquations = CircleFitWork::NormalEquations;
+
+void clear(NormalEquations& ne) {
+  ne.jtj.setZero();
+  ne.jtr.setZero();
+  ne.cost = 0.0;
+}
 
 // The solver's circle: an anchor point m on it near the points, the frame
 // (t, w, n) there (tangent, towards the centre, normal; columns of `frame`) and
@@ -93,8 +94,9 @@ double anchored_cost(const Vec3* p, std::size_t count, const Scaling& s, const A
 // J^T J and J^T r over (alpha, beta, omega_t, omega_w, omega_n, dk): m moves by
 // alpha w + beta n, the frame turns by the small rotation omega (frame
 // coordinates), k by dk. d(x, y, z)/d omega = ((0, -z, y), (z, 0, -x), (-y, x, 0)).
-NormalEquations anchored_accumulate(const Vec3* p, std::size_t count, const Scaling& s, const Anchored& a) {
-  NormalEquations ne;
+void anchored_accumulate(const Vec3* p, std::size_t count, const Scaling& s, const Anchored& a,
+                         NormalEquations& ne) {
+  clear(ne);
   for (std::size_t i = 0; i < count; ++i) {
     const AnchoredResidual r = anchored_residual(a, s.apply(p[i]));
     Vec6 jz;
@@ -107,7 +109,6 @@ NormalEquations anchored_accumulate(const Vec3* p, std::size_t count, const Scal
     ne.cost += r.z * r.z + r.e * r.e;
   }
   ne.jtj = ne.jtj.selfadjointView<Eigen::Lower>();
-  return ne;
 }
 
 Anchored anchored_step(const Anchored& a, const Vec6& delta) {
@@ -145,9 +146,9 @@ PointResidual residual(const Circle& x, const Vec3& q, const Vec3& fallback_w) {
 
 // J^T J and J^T r of the 2n residuals over (c, a, b, r), the normal's tangent
 // parameters along (u, v): dn/da = u, dn/db = v.
-NormalEquations accumulate(const Vec3* p, std::size_t count, const Scaling& s, const Circle& x, const Vec3& u,
-                           const Vec3& v) {
-  NormalEquations ne;
+void accumulate(const Vec3* p, std::size_t count, const Scaling& s, const Circle& x, const Vec3& u, const Vec3& v,
+                NormalEquations& ne) {
+  clear(ne);
   for (std::size_t i = 0; i < count; ++i) {
     const PointResidual e = residual(x, s.apply(p[i]), u);
     const double ud = u.dot(e.d);
@@ -166,7 +167,6 @@ NormalEquations accumulate(const Vec3* p, std::size_t count, const Scaling& s, c
     ne.cost += e.h * e.h + e.radial * e.radial;
   }
   ne.jtj = ne.jtj.selfadjointView<Eigen::Lower>();
-  return ne;
 }
 
 // Orientation evidence S of convention 4, for the normal `n`.
@@ -202,41 +202,23 @@ Status validate(const Vec3* points_mm, std::size_t count, const CircleFitOptions
   return Status::kOk;
 }
 
-double arc_span_deg(const Vec3* p, std::size_t count, const CircleFit& fit) {
-  std::array<double, kMaxCirclePoints> phase{};
+double arc_span_deg(const Vec3* p, std::size_t count, const CircleFit& fit, double* phase) {
   for (std::size_t i = 0; i < count; ++i) phase[i] = circle_phase_rad(fit, p[i]);
-  std::sort(phase.begin(), phase.begin() + static_cast<std::ptrdiff_t>(count));
+  std::sort(phase, phase + count);
   double gap = phase[0] + 2.0 * kPi - phase[count - 1];
   for (std::size_t i = 1; i < count; ++i) gap = std::max(gap, phase[i] - phase[i - 1]);
   return std::max(0.0, 360.0 - rad_to_deg(gap));
 }
 
-}  // namespace
+// Functions marked noinline hold a solver's or a factorisation's temporaries
+// (0.2-0.4 kB each): on the stack only while they run, not in fit_circle's
+// frame under every call it makes (README "Stack"). [[gnu::noinline]] is
+// ignored by compilers that do not know it.
 
-Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count) {
-  return fit_circle(points_mm, count, CircleFitOptions{});
-}
-
-Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count, const CircleFitOptions& options) {
-  const Status valid = validate(points_mm, count, options);
-  if (valid != Status::kOk) return valid;
-  const Vec3* p = points_mm;
-
-  Scaling s;
-  for (std::size_t i = 0; i < count; ++i) s.origin += p[i];
-  s.origin /= static_cast<double>(count);
-  double sum_sq = 0.0;
-  double max_span = 0.0;
-  for (std::size_t i = 0; i < count; ++i) {
-    sum_sq += (p[i] - s.origin).squaredNorm();
-    max_span = std::max(max_span, (p[i] - s.origin).norm());
-  }
-  if (max_span < kCircleCoincidentSpan_mm) return Status::kPointsCoincident;
-  s.scale = std::sqrt(sum_sq / static_cast<double>(count));
-  s.inv_scale = 1.0 / s.scale;
-
-  // Initial guess: the scatter matrix's plane (normal equations suffice: the
-  // refinement below fixes what they lose), then the Kasa circle in it.
+// Initial guess: the scatter matrix's plane (normal equations suffice: the
+// refinement fixes what they lose), then the Kasa circle in it; false when
+// the points are collinear.
+[[gnu::noinline]] bool initial_anchor(const Vec3* p, std::size_t count, const Scaling& s, Anchored& a) {
   Mat3 scatter = Mat3::Zero();
   for (std::size_t i = 0; i < count; ++i) {
     const Vec3 q = s.apply(p[i]);
@@ -244,7 +226,7 @@ Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count, const Cir
   }
   const Eigen::SelfAdjointEigenSolver<Mat3> es(scatter);
   const Vec3 lambda = es.eigenvalues();  // ascending
-  if (!(lambda(1) >= kCircleCollinearRatio * kCircleCollinearRatio * lambda(2))) return Status::kPointsCollinear;
+  if (!(lambda(1) >= kCircleCollinearRatio * kCircleCollinearRatio * lambda(2))) return false;
   const Vec3 e1 = es.eigenvectors().col(2);
   const Vec3 e2 = es.eigenvectors().col(1);
   Mat2 m = Mat2::Zero();
@@ -271,12 +253,56 @@ Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count, const Cir
   if (out.norm() < 1e-3 * radius0) out = s.apply(p[0]) - centre0;
   out -= out.dot(e1.cross(e2)) * e1.cross(e2);
   out.normalize();
-  Anchored a;
   a.m = centre0 + radius0 * out;
   a.frame << (-out).cross(e1.cross(e2)), -out, e1.cross(e2);
   a.k = 1.0 / radius0;
+  return true;
+}
 
-  NormalEquations ne = anchored_accumulate(p, count, s, a);
+// a^-1 b by Eigen's LDLT.
+[[gnu::noinline]] Vec6 ldlt_solve(const Mat6& a, const Vec6& b) { return a.ldlt().solve(b); }
+
+// a^-1 by Eigen's LLT, column by column: a matrix right-hand side takes
+// Eigen's blocked triangular solver, whose workspace may come from the heap
+// (the target link refuses it). False when a is not positive definite.
+[[gnu::noinline]] bool llt_inverse(const Mat6& a, Mat6& inverse) {
+  const Eigen::LLT<Mat6> llt(a);
+  if (llt.info() != Eigen::Success) return false;
+  for (int k = 0; k < 6; ++k) inverse.col(k) = llt.solve(Vec6::Unit(k));
+  return true;
+}
+
+// The largest eigenvalue of a symmetric 3 x 3 matrix.
+[[gnu::noinline]] double largest_eigenvalue(const Mat3& a) {
+  const Eigen::SelfAdjointEigenSolver<Mat3> es(a, Eigen::EigenvaluesOnly);
+  return es.eigenvalues()(2);
+}
+
+// The fit into work.fit.
+Status solve(const Vec3* points_mm, std::size_t count, const CircleFitOptions& options, CircleFitWork& work) {
+  CircleFit& fit = work.fit;
+  const Status valid = validate(points_mm, count, options);
+  if (valid != Status::kOk) return valid;
+  const Vec3* p = points_mm;
+
+  Scaling s;
+  for (std::size_t i = 0; i < count; ++i) s.origin += p[i];
+  s.origin /= static_cast<double>(count);
+  double sum_sq = 0.0;
+  double max_span = 0.0;
+  for (std::size_t i = 0; i < count; ++i) {
+    sum_sq += (p[i] - s.origin).squaredNorm();
+    max_span = std::max(max_span, (p[i] - s.origin).norm());
+  }
+  if (max_span < kCircleCoincidentSpan_mm) return Status::kPointsCoincident;
+  s.scale = std::sqrt(sum_sq / static_cast<double>(count));
+  s.inv_scale = 1.0 / s.scale;
+
+  Anchored a;
+  if (!initial_anchor(p, count, s, a)) return Status::kPointsCollinear;
+
+  NormalEquations& ne = work.normal;
+  anchored_accumulate(p, count, s, a, ne);
   double damping = 1e-3;
   bool converged = false;
   int iterations = 0;
@@ -286,24 +312,26 @@ Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count, const Cir
     // Near the minimum the cost's decrease falls below its rounding before the
     // parameters stop moving along a short arc's weak directions; there the
     // undamped Gauss-Newton step is taken without a cost test.
-    const Vec6 gauss_newton = ne.jtj.ldlt().solve(-ne.jtr);
+    const Vec6 gauss_newton = ldlt_solve(ne.jtj, -ne.jtr);
     const double step = gauss_newton.norm();
     if (step < kBasinStep) {
       a = anchored_step(a, gauss_newton);
-      ne = anchored_accumulate(p, count, s, a);
+      anchored_accumulate(p, count, s, a, ne);
       // Converged when the step is negligible, or when it has stopped shrinking
       // at the rounding floor.
       converged = step < kStepTol || (step < kFloorStep && step > 0.9 * last_basin_step);
       last_basin_step = step;
       continue;
     }
-    Mat6 damped = ne.jtj;
+    Mat6& damped = work.matrix;
+    damped = ne.jtj;
     for (int k = 0; k < 6; ++k) damped(k, k) += damping * std::max(ne.jtj(k, k), 1e-30);
-    const Anchored trial = anchored_step(a, damped.ldlt().solve(-ne.jtr));
+    const Vec6 delta = ldlt_solve(damped, -ne.jtr);
+    const Anchored trial = anchored_step(a, delta);
     if (anchored_cost(p, count, s, trial) <= ne.cost) {
       a = trial;
       damping = std::max(damping * 0.1, 1e-12);
-      ne = anchored_accumulate(p, count, s, a);
+      anchored_accumulate(p, count, s, a, ne);
     } else {
       damping *= 10.0;
       if (damping > kMaxLambda) break;
@@ -319,7 +347,6 @@ Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count, const Cir
 
   if (orientation_evidence(p, count, s, x, options.angles_deg) < 0.0) x.n = -x.n;
 
-  CircleFit fit;
   fit.centre_mm = s.origin + s.scale * x.c;
   fit.normal = x.n;
   fit.radius_mm = s.scale * x.r;
@@ -337,13 +364,10 @@ Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count, const Cir
   fit.axis_v = fit.normal.cross(fit.axis_u);
 
   // Covariance at the solution, in (axis_u, axis_v) for the normal (convention 5).
-  const NormalEquations final_ne = accumulate(p, count, s, x, fit.axis_u, fit.axis_v);
-  const Eigen::LLT<Mat6> llt(final_ne.jtj);
-  if (llt.info() != Eigen::Success) return converged ? Status::kPointsCollinear : Status::kArcTooShort;
-  // Column by column: a matrix right-hand side takes Eigen's blocked triangular
-  // solver, whose workspace may come from the heap (the target link refuses it).
-  Mat6 cov;
-  for (int k = 0; k < 6; ++k) cov.col(k) = llt.solve(Vec6::Unit(k));
+  NormalEquations& final_ne = work.normal;
+  accumulate(p, count, s, x, fit.axis_u, fit.axis_v, final_ne);
+  Mat6& cov = work.matrix;
+  if (!llt_inverse(final_ne.jtj, cov)) return converged ? Status::kPointsCollinear : Status::kArcTooShort;
   // Per unit noise in mm: lengths keep their scale (residuals and parameters
   // scale alike), the normal's angles gain 1 / scale.
   Vec6 unscale;
@@ -359,8 +383,7 @@ Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count, const Cir
     fit.sigma_mm = options.point_sigma_mm;
   }
   fit.covariance = fit.sigma_mm * fit.sigma_mm * cov;
-  const Eigen::SelfAdjointEigenSolver<Mat3> centre_es(fit.centre_covariance_mm2(), Eigen::EigenvaluesOnly);
-  fit.centre_sigma_mm = std::sqrt(std::max(0.0, centre_es.eigenvalues()(2)));
+  fit.centre_sigma_mm = std::sqrt(std::max(0.0, largest_eigenvalue(fit.centre_covariance_mm2())));
 
   double max_sq = 0.0;
   for (std::size_t i = 0; i < count; ++i) {
@@ -369,7 +392,7 @@ Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count, const Cir
   }
   fit.max_distance_mm = s.scale * std::sqrt(max_sq);
   fit.rms_distance_mm = std::sqrt(ssr_mm2 / static_cast<double>(count));
-  fit.arc_deg = arc_span_deg(p, count, fit);
+  fit.arc_deg = arc_span_deg(p, count, fit, work.phase_rad);
 
   if (fit.arc_deg < options.min_arc_deg) return Status::kArcTooShort;
   // The iteration crawls where the data hardly determine a circle (an arc whose
@@ -379,7 +402,27 @@ Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count, const Cir
     if (sigma_from_data && fit.dof == 0) return Status::kTooFewPoints;
     if (fit.centre_sigma_mm > options.max_centre_sigma_mm) return Status::kArcTooShort;
   }
-  return fit;
+  return Status::kOk;
+}
+
+}  // namespace
+
+Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count) {
+  return fit_circle(points_mm, count, CircleFitOptions{});
+}
+
+Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count, const CircleFitOptions& options) {
+  CircleFitWork work;
+  const Status status = solve(points_mm, count, options, work);
+  if (status != Status::kOk) return status;
+  return work.fit;
+}
+
+Status fit_circle(const Vec3* points_mm, std::size_t count, const CircleFitOptions& options, CircleFitWork& work,
+                  CircleFit& out) {
+  const Status status = solve(points_mm, count, options, work);
+  if (status == Status::kOk) out = work.fit;
+  return status;
 }
 
 }  // namespace trueaxis::core

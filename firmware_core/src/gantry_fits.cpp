@@ -163,7 +163,8 @@ Result<AxisEstimate> fit_axis_passes(const PointSpan* passes, std::size_t pass_c
   return axis;
 }
 
-Result<CircleFit> fit_circle_group(PointSpan points, const PointNoise& noise, double min_arc_deg) {
+Status fit_circle_group(PointSpan points, const PointNoise& noise, double min_arc_deg, CircleFitWork& work,
+                        CircleFit& out) {
   Status status = check_noise(noise);
   if (status != Status::kOk) return status;
   status = check_group(points, kMinCirclePoints, kMaxCirclePoints);
@@ -178,7 +179,7 @@ Result<CircleFit> fit_circle_group(PointSpan points, const PointNoise& noise, do
     }
     options.point_sigma_mm = std::sqrt(sum / static_cast<double>(points.count));
   }
-  return fit_circle(points.points_mm, points.count, options);
+  return fit_circle(points.points_mm, points.count, options, work, out);
 }
 
 Line3 perturbed_circle_axis(const CircleFit& circle, const Eigen::Matrix<double, 6, 1>& delta) {

@@ -18,19 +18,28 @@ Vec6 frame_delta(const Rigid3& nominal, const Rigid3& moved) {
   return d;
 }
 
-FrameUncertainty summarise(const Mat6& cov) {
-  FrameUncertainty u;
+// Stack (README "Stack"): the solvers and the covariances are the builder's
+// (GantryBuilder's scratch members, passed in), and the functions marked
+// noinline keep their temporaries out of their callers' frames, so that
+// step()'s deepest call (a perturbed sub-machine frame) does not carry them.
+// [[gnu::noinline]] is ignored by compilers that do not know it.
+
+void summarise(const Mat6& cov, FrameUncertainty& u) {
   u.covariance = cov;
   u.origin_sigma_mm = std::sqrt(std::max(0.0, cov.topLeftCorner<3, 3>().trace()));
   for (int k = 0; k < 3; ++k) u.angle_sigma_arcsec(k) = kArcsecPerRad * std::sqrt(std::max(0.0, cov(3 + k, 3 + k)));
-  return u;
 }
 
+template <int N>
+using Eigensolver = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>>;
+
 // Adds sum_k g_k g_k^T over the eigenvectors of a fit's covariance (convention 5);
-// eval(delta, frame) recomputes the frame with the fit's parameters moved by delta.
+// eval(delta, frame) recomputes the frame with the fit's parameters moved by
+// delta. `es`: scratch.
 template <int N, typename Eval>
-Status add_sensitivity(const Eigen::Matrix<double, N, N>& cov, const Rigid3& nominal, Eval eval, Mat6& acc) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> es(cov);
+[[gnu::noinline]] Status add_sensitivity(const Eigen::Matrix<double, N, N>& cov, const Rigid3& nominal, Eval eval,
+                                         Mat6& acc, Eigensolver<N>& es) {
+  es.compute(cov);
   if (es.info() != Eigen::Success) return Status::kNotFinite;
   for (int k = 0; k < N; ++k) {
     const double lambda = es.eigenvalues()(k);
@@ -77,9 +86,10 @@ Status check_ids(const GantryInput& in) {
   return Status::kOk;
 }
 
-// S1 from the four fits, with its uncertainty (convention 5).
-Status global_from_fits(const PlaneEstimate& bed, const PlaneEstimate& side_1, const PlaneEstimate& side_2,
-                        const AxisEstimate& gantry, GlobalFrame& out) {
+// S1 from the four fits, with its uncertainty (convention 5); `cov` and `es`: scratch.
+[[gnu::noinline]] Status global_from_fits(const PlaneEstimate& bed, const PlaneEstimate& side_1,
+                                          const PlaneEstimate& side_2, const AxisEstimate& gantry, GlobalFrame& out,
+                                          Mat6& cov, Eigensolver<3>& es) {
   Status status = Status::kOk;
   const Vec3 zero = Vec3::Zero();
   const Plane3 p_bed = perturbed_plane(bed, zero);
@@ -88,7 +98,7 @@ Status global_from_fits(const PlaneEstimate& bed, const PlaneEstimate& side_1, c
   Rigid3 nominal;
   if ((status = take(global_frame_from(p_bed, p_1, p_2, gantry.direction), nominal)) != Status::kOk) return status;
 
-  Mat6 cov = Mat6::Zero();
+  cov.setZero();
   const auto bed_eval = [&](const Vec3& d, Rigid3& f) {
     return take(global_frame_from(perturbed_plane(bed, d), p_1, p_2, gantry.direction), f);
   };
@@ -101,17 +111,17 @@ Status global_from_fits(const PlaneEstimate& bed, const PlaneEstimate& side_1, c
   const auto gantry_eval = [&](const Vec3& d, Rigid3& f) {
     return take(global_frame_from(p_bed, p_1, p_2, (gantry.direction + d).normalized()), f);
   };
-  if ((status = add_sensitivity(bed.covariance, nominal, bed_eval, cov)) != Status::kOk) return status;
-  if ((status = add_sensitivity(side_1.covariance, nominal, side_1_eval, cov)) != Status::kOk) return status;
-  if ((status = add_sensitivity(side_2.covariance, nominal, side_2_eval, cov)) != Status::kOk) return status;
-  if ((status = add_sensitivity(gantry.covariance, nominal, gantry_eval, cov)) != Status::kOk) return status;
+  if ((status = add_sensitivity(bed.covariance, nominal, bed_eval, cov, es)) != Status::kOk) return status;
+  if ((status = add_sensitivity(side_1.covariance, nominal, side_1_eval, cov, es)) != Status::kOk) return status;
+  if ((status = add_sensitivity(side_2.covariance, nominal, side_2_eval, cov, es)) != Status::kOk) return status;
+  if ((status = add_sensitivity(gantry.covariance, nominal, gantry_eval, cov, es)) != Status::kOk) return status;
 
   out.tracker_T_global = nominal;
   out.bed_flatness_mm = bed.flatness_mm;
   out.gantry_straightness_mm = gantry.straightness_mm;
   out.side_1_flatness_mm = side_1.flatness_mm;
   out.side_2_flatness_mm = side_2.flatness_mm;
-  out.uncertainty = summarise(cov);
+  summarise(cov, out.uncertainty);
   return Status::kOk;
 }
 
@@ -134,53 +144,12 @@ CircleSummary summarise_circle(const CircleFit& fit, const Vec3& oriented_normal
   return s;
 }
 
-// S2-S4 of one sub-machine from its five fits, with its uncertainty
-// (convention 5) and diagnostics.
-Status sub_from_fits(const SubMachineInput& in, const GantryOptions& opt, const GlobalFrame& global,
-                     const AxisEstimate axes[3], const CircleFit& c_fit, const CircleFit& a_fit,
-                     SubMachineFrame& out) {
-  Status status = Status::kOk;
-  const Axis master = longest_stroke(axes);
-  const Vec3 gantry_x = global.tracker_T_global.R.col(0);
-  Vec3 dirs[3] = {axes[0].direction, axes[1].direction, axes[2].direction};
-  const Line3 c_line{c_fit.centre_mm, c_fit.normal};
-  const Line3 a_line{a_fit.centre_mm, a_fit.normal};
-  const auto build = [&](const Vec3 d[3], const Line3& c, const Line3& a, SubGeometry& g) {
-    return take(sub_frame_from(d, master, c, in.tool_direction, a, in.swing_mm, gantry_x, opt.min_ac_sin), g);
-  };
-  SubGeometry nominal;
-  if ((status = build(dirs, c_line, a_line, nominal)) != Status::kOk) return status;
-
-  Mat6 own = Mat6::Zero();  // tracker-frame origin, rotation about the sub-machine's axes
-  for (int k = 0; k < 3; ++k) {
-    const auto eval = [&](const Vec3& d, Rigid3& f) {
-      Vec3 moved[3] = {dirs[0], dirs[1], dirs[2]};
-      moved[k] = (dirs[k] + d).normalized();
-      SubGeometry g;
-      const Status s = build(moved, c_line, a_line, g);
-      f = g.tracker_T_sub;
-      return s;
-    };
-    if ((status = add_sensitivity(axes[k].covariance, nominal.tracker_T_sub, eval, own)) != Status::kOk) {
-      return status;
-    }
-  }
-  const auto c_eval = [&](const Vec6& d, Rigid3& f) {
-    SubGeometry g;
-    const Status s = build(dirs, perturbed_circle_axis(c_fit, d), a_line, g);
-    f = g.tracker_T_sub;
-    return s;
-  };
-  const auto a_eval = [&](const Vec6& d, Rigid3& f) {
-    SubGeometry g;
-    const Status s = build(dirs, c_line, perturbed_circle_axis(a_fit, d), g);
-    f = g.tracker_T_sub;
-    return s;
-  };
-  if ((status = add_sensitivity(c_fit.covariance, nominal.tracker_T_sub, c_eval, own)) != Status::kOk) return status;
-  if ((status = add_sensitivity(a_fit.covariance, nominal.tracker_T_sub, a_eval, own)) != Status::kOk) return status;
-
-  // Into the global frame, with the global frame's own covariance (convention 5).
+// Into the global frame, with the global frame's own covariance (convention
+// 5): `own` is the sub-machine's in the tracker frame.
+[[gnu::noinline]] void sub_into_global(const SubMachineInput& in, const GlobalFrame& global,
+                                       const AxisEstimate axes[3], const Vec3 dirs[3], Axis master,
+                                       const SubGeometry& nominal, const CircleFit& c_fit, const CircleFit& a_fit,
+                                       const Mat6& own, SubMachineFrame& out) {
   const Rigid3 global_T_tracker = inverse(global.tracker_T_global);
   const Rigid3 global_T_sub = compose(global_T_tracker, nominal.tracker_T_sub);
   const Mat3 r_g_t = global_T_tracker.R;
@@ -209,8 +178,72 @@ Status sub_from_fits(const SubMachineInput& in, const GantryOptions& opt, const 
   out.wrist_centre_mm = apply_point(global_T_tracker, nominal.wrist_centre_mm);
   out.c_circle = summarise_circle(c_fit, nominal.c, global_T_tracker);
   out.a_circle = summarise_circle(a_fit, nominal.a, global_T_tracker);
-  out.uncertainty = summarise(cov);
+  summarise(cov, out.uncertainty);
+}
+
+// The builder's scratch for sub_from_fits.
+struct SubScratch {
+  Mat6& own;
+  Eigensolver<3>& es3;
+  Eigensolver<6>& es6;
+};
+
+// S2-S4 of one sub-machine from its five fits, with its uncertainty
+// (convention 5) and diagnostics.
+[[gnu::noinline]] Status sub_from_fits(const SubMachineInput& in, const GantryOptions& opt,
+                                       const GlobalFrame& global, const AxisEstimate axes[3], const CircleFit& c_fit,
+                                       const CircleFit& a_fit, SubMachineFrame& out, const SubScratch& scratch) {
+  Status status = Status::kOk;
+  const Axis master = longest_stroke(axes);
+  const Vec3 gantry_x = global.tracker_T_global.R.col(0);
+  Vec3 dirs[3] = {axes[0].direction, axes[1].direction, axes[2].direction};
+  const Line3 c_line{c_fit.centre_mm, c_fit.normal};
+  const Line3 a_line{a_fit.centre_mm, a_fit.normal};
+  const auto build = [&](const Vec3 d[3], const Line3& c, const Line3& a, SubGeometry& g) {
+    return take(sub_frame_from(d, master, c, in.tool_direction, a, in.swing_mm, gantry_x, opt.min_ac_sin), g);
+  };
+  SubGeometry nominal;
+  if ((status = build(dirs, c_line, a_line, nominal)) != Status::kOk) return status;
+
+  Mat6& own = scratch.own;  // tracker-frame origin, rotation about the sub-machine's axes
+  own.setZero();
+  for (int k = 0; k < 3; ++k) {
+    const auto eval = [&](const Vec3& d, Rigid3& f) {
+      Vec3 moved[3] = {dirs[0], dirs[1], dirs[2]};
+      moved[k] = (dirs[k] + d).normalized();
+      SubGeometry g;
+      const Status s = build(moved, c_line, a_line, g);
+      f = g.tracker_T_sub;
+      return s;
+    };
+    status = add_sensitivity(axes[k].covariance, nominal.tracker_T_sub, eval, own, scratch.es3);
+    if (status != Status::kOk) return status;
+  }
+  const auto c_eval = [&](const Vec6& d, Rigid3& f) {
+    SubGeometry g;
+    const Status s = build(dirs, perturbed_circle_axis(c_fit, d), a_line, g);
+    f = g.tracker_T_sub;
+    return s;
+  };
+  const auto a_eval = [&](const Vec6& d, Rigid3& f) {
+    SubGeometry g;
+    const Status s = build(dirs, c_line, perturbed_circle_axis(a_fit, d), g);
+    f = g.tracker_T_sub;
+    return s;
+  };
+  status = add_sensitivity(c_fit.covariance, nominal.tracker_T_sub, c_eval, own, scratch.es6);
+  if (status != Status::kOk) return status;
+  status = add_sensitivity(a_fit.covariance, nominal.tracker_T_sub, a_eval, own, scratch.es6);
+  if (status != Status::kOk) return status;
+  sub_into_global(in, global, axes, dirs, master, nominal, c_fit, a_fit, own, out);
   return Status::kOk;
+}
+
+// A fit into the builder's member: the Result is this function's temporary,
+// not one in the frame of step().
+template <typename T, typename Fit>
+[[gnu::noinline]] Status fit_into(Fit fit, T& out) {
+  return take(fit(), out);
 }
 
 }  // namespace
@@ -248,27 +281,35 @@ GantryStep GantryBuilder::step() {
       phase_ = Phase::kBed;
       return {Status::kOk, true};
     case Phase::kBed:
-      if ((status = take(fit_plane_group(in.bed, options_.noise), bed_)) != Status::kOk) return fail(status);
-      bed_ = orient_plane(bed_, Vec3::UnitZ());
+      status = fit_into(
+          [&]() -> Result<PlaneEstimate> {
+            const Result<PlaneEstimate> bed = fit_plane_group(in.bed, options_.noise);
+            if (!bed.ok()) return bed;
+            return orient_plane(bed.value(), Vec3::UnitZ());
+          },
+          bed_);
+      if (status != Status::kOk) return fail(status);
       phase_ = Phase::kSide1;
       return {Status::kOk, true};
     case Phase::kSide1:
-      if ((status = take(fit_plane_group(in.side_1, options_.noise), side_1_)) != Status::kOk) return fail(status);
+      status = fit_into([&] { return fit_plane_group(in.side_1, options_.noise); }, side_1_);
+      if (status != Status::kOk) return fail(status);
       phase_ = Phase::kSide2;
       return {Status::kOk, true};
     case Phase::kSide2:
-      if ((status = take(fit_plane_group(in.side_2, options_.noise), side_2_)) != Status::kOk) return fail(status);
+      status = fit_into([&] { return fit_plane_group(in.side_2, options_.noise); }, side_2_);
+      if (status != Status::kOk) return fail(status);
       phase_ = Phase::kGantry;
       return {Status::kOk, true};
     case Phase::kGantry:
-      status = take(fit_axis_passes(in.gantry_passes, in.gantry_pass_count, options_.noise), gantry_);
+      status = fit_into([&] { return fit_axis_passes(in.gantry_passes, in.gantry_pass_count, options_.noise); },
+                        gantry_);
       if (status != Status::kOk) return fail(status);
       phase_ = Phase::kGlobal;
       return {Status::kOk, true};
     case Phase::kGlobal:
-      if ((status = global_from_fits(bed_, side_1_, side_2_, gantry_, out_->global)) != Status::kOk) {
-        return fail(status);
-      }
+      status = global_from_fits(bed_, side_1_, side_2_, gantry_, out_->global, own_, eigen3_);
+      if (status != Status::kOk) return fail(status);
       phase_ = Phase::kAxisX;
       return {Status::kOk, true};
     case Phase::kAxisX:
@@ -277,26 +318,27 @@ GantryStep GantryBuilder::step() {
       const int k = static_cast<int>(phase_) - static_cast<int>(Phase::kAxisX);
       failed_id_ = sub.id;
       if (sub.pass_count[k] > kMaxPasses) return fail(Status::kTooManyPoints);
-      status = take(fit_axis_passes(sub.passes[k], sub.pass_count[k], options_.noise), axes_[k]);
+      status = fit_into([&] { return fit_axis_passes(sub.passes[k], sub.pass_count[k], options_.noise); }, axes_[k]);
       if (status != Status::kOk) return fail(status);
       phase_ = static_cast<Phase>(static_cast<int>(phase_) + 1);
       return {Status::kOk, true};
     }
     case Phase::kCircleC:
       failed_id_ = sub.id;
-      status = take(fit_circle_group(sub.c_circle, options_.noise, options_.min_arc_deg), c_fit_);
+      status = fit_circle_group(sub.c_circle, options_.noise, options_.min_arc_deg, circle_work_, c_fit_);
       if (status != Status::kOk) return fail(status);
       phase_ = Phase::kCircleA;
       return {Status::kOk, true};
     case Phase::kCircleA:
       failed_id_ = sub.id;
-      status = take(fit_circle_group(sub.a_circle, options_.noise, options_.min_arc_deg), a_fit_);
+      status = fit_circle_group(sub.a_circle, options_.noise, options_.min_arc_deg, circle_work_, a_fit_);
       if (status != Status::kOk) return fail(status);
       phase_ = Phase::kSub;
       return {Status::kOk, true};
     case Phase::kSub:
       failed_id_ = sub.id;
-      status = sub_from_fits(sub, options_, out_->global, axes_, c_fit_, a_fit_, out_->sub_machines[sub_]);
+      status = sub_from_fits(sub, options_, out_->global, axes_, c_fit_, a_fit_, out_->sub_machines[sub_],
+                             {own_, eigen3_, eigen6_});
       if (status != Status::kOk) return fail(status);
       failed_id_ = 0;
       if (++sub_ < in.sub_machine_count) {

@@ -60,6 +60,12 @@ Vec3 blend_rotvec(const RigidityTable& t, const Bracket& b, Blend blend) {
   }
 }
 
+// R(nA, theta(A)) and the theory axes R(nA, theta(A)) E_ref Rz(C) (convention 5).
+void theory_axes(const RigidityTable& t, const RigidityState& st, double c_deg, Mat3& turn, Mat3& axes) {
+  turn = so3_exp(st.theta_rad * t.a_axis_direction);
+  axes = turn * t.reference_axes * rot_z(deg_to_rad(c_deg));
+}
+
 bool valid_blend(Blend blend) {
   return blend == Blend::kLinear || blend == Blend::kGeodesic || blend == Blend::kCubic ||
          blend == Blend::kCubicNotAKnot;
@@ -109,14 +115,27 @@ Result<RigidityFrames> rigidity_frames(const RigidityTable& table, double a_deg,
   if (!state.ok()) return state.status();
   const RigidityState& st = state.value();
   const Vec3& a0 = table.a_axis_point_mm;
-  const Mat3 turn = so3_exp(st.theta_rad * table.a_axis_direction);
-  const Mat3 table_axes = turn * table.reference_axes * rot_z(deg_to_rad(c_deg));
+  Mat3 turn;
+  Mat3 table_axes;
+  theory_axes(table, st, c_deg, turn, table_axes);
   RigidityFrames f;
   f.machine_T_table_theory.rotation = table_axes;
   f.machine_T_table_theory.translation_mm = a0 + turn * (table.poses[table.reference].c_centre_mm - a0);
   f.machine_T_table_actual.rotation = so3_exp(st.rotvec_rad) * table_axes;
   f.machine_T_table_actual.translation_mm = f.machine_T_table_theory.translation_mm + st.origin_offset_mm;
   return f;
+}
+
+Status rigidity_actual_axes(const RigidityTable& table, double a_deg, double c_deg, Blend blend, bool clamp,
+                            Mat3& axes) {
+  if (!std::isfinite(c_deg)) return Status::kNotFinite;
+  const Result<RigidityState> state = rigidity_state(table, a_deg, blend, clamp);
+  if (!state.ok()) return state.status();
+  Mat3 turn;
+  Mat3 table_axes;
+  theory_axes(table, state.value(), c_deg, turn, table_axes);
+  axes = so3_exp(state.value().rotvec_rad) * table_axes;
+  return Status::kOk;
 }
 
 Result<RigidTransform> rigidity_correction(const RigidityTable& table, double a_deg, double c_deg, Blend blend,

@@ -8,14 +8,6 @@ namespace {
 
 constexpr double kRadPerDeg = kPi / 180.0;
 
-// E_act(A) Rz(C) from the table, clamped (convention 6).
-Status actual_axes(const RigidityTable& t, double a_deg, double c_deg, Blend blend, Mat3& axes) {
-  const Result<RigidityFrames> f = rigidity_frames(t, a_deg, c_deg, blend, true);
-  if (!f.ok()) return f.status();
-  axes = f.value().machine_T_table_actual.rotation;
-  return Status::kOk;
-}
-
 // Signed angle about the unit `axis` from `from` to `to`, both projected on its plane.
 double signed_angle(const Vec3& from, const Vec3& to, const Vec3& axis) {
   const Vec3 f = from - from.dot(axis) * axis;
@@ -60,7 +52,8 @@ Status solve_both_axes(const RigidityTable& t, const Vec3& q, Blend blend, Attit
   const Vec3& na = t.a_axis_direction;
   for (int it = 0; it < kCalibratedLevelMaxIterations; ++it) {
     Mat3 axes;
-    const Status s = actual_axes(t, x.a_deg, x.c_deg, blend, axes);
+    // E_act(A) Rz(C) from the table, clamped (convention 6).
+    const Status s = rigidity_actual_axes(t, x.a_deg, x.c_deg, blend, true, axes);
     if (s != Status::kOk) return s;
     const Vec3 v = axes * q;
     if (v.z() > 0.0 && std::atan2(std::hypot(v.x(), v.y()), v.z()) <= kCalibratedLevelTolerance_rad) {
@@ -83,7 +76,8 @@ Status solve_a_only(const RigidityTable& t, const Vec3& q, Blend blend, Attitude
   const Vec3& na = t.a_axis_direction;
   for (int it = 0; it < kCalibratedLevelMaxIterations; ++it) {
     Mat3 axes;
-    const Status s = actual_axes(t, x.a_deg, x.c_deg, blend, axes);
+    // E_act(A) Rz(C) from the table, clamped (convention 6).
+    const Status s = rigidity_actual_axes(t, x.a_deg, x.c_deg, blend, true, axes);
     if (s != Status::kOk) return s;
     const Vec3 v = axes * q;
     const double turn = std::atan2(na.cross(v).z(), (v - na.dot(v) * na).z());
@@ -116,10 +110,12 @@ Result<LevelResult> level_on_table(const LevelInput& in, const LevelConfig& cfg,
   if (!ideal.ok()) return ideal.status();
   LevelResult out = ideal.value();
 
-  const Result<RigidityFrames> probe = rigidity_frames(table, in.probe_pose.a_deg, in.probe_pose.c_deg, blend, clamp);
-  if (!probe.ok()) return probe.status();
+  Mat3 probe_axes;
+  const Status probe =
+      rigidity_actual_axes(table, in.probe_pose.a_deg, in.probe_pose.c_deg, blend, clamp, probe_axes);
+  if (probe != Status::kOk) return probe;
   const Vec3 n_machine = table_rotation(in.probe_pose, cfg) * ideal.value().normal_table;
-  const Vec3 q = (probe.value().machine_T_table_actual.rotation.transpose() * n_machine).normalized();
+  const Vec3 q = (probe_axes.transpose() * n_machine).normalized();
   out.normal_table = q;
   const double rho = std::hypot(q.x(), q.y());
   const double tilt_rad = std::atan2(rho, q.z());

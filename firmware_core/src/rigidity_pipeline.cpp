@@ -1,5 +1,9 @@
 #include "rigidity_pipeline.hpp"
 
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+
 #include "trueaxis/core/so3.hpp"
 
 namespace trueaxis::core::detail {
@@ -32,20 +36,19 @@ Mat3 frame_axes(const Vec3& x_axis, const Vec3& normal) {
 }
 
 Status evaluate_rigidity(const RigidityPoseFrame* poses, std::size_t count, std::size_t reference,
-                         double min_a_arc_deg, RigidityEvaluation& out) {
-  Vec3 centres[kMaxAPoses];
-  double a_deg[kMaxAPoses];
+                         double min_a_arc_deg, RigidityEvaluation& out, RigidityScratch& work) {
   for (std::size_t i = 0; i < count; ++i) {
-    centres[i] = poses[i].centre;
-    a_deg[i] = poses[i].a_deg;
+    work.centres[i] = poses[i].centre;
+    work.a_deg[i] = poses[i].a_deg;
   }
   CircleFitOptions a_options;
-  a_options.angles_deg = a_deg;
+  a_options.angles_deg = work.a_deg;
   a_options.min_arc_deg = min_a_arc_deg;
-  const Result<CircleFit> a_fit = fit_circle(centres, count, a_options);
-  if (!a_fit.ok()) return Status::kAAxisUndetermined;
-  const Vec3 a0 = a_fit.value().centre_mm;
-  const Vec3 na = a_fit.value().normal;
+  if (fit_circle(work.centres, count, a_options, work.circle_work, work.circle) != Status::kOk) {
+    return Status::kAAxisUndetermined;
+  }
+  const Vec3 a0 = work.circle.centre_mm;
+  const Vec3 na = work.circle.normal;
   out.a_point = a0;
   out.a_direction = na;
 
@@ -111,27 +114,24 @@ void natural_spline(const RigidityTable& t, Y y, T* out, const T& zero) {
   for (std::size_t i = m - 2; i-- > 1;) out[i] = r_prime[i] - c_prime[i] * out[i + 1];
 }
 
-// Not-a-knot cubic spline through (knot_i, y_i): its second derivatives M_i.
+// Not-a-knot cubic splines through (knot_i, y_i): their second derivatives M_i.
 // The third derivative is continuous at the second and the second-to-last
 // knots, so a smooth law (sin A) keeps its curvature at the ends of the range,
 // where the natural spline forces it to zero. Three knots: the parabola through
 // them. The (at most 16 x 16) system is solved densely by Gaussian elimination
 // with partial pivoting; it runs when a table is built or loaded, never in a
-// query. T is double or Vec3.
-template <typename T, typename Y>
-void not_a_knot_spline(const RigidityTable& t, Y y, T* out, const T& zero) {
+// query. Its matrix depends on the knots only: not_a_knot_factor reduces it
+// once (more than three knots) for every spline of the table, and
+// not_a_knot_spline applies the same steps to each right-hand side.
+
+// The matrix reduced in work.a: U on and above the diagonal, below it the
+// multiplier of each row at its step; work.pivot[col] the row swapped into
+// col at step col (the rows' parts left of col stay where their step put them).
+void not_a_knot_factor(const RigidityTable& t, RigiditySplineWork& work) {
   const std::size_t m = t.pose_count;
-  for (std::size_t i = 0; i < m; ++i) out[i] = zero;
-  if (m < 3) return;
   const auto h = [&t](std::size_t i) { return t.poses[i + 1].a_deg - t.poses[i].a_deg; };
-  if (m == 3) {
-    const T second = 2.0 * ((y(2) - y(1)) / h(1) - (y(1) - y(0)) / h(0)) / (h(0) + h(1));
-    for (std::size_t i = 0; i < 3; ++i) out[i] = second;
-    return;
-  }
-  double a[kMaxAPoses][kMaxAPoses] = {};
-  T rhs[kMaxAPoses];
-  for (std::size_t i = 0; i < m; ++i) rhs[i] = zero;
+  double(&a)[kMaxAPoses][kMaxAPoses] = work.a;
+  std::fill(&a[0][0], &a[0][0] + m * kMaxAPoses, 0.0);
   a[0][0] = h(1);
   a[0][1] = -(h(0) + h(1));
   a[0][2] = h(0);
@@ -139,7 +139,6 @@ void not_a_knot_spline(const RigidityTable& t, Y y, T* out, const T& zero) {
     a[i][i - 1] = h(i - 1);
     a[i][i] = 2.0 * (h(i - 1) + h(i));
     a[i][i + 1] = h(i);
-    rhs[i] = 6.0 * ((y(i + 1) - y(i)) / h(i) - (y(i) - y(i - 1)) / h(i - 1));
   }
   a[m - 1][m - 3] = h(m - 2);
   a[m - 1][m - 2] = -(h(m - 3) + h(m - 2));
@@ -149,13 +148,36 @@ void not_a_knot_spline(const RigidityTable& t, Y y, T* out, const T& zero) {
     for (std::size_t r = col + 1; r < m; ++r) {
       if (std::fabs(a[r][col]) > std::fabs(a[pivot][col])) pivot = r;
     }
-    for (std::size_t c = 0; c < m; ++c) std::swap(a[col][c], a[pivot][c]);
-    std::swap(rhs[col], rhs[pivot]);
+    work.pivot[col] = static_cast<std::uint8_t>(pivot);
+    for (std::size_t c = col; c < m; ++c) std::swap(a[col][c], a[pivot][c]);
     for (std::size_t r = col + 1; r < m; ++r) {
       const double f = a[r][col] / a[col][col];
-      for (std::size_t c = col; c < m; ++c) a[r][c] -= f * a[col][c];
-      rhs[r] = rhs[r] - f * rhs[col];
+      for (std::size_t c = col + 1; c < m; ++c) a[r][c] -= f * a[col][c];
+      a[r][col] = f;
     }
+  }
+}
+
+// T is double or Vec3; `work` as not_a_knot_factor left it (more than three knots).
+template <typename T, typename Y>
+void not_a_knot_spline(const RigidityTable& t, Y y, T* out, const T& zero, const RigiditySplineWork& work) {
+  const std::size_t m = t.pose_count;
+  for (std::size_t i = 0; i < m; ++i) out[i] = zero;
+  if (m < 3) return;
+  const auto h = [&t](std::size_t i) { return t.poses[i + 1].a_deg - t.poses[i].a_deg; };
+  if (m == 3) {
+    const T second = 2.0 * ((y(2) - y(1)) / h(1) - (y(1) - y(0)) / h(0)) / (h(0) + h(1));
+    for (std::size_t i = 0; i < 3; ++i) out[i] = second;
+    return;
+  }
+  const double(&a)[kMaxAPoses][kMaxAPoses] = work.a;
+  T rhs[kMaxAPoses];
+  rhs[0] = zero;
+  rhs[m - 1] = zero;
+  for (std::size_t i = 1; i + 1 < m; ++i) rhs[i] = 6.0 * ((y(i + 1) - y(i)) / h(i) - (y(i) - y(i - 1)) / h(i - 1));
+  for (std::size_t col = 0; col < m; ++col) {
+    std::swap(rhs[col], rhs[work.pivot[col]]);
+    for (std::size_t r = col + 1; r < m; ++r) rhs[r] = rhs[r] - a[r][col] * rhs[col];
   }
   for (std::size_t r = m; r-- > 0;) {
     T v = rhs[r];
@@ -167,6 +189,11 @@ void not_a_knot_spline(const RigidityTable& t, Y y, T* out, const T& zero) {
 }  // namespace
 
 void prepare_rigidity_table(RigidityTable& t) {
+  RigiditySplineWork work;
+  prepare_rigidity_table(t, work);
+}
+
+void prepare_rigidity_table(RigidityTable& t, RigiditySplineWork& work) {
   const std::size_t m = t.pose_count;
   t.reference_axes = detail::frame_axes(t.poses[t.reference].c_x_axis, t.poses[t.reference].c_direction);
   for (std::size_t i = 0; i < m; ++i) t.rotation[i] = so3_exp(t.poses[i].rotvec_rad);
@@ -174,10 +201,11 @@ void prepare_rigidity_table(RigidityTable& t) {
     t.geodesic_step_rad[i] = i + 1 < m ? so3_log(t.rotation[i].transpose() * t.rotation[i + 1]) : Vec3::Zero();
   }
   natural_spline(t, [&t](std::size_t i) { return t.poses[i].rotvec_rad; }, t.spline_m, Vec3(Vec3::Zero()));
-  not_a_knot_spline(t, [&t](std::size_t i) { return t.poses[i].rotvec_rad; }, t.spline_k, Vec3(Vec3::Zero()));
-  not_a_knot_spline(t, [&t](std::size_t i) { return t.poses[i].a_error_rad; }, t.spline_e, 0.0);
+  if (m > 3) not_a_knot_factor(t, work);
+  not_a_knot_spline(t, [&t](std::size_t i) { return t.poses[i].rotvec_rad; }, t.spline_k, Vec3(Vec3::Zero()), work);
+  not_a_knot_spline(t, [&t](std::size_t i) { return t.poses[i].a_error_rad; }, t.spline_e, 0.0, work);
   not_a_knot_spline(t, [&t](std::size_t i) { return t.poses[i].origin_offset_mm; }, t.spline_d,
-                    Vec3(Vec3::Zero()));
+                    Vec3(Vec3::Zero()), work);
 }
 
 }  // namespace trueaxis::core

@@ -149,9 +149,9 @@ RigidityStep RigidityBuilder::step_fit() {
   CircleFitOptions options;
   options.angles_deg = angles_deg_;
   options.min_arc_deg = options_.min_c_arc_deg;
-  const Result<CircleFit> fitted = fit_circle(points_, n, options);
-  if (!fitted.ok()) return fail(fitted.status(), r + 1);
-  const CircleFit& fit = fitted.value();
+  const Status fitted = fit_circle(points_, n, options, work_.circle_work, work_.circle);
+  if (fitted != Status::kOk) return fail(fitted, r + 1);
+  const CircleFit& fit = work_.circle;
   const Result<CircularMean> phase = circle_phase_offset_rad(fit, points_, angles_deg_, n);
   if (!phase.ok()) return fail(phase.status(), r + 1);
   if (!(phase.value().resultant_length >= kMinPhaseResultant)) return fail(Status::kCPhaseInconsistent, r + 1);
@@ -172,9 +172,9 @@ RigidityStep RigidityBuilder::step_fit() {
 
 RigidityStep RigidityBuilder::step_nominal() {
   const std::size_t m = table_.pose_count;
-  detail::RigidityPoseFrame frames[kMaxAPoses];
+  detail::RigidityPoseFrame* frames = work_.frames;
   for (std::size_t i = 0; i < m; ++i) frames[i] = {fits_[i].a_deg, fits_[i].centre, fits_[i].normal, fits_[i].x_axis};
-  const Status s = detail::evaluate_rigidity(frames, m, table_.reference, options_.min_a_arc_deg, scratch_);
+  const Status s = detail::evaluate_rigidity(frames, m, table_.reference, options_.min_a_arc_deg, scratch_, work_);
   if (s != Status::kOk) return fail(s);
 
   table_.a_axis_point_mm = scratch_.a_point;
@@ -216,12 +216,10 @@ RigidityStep RigidityBuilder::step_jacobian() {
     const std::size_t pose = cursor_ / kDirectionsPerPose;
     const std::size_t direction = cursor_ % kDirectionsPerPose;
     if (eigen_pose_ != pose) {
-      const Eigen::SelfAdjointEigenSolver<Mat5> es(fits_[pose].covariance);
-      eigenvectors_ = es.eigenvectors();
-      eigenvalues_ = es.eigenvalues();
+      eigen_.compute(fits_[pose].covariance);
       eigen_pose_ = pose;
     }
-    const double sigma = direction < 5 ? std::sqrt(std::max(0.0, eigenvalues_(static_cast<Eigen::Index>(direction))))
+    const double sigma = direction < 5 ? std::sqrt(std::max(0.0, eigen_.eigenvalues()(static_cast<Eigen::Index>(direction))))
                                        : fits_[pose].phase_sigma_rad;
     if (!(sigma > 0.0)) {
       ++cursor_;
@@ -255,18 +253,18 @@ RigidityStep RigidityBuilder::step_jacobian() {
   return {Status::kOk, true};
 }
 
-Status RigidityBuilder::evaluate_perturbed(double signed_step, detail::RigidityEvaluation& out) const {
+Status RigidityBuilder::evaluate_perturbed(double signed_step, detail::RigidityEvaluation& out) {
   const std::size_t m = table_.pose_count;
   const std::size_t pose = cursor_ / kDirectionsPerPose;
   const std::size_t direction = cursor_ % kDirectionsPerPose;
-  detail::RigidityPoseFrame frames[kMaxAPoses];
+  detail::RigidityPoseFrame* frames = work_.frames;
   for (std::size_t i = 0; i < m; ++i) frames[i] = {fits_[i].a_deg, fits_[i].centre, fits_[i].normal, fits_[i].x_axis};
 
   const PoseFit& f = fits_[pose];
   detail::RigidityPoseFrame& p = frames[pose];
   Vec3 x = f.x_axis;
   if (direction < 5) {
-    const Eigen::Matrix<double, 5, 1> dx = signed_step * eigenvectors_.col(static_cast<Eigen::Index>(direction));
+    const Eigen::Matrix<double, 5, 1> dx = signed_step * eigen_.eigenvectors().col(static_cast<Eigen::Index>(direction));
     p.centre = f.centre + dx.head<3>();
     p.normal = (f.normal + dx(3) * f.axis_u + dx(4) * f.axis_v).normalized();
   } else {
@@ -275,7 +273,7 @@ Status RigidityBuilder::evaluate_perturbed(double signed_step, detail::RigidityE
   // X follows its plane by the smallest rotation (convention 7).
   p.x_axis = (x - x.dot(p.normal) * p.normal).normalized();
   // The arc was judged on the nominal data; a perturbation must not flip it.
-  return detail::evaluate_rigidity(frames, m, table_.reference, 0.0, out);
+  return detail::evaluate_rigidity(frames, m, table_.reference, 0.0, out, work_);
 }
 
 RigidityStep RigidityBuilder::step_finish() {
@@ -295,7 +293,7 @@ RigidityStep RigidityBuilder::step_finish() {
   }
   table_.c_to_a_offset_sigma_mm = std::sqrt(offset_var_);
   table_.c_to_a_squareness_sigma_rad = std::sqrt(squareness_var_);
-  prepare_rigidity_table(table_);
+  prepare_rigidity_table(table_, spline_work_);
   phase_ = Phase::kDone;
   final_status_ = Status::kOk;
   return {Status::kOk, false};

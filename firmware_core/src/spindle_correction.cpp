@@ -27,6 +27,22 @@ void model_fields(Io& io, Model& m) {
   io(m.fit.smallest_eigenvalue_ratio);
 }
 
+// theta_e and d_e (convention 3): the screw error from the ideal tool line (-Z
+// through the origin) to the actual one through q along d. Not inlined
+// ([[gnu::noinline]]; ignored by compilers that do not know it): its lines'
+// temporaries stay out of spindle_correction's frame (README "Stack").
+[[gnu::noinline]] Status tool_line_error(const Vec3& q, const Vec3& d, SpindleCorrection& out) {
+  const Result<PluckerLine> actual = plucker_from_point(q, d);
+  if (!actual.ok()) return actual.status();
+  PluckerLine ideal;
+  ideal.direction = -Vec3::UnitZ();
+  const Result<ScrewError> screw = screw_error(ideal, actual.value());
+  if (!screw.ok()) return screw.status();
+  out.theta_e_rad = screw.value().theta_rad;
+  out.d_e_mm = screw.value().distance_mm;
+  return Status::kOk;
+}
+
 constexpr std::size_t kHeaderBytes = 24;
 constexpr std::size_t kRealCount = 9 + 45 + 3 + 4;
 static_assert(kHeaderBytes + 8 * kRealCount == kSpindleModelBytes, "convention 5's layout");
@@ -40,15 +56,9 @@ Result<SpindleCorrection> spindle_correction(const SpindleAxes& x, double gauge_
   const double s = std::sin(phi_rad);
   const Vec3 q = gauge_mm * x.a + turn(x.a, x.e, c, s);
   const Vec3 d = x.a + turn(x.a, x.w, c, s);
-  const Result<PluckerLine> actual = plucker_from_point(q, d);
-  if (!actual.ok()) return actual.status();
-  PluckerLine ideal;
-  ideal.direction = -Vec3::UnitZ();
-  const Result<ScrewError> screw = screw_error(ideal, actual.value());
-  if (!screw.ok()) return screw.status();
   SpindleCorrection out;
-  out.theta_e_rad = screw.value().theta_rad;
-  out.d_e_mm = screw.value().distance_mm;
+  const Status line = tool_line_error(q, d, out);
+  if (line != Status::kOk) return line;
   out.tip_error_mm = (gauge_mm + tool_mm) * (x.a + Vec3::UnitZ()) + turn(x.a, x.e + tool_mm * x.w, c, s);
   return out;
 }

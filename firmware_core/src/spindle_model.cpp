@@ -277,7 +277,7 @@ SpindleStep SpindleBuilder::step() {
                                                 : (means + scatter) / (3.0 * n - kSpindleParams);
       fit_.params = lm_.solution();
       if (!(std::hypot(fit_.params(3), fit_.params(4)) <= kMaxSpindleTilt)) return fail(Status::kArgumentOutOfRange);
-      fit_.covariance = lm_.covariance(s2 > 0.0 ? s2 : 1e-300);
+      lm_.covariance(s2 > 0.0 ? s2 : 1e-300, fit_.covariance, factor_);
       fit_.noise_sigma_mm = std::sqrt(s2);
       fit_.rms_mm = std::sqrt((means + scatter) / n);
       fit_.synchronous_rms_mm = std::sqrt(means / n);

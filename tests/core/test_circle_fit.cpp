@@ -61,7 +61,7 @@ TEST_CASE("recovers noiseless circles in any orientation, size and arc", "[circl
     const long double radius = std::pow(10.0L, static_cast<long double>(rng.uniform(0.0, 3.0)));
     const t::TrueCircle tc = t::random_circle(rng, radius, 5000.0);
     const double arc = arcs[static_cast<std::size_t>(trial) % 8];
-    const std::size_t n = 3 + rng.next() % 58;
+    const std::size_t n = 3 + rng.next() % (core::kMaxCirclePoints - 2);
     Phases ph;
     t::even_phases(ph, n, arc, rng.uniform(-4.0, 4.0));
     Points p;

@@ -229,11 +229,11 @@ TEST_CASE("degenerate rigidity inputs are refused, each with its status", "[rigi
   SECTION("more samples in one pose than a circle fit holds") {
     t::Plan dense;
     dense.a_deg = {-30.0, 0.0, 30.0};
-    dense.c_per_pose = 130;
-    dense.c_step_deg = 2.7;
+    dense.c_per_pose = static_cast<int>(core::kMaxCirclePoints);
+    dense.c_step_deg = 360.0 / static_cast<double>(core::kMaxCirclePoints);
     auto s = t::measure(cradle, dense, rng);
     CHECK(run(s) == Status::kOk);
-    // Every sample into A = 0 (390 > kMaxCirclePoints), then 4 new ones at +-30.
+    // Every sample into A = 0 (3 x kMaxCirclePoints), then 4 new ones at +-30.
     for (auto& x : s) x.a_deg = 0.0;
     for (double a : {-30.0, 30.0}) {
       for (double c : {0.0, 90.0, 180.0, 270.0}) s.push_back({a, c, cradle.ball(a, c).cast<double>()});

@@ -76,7 +76,9 @@ namespace trueaxis::core {
 
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 
-inline constexpr std::size_t kMaxCirclePoints = 360;  // one per degree of a full turn
+// One per 10 deg of a full turn: the module's densest circles are a rigidity
+// pose (36 C, rigidity_map.hpp kMaxPoseSamples) and a gantry circle (30).
+inline constexpr std::size_t kMaxCirclePoints = 36;
 inline constexpr double kCircleCoincidentSpan_mm = 1e-6;
 inline constexpr double kCircleCollinearRatio = 1e-4;
 inline constexpr double kDefaultMinArcDeg = 5.0;
@@ -111,12 +113,34 @@ struct CircleFit {
   double radius_variance_mm2() const { return covariance(5, 5); }
 };
 
+// The scratch of a fit: its normal equations, the damped normal matrix and
+// the covariance, the points' phases, the fit under way (1.3 kB). A firmware
+// caller keeps one beside its data (a builder's member, in the module's work
+// arena) so that they stay off its stack (README "Stack"); it holds nothing
+// between calls.
+struct CircleFitWork {
+  CircleFit fit;
+  struct NormalEquations {
+    Mat6 jtj;
+    Eigen::Matrix<double, 6, 1> jtr;
+    double cost;  // sum of squared 3-D distances
+  };
+  NormalEquations normal;
+  Mat6 matrix;  // the damped normal matrix, then the covariance
+  double phase_rad[kMaxCirclePoints];
+};
+
 // The circle through the points (convention 2), normal oriented by sample order.
 [[nodiscard]] Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count);
 
 // The same with commanded angles, a known point sigma and the short-arc rules.
 [[nodiscard]] Result<CircleFit> fit_circle(const Vec3* points_mm, std::size_t count,
                                            const CircleFitOptions& options);
+
+// The same into `out` with the caller's scratch: no large temporary on the
+// stack. `out` is written only when kOk is returned.
+[[nodiscard]] Status fit_circle(const Vec3* points_mm, std::size_t count, const CircleFitOptions& options,
+                                CircleFitWork& work, CircleFit& out);
 
 // Phase (rad, (-pi, pi]) of a point about the fitted circle's normal, from axis_u.
 double circle_phase_rad(const CircleFit& fit, const Vec3& p_mm);

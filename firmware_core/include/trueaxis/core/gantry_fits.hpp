@@ -127,8 +127,10 @@ Plane3 perturbed_plane(const PlaneEstimate& plane, const Vec3& delta);
 [[nodiscard]] Result<AxisEstimate> fit_axis_passes(const PointSpan* passes, std::size_t pass_count,
                                                    const PointNoise& noise);
 
-// A circle group (convention 6).
-[[nodiscard]] Result<CircleFit> fit_circle_group(PointSpan points, const PointNoise& noise, double min_arc_deg);
+// A circle group (convention 6), into `out` with the caller's scratch
+// (circle_fit.hpp); `out` is written only when kOk is returned.
+[[nodiscard]] Status fit_circle_group(PointSpan points, const PointNoise& noise, double min_arc_deg,
+                                      CircleFitWork& work, CircleFit& out);
 
 // The circle's axis line moved by delta = (c_x, c_y, c_z, a, b, r) in the
 // parameters of its covariance (circle_fit.hpp item 5): centre + (c_x, c_y, c_z),

@@ -72,6 +72,7 @@
 // leaves out.sub_machine_count at 0: never a half result.
 #pragma once
 
+#include <Eigen/Eigenvalues>
 #include <cstddef>
 #include <cstdint>
 
@@ -199,7 +200,7 @@ struct GantryStep {
 // frame with its uncertainty, per step(). The order of the work, and so which
 // failure wins, is compute_gantry_frames's: the checks, the bed, side_1,
 // side_2 and gantry fits, the global frame, then per sub-machine in input order
-// its x, y, z passes, its C and A circles and its frame. No heap; about 2 kB
+// its x, y, z passes, its C and A circles and its frame. No heap; about 4 kB
 // besides the frames it writes.
 class GantryBuilder {
  public:
@@ -233,6 +234,11 @@ class GantryBuilder {
   AxisEstimate gantry_;
   AxisEstimate axes_[3];
   CircleFit c_fit_, a_fit_;
+  // Scratch: in the builder, not on the stack of step() (README "Stack").
+  CircleFitWork circle_work_;
+  Eigen::SelfAdjointEigenSolver<Mat3> eigen3_;  // a fit's covariance (convention 5)
+  Eigen::SelfAdjointEigenSolver<Mat6> eigen6_;
+  Mat6 own_ = Mat6::Zero();  // a sub-machine's covariance before the global frame's
 };
 
 // A point in the global frame written in sub-machine `frame`'s coordinates.

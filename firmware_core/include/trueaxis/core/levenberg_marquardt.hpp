@@ -51,7 +51,8 @@
 //  6. Covariance at the solution: s^2 A^-1, with s^2 given (a known residual
 //     noise) or from the residuals, 2 F / (m - N) (needs m > N); NaN when A is
 //     not positive definite. Solves and eigenvalues by small_linear.hpp (no
-//     blocked kernels: nothing from the heap on the target).
+//     blocked kernels: nothing from the heap on the target), in the solver's
+//     own scratch matrix (no N x N temporary on the caller's stack).
 //  7. A non-finite residual or Jacobian entry: kNotFinite (the caller's model
 //     failed at that point); nothing is accepted from it.
 #pragma once
@@ -173,14 +174,30 @@ class LevenbergMarquardt {
   // Convention 6: sigma2 > 0 a known residual variance, else from the residuals
   // (a zero matrix when m <= N).
   Mat covariance(double sigma2 = 0.0) const {
+    Mat out;
+    Mat l;
+    covariance(sigma2, out, l);
+    return out;
+  }
+
+  // The same into `out`, with `l` (distinct from `out`) as the caller's
+  // scratch: no N x N temporary on the stack.
+  void covariance(double sigma2, Mat& out, Mat& l) const {
     double s2 = sigma2;
     if (!(s2 > 0.0)) {
-      if (m_ <= static_cast<std::size_t>(N)) return Mat::Zero();
+      if (m_ <= static_cast<std::size_t>(N)) {
+        out.setZero();
+        return;
+      }
       s2 = 2.0 * cost_ / static_cast<double>(m_ - static_cast<std::size_t>(N));
     }
-    Mat l;
-    if (!cholesky<N>(a_, l)) return Mat::Constant(std::numeric_limits<double>::quiet_NaN());
-    return s2 * cholesky_inverse<N>(l);
+    l = a_;
+    if (!cholesky_in_place<N>(l)) {
+      out.setConstant(std::numeric_limits<double>::quiet_NaN());
+      return;
+    }
+    cholesky_inverse<N>(l, out);
+    out *= s2;
   }
 
  private:
@@ -220,32 +237,32 @@ class LevenbergMarquardt {
     return worst;
   }
 
-  static double smallest_ratio(const Mat& a) {
-    Vec s = a.diagonal();
+  // Of the normal matrix a_; work_ is its scratch.
+  double smallest_ratio() {
+    Vec s = a_.diagonal();
     for (int k = 0; k < N; ++k) s(k) = s(k) > 0.0 ? 1.0 / std::sqrt(s(k)) : 0.0;
-    const Mat c = s.asDiagonal() * a * s.asDiagonal();  // diagonal scalings: no blocked product
-    const Vec e = jacobi_eigenvalues<N>(c);
+    work_ = s.asDiagonal() * a_ * s.asDiagonal();  // diagonal scalings: no blocked product
+    const Vec e = jacobi_eigenvalues_in_place<N>(work_);
     const double largest = e(N - 1);
     return largest > 0.0 ? e(0) / largest : 0.0;
   }
 
   // Convention 4's statistical test: g^T A^-1 g <= stat_tol^2 s^2.
-  bool within_noise() const {
+  bool within_noise() {
     if (m_ <= static_cast<std::size_t>(N) || !(options_.stat_tol > 0.0)) return false;
-    Mat l;
-    if (!cholesky<N>(a_, l)) return false;
+    work_ = a_;
+    if (!cholesky_in_place<N>(work_)) return false;
     const double s2 = 2.0 * cost_ / static_cast<double>(m_ - static_cast<std::size_t>(N));
-    return g_.dot(cholesky_solve<N>(l, g_)) <= options_.stat_tol * options_.stat_tol * s2;
+    return g_.dot(cholesky_solve<N>(work_, g_)) <= options_.stat_tol * options_.stat_tol * s2;
   }
 
   LmStep next_trial() {
     if (within_noise()) return converge();
     const Vec d = diag();
-    Mat lhs = a_;
-    for (int k = 0; k < N; ++k) lhs(k, k) += lambda_ * d(k);
-    Mat l;
-    if (!cholesky<N>(lhs, l)) return finish(Status::kNotIdentifiable);
-    const Vec dp = -cholesky_solve<N>(l, g_);
+    work_ = a_;
+    for (int k = 0; k < N; ++k) work_(k, k) += lambda_ * d(k);
+    if (!cholesky_in_place<N>(work_)) return finish(Status::kNotIdentifiable);
+    const Vec dp = -cholesky_solve<N>(work_, g_);
     if (!dp.allFinite()) return finish(Status::kNotIdentifiable);
     if (small(dp)) return converge();  // nothing left worth an evaluation
     trial_ = p_ + dp;
@@ -253,7 +270,7 @@ class LevenbergMarquardt {
   }
 
   LmStep converge() {
-    ratio_ = smallest_ratio(a_);
+    ratio_ = smallest_ratio();
     return finish(ratio_ >= options_.rank_tol ? Status::kOk : Status::kNotIdentifiable);
   }
 
@@ -272,6 +289,7 @@ class LevenbergMarquardt {
   double cost_ = 0.0;
   std::size_t m_ = 0;
   Mat a_trial_ = Mat::Zero();
+  Mat work_ = Mat::Zero();  // factorisations and the scaled matrix: off the stack (README "Stack")
   Vec g_trial_ = Vec::Zero();
   double cost_trial_ = 0.0;
   std::size_t m_trial_ = 0;

@@ -86,6 +86,12 @@ struct RigidityFrames {
 [[nodiscard]] Result<RigidityFrames> rigidity_frames(const RigidityTable& table, double a_deg, double c_deg,
                                                      Blend blend, bool clamp);
 
+// The actual frame's rotation alone, machine_T_table_actual.rotation of
+// rigidity_frames (the same arithmetic, without the translations): what the
+// calibrated leveling iterates on.
+[[nodiscard]] Status rigidity_actual_axes(const RigidityTable& table, double a_deg, double c_deg, Blend blend,
+                                          bool clamp, Mat3& axes);
+
 // actual_T_theory at commanded (A, C) (convention 6): machine theory -> machine actual.
 [[nodiscard]] Result<RigidTransform> rigidity_correction(const RigidityTable& table, double a_deg, double c_deg,
                                                          Blend blend, bool clamp);

@@ -78,6 +78,7 @@
 // the pose (1-based, in A order) for the per-pose codes.
 #pragma once
 
+#include <Eigen/Eigenvalues>
 #include <cstddef>
 #include <cstdint>
 
@@ -151,8 +152,19 @@ struct RigidityTable {
   Vec3 spline_d[kMaxAPoses];                  // d2 origin_offset / dA^2, mm / deg^2
 };
 
-// Fills the derived data of convention 8 from the stored fields.
+// The scratch of prepare_rigidity_table: the not-a-knot splines' dense
+// system, reduced (rigidity_pipeline.cpp).
+struct RigiditySplineWork {
+  double a[kMaxAPoses][kMaxAPoses];
+  std::uint8_t pivot[kMaxAPoses];
+};
+
+// Fills the derived data of convention 8 from the stored fields (its 2 kB of
+// scratch on the stack).
 void prepare_rigidity_table(RigidityTable& table);
+
+// The same with the caller's scratch (the builder's: README "Stack").
+void prepare_rigidity_table(RigidityTable& table, RigiditySplineWork& work);
 
 namespace detail {
 
@@ -176,6 +188,16 @@ struct RigidityEvaluation {
   double squareness_rad = 0.0;
 };
 
+// The builder's scratch for the evaluations and the pose fits (conventions
+// 3-6): in the builder, not on the stack of step() (README "Stack").
+struct RigidityScratch {
+  RigidityPoseFrame frames[kMaxAPoses];
+  Vec3 centres[kMaxAPoses];      // the A-axis circle's points
+  double a_deg[kMaxAPoses];
+  CircleFit circle;              // a pose's circle, or the A-axis circle
+  CircleFitWork circle_work;
+};
+
 }  // namespace detail
 
 struct RigidityStep {
@@ -183,7 +205,7 @@ struct RigidityStep {
   bool more = false;  // true: call step() again; status is kOk then
 };
 
-// The table, built in bounded steps. No heap; about 32 kB (the table 5.5 kB).
+// The table, built in bounded steps. No heap; about 26 kB (the table 6.3 kB).
 class RigidityBuilder {
  public:
   // Begins a build. The samples (any order) must stay unchanged until step()
@@ -228,7 +250,7 @@ class RigidityBuilder {
   RigidityStep step_nominal();
   RigidityStep step_jacobian();
   RigidityStep step_finish();
-  Status evaluate_perturbed(double signed_step, detail::RigidityEvaluation& out) const;
+  Status evaluate_perturbed(double signed_step, detail::RigidityEvaluation& out);
 
   const RigiditySample* samples_ = nullptr;
   std::size_t count_ = 0;
@@ -250,12 +272,13 @@ class RigidityBuilder {
   PoseFit fits_[kMaxAPoses];
 
   // Jacobian: column = 6 * pose + direction; the + side is held until the - side.
-  Mat5 eigenvectors_ = Mat5::Identity();
-  Eigen::Matrix<double, 5, 1> eigenvalues_ = Eigen::Matrix<double, 5, 1>::Zero();
-  std::size_t eigen_pose_ = kMaxAPoses;  // the pose whose covariance eigenvectors_ holds
+  Eigen::SelfAdjointEigenSolver<Mat5> eigen_;
+  std::size_t eigen_pose_ = kMaxAPoses;  // the pose whose covariance eigen_ holds
   bool plus_done_ = false;
   detail::RigidityEvaluation plus_;
   detail::RigidityEvaluation scratch_;
+  detail::RigidityScratch work_;
+  RigiditySplineWork spline_work_;
   Mat3 rotvec_cov_[kMaxAPoses];
   double a_error_var_[kMaxAPoses] = {};
   double offset_var_ = 0.0;

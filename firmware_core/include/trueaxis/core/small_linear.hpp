@@ -10,6 +10,8 @@
 //     false, L unspecified, when a pivot is not positive (A not positive
 //     definite to working precision) or not finite.
 //  2. cholesky_solve(L, b): x with L L^T x = b; cholesky_inverse(L): (L L^T)^-1.
+//     The _in_place and out-parameter forms do the same arithmetic without an
+//     N x N temporary (a solver's scratch instead: README "Stack").
 //  3. jacobi_eigenvalues(A): the eigenvalues of a symmetric A, ascending, by
 //     cyclic Jacobi rotations until every off-diagonal entry is below
 //     eps x the Frobenius norm (at most kJacobiSweeps sweeps; 6-10 are typical
@@ -30,22 +32,30 @@ using ColumnVector = Eigen::Matrix<double, N, 1>;
 
 inline constexpr int kJacobiSweeps = 50;
 
+// Convention 1 in place: L overwrites a's lower triangle (the upper one is
+// left as it was; cholesky_solve reads the lower one only). The same
+// arithmetic as cholesky(), without a second N x N matrix.
 template <int N>
-bool cholesky(const SquareMatrix<N>& a, SquareMatrix<N>& l) {
-  l.setZero();
+bool cholesky_in_place(SquareMatrix<N>& a) {
   for (int j = 0; j < N; ++j) {
     double d = a(j, j);
-    for (int k = 0; k < j; ++k) d -= l(j, k) * l(j, k);
+    for (int k = 0; k < j; ++k) d -= a(j, k) * a(j, k);
     if (!(d > 0.0) || !std::isfinite(d)) return false;
     const double root = std::sqrt(d);
-    l(j, j) = root;
+    a(j, j) = root;
     for (int i = j + 1; i < N; ++i) {
       double s = a(i, j);
-      for (int k = 0; k < j; ++k) s -= l(i, k) * l(j, k);
-      l(i, j) = s / root;
+      for (int k = 0; k < j; ++k) s -= a(i, k) * a(j, k);
+      a(i, j) = s / root;
     }
   }
   return true;
+}
+
+template <int N>
+bool cholesky(const SquareMatrix<N>& a, SquareMatrix<N>& l) {
+  l = a.template triangularView<Eigen::Lower>();
+  return cholesky_in_place<N>(l);
 }
 
 template <int N>
@@ -65,16 +75,33 @@ ColumnVector<N> cholesky_solve(const SquareMatrix<N>& l, const ColumnVector<N>& 
   return x;
 }
 
+// a = 0.5 (a + a^T), in place.
 template <int N>
-SquareMatrix<N> cholesky_inverse(const SquareMatrix<N>& l) {
-  SquareMatrix<N> inv;
+void symmetrize(SquareMatrix<N>& a) {
+  for (int i = 0; i < N; ++i) {
+    a(i, i) = 0.5 * (a(i, i) + a(i, i));
+    for (int j = i + 1; j < N; ++j) a(i, j) = a(j, i) = 0.5 * (a(i, j) + a(j, i));
+  }
+}
+
+// cholesky_inverse into `inv` (not `l`).
+template <int N>
+void cholesky_inverse(const SquareMatrix<N>& l, SquareMatrix<N>& inv) {
   for (int c = 0; c < N; ++c) inv.col(c) = cholesky_solve<N>(l, ColumnVector<N>::Unit(c));
-  return 0.5 * (inv + inv.transpose());  // exactly symmetric
+  symmetrize<N>(inv);  // exactly symmetric
 }
 
 template <int N>
-ColumnVector<N> jacobi_eigenvalues(const SquareMatrix<N>& a_in) {
-  SquareMatrix<N> a = 0.5 * (a_in + a_in.transpose());
+SquareMatrix<N> cholesky_inverse(const SquareMatrix<N>& l) {
+  SquareMatrix<N> inv;
+  cholesky_inverse<N>(l, inv);
+  return inv;
+}
+
+// jacobi_eigenvalues on a matrix it may overwrite (no second N x N matrix).
+template <int N>
+ColumnVector<N> jacobi_eigenvalues_in_place(SquareMatrix<N>& a) {
+  symmetrize<N>(a);
   const double norm = std::sqrt(a.cwiseAbs2().sum());
   const double tol = std::numeric_limits<double>::epsilon() * norm;
   for (int sweep = 0; sweep < kJacobiSweeps; ++sweep) {
@@ -119,6 +146,12 @@ ColumnVector<N> jacobi_eigenvalues(const SquareMatrix<N>& a_in) {
     d(j + 1) = v;
   }
   return d;
+}
+
+template <int N>
+ColumnVector<N> jacobi_eigenvalues(const SquareMatrix<N>& a_in) {
+  SquareMatrix<N> a = a_in;
+  return jacobi_eigenvalues_in_place<N>(a);
 }
 
 }  // namespace trueaxis::core

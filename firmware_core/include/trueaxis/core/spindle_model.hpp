@@ -183,6 +183,7 @@ class SpindleBuilder {
   LmOptions options_;
   LevenbergMarquardt<kSpindleParams> lm_;
   SpindleFit fit_;
+  SpindleCovariance factor_ = SpindleCovariance::Zero();  // the covariance's Cholesky factor (scratch)
   Phase phase_ = Phase::kDone;
   Status status_ = Status::kOk;
   std::size_t cursor_ = 0;  // the next bin of the evaluation under way, both balls in a row

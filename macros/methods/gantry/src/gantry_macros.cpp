@@ -23,9 +23,10 @@ std::size_t capacity_of(std::size_t group) {
   return (group - kGlobalGroups) % kSubGroups < 3 * kMaxPasses ? kMaxPassPoints : kMaxCirclePoints;
 }
 
-// Spans of the session's groups for the sub-machines it mentions (id order).
+// Spans of the session's groups for the sub-machines it mentions (id order),
+// into an `in` as constructed (the work just opened: a GantryInput() here
+// would be a 2 kB temporary on the stack of step()).
 void gather(const PointSession& s, core::GantryInput& in) {
-  in = core::GantryInput();
   in.bed = s.span(0);
   in.side_1 = s.span(1);
   in.side_2 = s.span(2);

@@ -88,7 +88,10 @@ MacroStep run_build(Context& ctx, State& state) {
   if (step.status != core::Status::kOk) return done(step.status);
   if (step.more) return more();
 
-  work->computed = core::make_spindle_model(work->builder.fit(), work->computed.geometry);
+  // In place (core::make_spindle_model's fields): a SpindleModel temporary
+  // would be 0.9 kB on the stack of step().
+  work->computed.fit = work->builder.fit();
+  work->computed.axes = core::spindle_axes(work->computed.fit.params);
   const core::SpindleFit& f = work->computed.fit;
   ctx.out<var::kSpindleEvaluations>(static_cast<double>(f.evaluations));
   ctx.out<var::kSpindleNoiseSigma>(f.noise_sigma_mm);

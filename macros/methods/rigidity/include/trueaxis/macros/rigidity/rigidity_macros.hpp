@@ -51,6 +51,7 @@
 namespace trueaxis::macros::rigidity {
 
 static_assert(kSessionCapacity <= core::kMaxRigiditySamples, "the builder takes the whole session");
+static_assert(kMaxPoseSamples <= core::kMaxCirclePoints, "a pose's circle fit takes the pose's samples");
 
 using RigiditySession = Session<core::RigiditySample, kSessionCapacity>;
 
