@@ -50,7 +50,7 @@ LevelSolution level_solution(double c_cmd_deg, double a_cmd_deg, const TablePose
 void order_level_solutions(const LevelSolution& s1, const LevelSolution& s2, const TablePose& current,
                            LevelSolution& chosen, LevelSolution& other) {
   const bool take_second =
-      s2.reachable && (!s1.reachable || move_cost_deg(s2, current) < move_cost_deg(s1, current));
+      s2.reachable && (!s1.reachable || move_cost_deg(s2, current) < move_cost_deg(s1, current) - kLevelTieDeg);
   chosen = take_second ? s2 : s1;
   other = take_second ? s1 : s2;
 }

@@ -1,5 +1,5 @@
 // bench_modbus_load: trueaxis-sim under load on loopback (issue 8). Not a test
-// (tests/sim/test_modbus_load.cpp is, with loose bounds); it prints the figures
+// (tests/sim/server/test_modbus_load.cpp is, with loose bounds); it prints the figures
 // and exits non-zero when one of the issue's bounds is missed.
 //
 //  1. drip: one client sends a valid FC3 request one byte every 20 ms, over and

@@ -1,5 +1,5 @@
 // Raw Modbus TCP on loopback and the /proc figures of a process, for the load
-// test (tests/sim/test_modbus_load.cpp) and bench (bench_modbus_load.cpp): no
+// test (tests/sim/server/test_modbus_load.cpp) and bench (bench_modbus_load.cpp): no
 // Catch2 and no libmodbus inside, so client threads can call them. Host only.
 #pragma once
 

@@ -1,3 +1,6 @@
+// core::level_face against long-double oracles (leveling_fixtures.hpp): 100,000
+// random faces, the quadrants, the limits to the ulp, the uncertainties in
+// closed form. Its refusals are portable tests (tests/portable/level_face_test.cpp).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -154,21 +157,6 @@ TEST_CASE("the outward normal follows the hint, not the point order", "[level]")
   }
 }
 
-TEST_CASE("refuses when neither solution is inside the A travel limits", "[level]") {
-  core::LevelConfig cfg;
-  cfg.a_min_deg = -5.0;
-  cfg.a_max_deg = 5.0;
-  t::Rng rng(8);
-  const Face f = make_face(0.3, 1.0, {}, cfg, rng);
-  CHECK(core::level_face(input_for(f, {}), cfg).status() == core::Status::kUnreachable);
-  cfg.a_max_deg = 20.0;  // 0.3 rad = 17.2 deg: now one is reachable
-  const auto r = core::level_face(input_for(f, {}), cfg);
-  REQUIRE(r.ok());
-  CHECK_FALSE(r.value().other.reachable);
-  CHECK(r.value().chosen.a_deg == Approx(0.3 * 180.0 / core::kPi).margin(1e-12));
-  CHECK(r.value().other.a_deg == -r.value().chosen.a_deg);
-}
-
 TEST_CASE("an A exactly on a travel limit is reachable, one ulp beyond is not", "[level]") {
   core::LevelConfig cfg;
   cfg.probe_sigma_mm = 0.0;
@@ -239,25 +227,25 @@ TEST_CASE("C limits pick a representative inside them or refuse", "[level]") {
   CHECK(core::level_face(input_for(f, {}), cfg).status() == core::Status::kUnreachable);
 }
 
-TEST_CASE("rejects non-finite poses, hints and configuration", "[level]") {
-  core::LevelConfig cfg;
-  t::Rng rng(10);
-  const Face f = make_face(0.2, 0.5, {}, cfg, rng);
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  auto in = input_for(f, {});
-  in.probe_pose.a_deg = nan;
-  CHECK(core::level_face(in, cfg).status() == core::Status::kNotFinite);
-  in = input_for(f, {});
-  in.outward_hint_machine.x() = std::numeric_limits<double>::infinity();
-  CHECK(core::level_face(in, cfg).status() == core::Status::kNotFinite);
-  core::LevelConfig bad = cfg;
-  bad.a_sign = 0.5;
-  CHECK(core::level_face(input_for(f, {}), bad).status() == core::Status::kConfigInvalid);
-  bad = cfg;
-  bad.a_min_deg = 10;
-  bad.a_max_deg = -10;
-  CHECK(core::level_face(input_for(f, {}), bad).status() == core::Status::kConfigInvalid);
-  bad = cfg;
-  bad.probe_sigma_mm = nan;
-  CHECK(core::level_face(input_for(f, {}), bad).status() == core::Status::kConfigInvalid);
+TEST_CASE("a tie in travel goes to solution 1 within kLevelTieDeg, and only within it", "[level]") {
+  // Both reachable, from the table at A = 0, C = 0: solution 1 costs 100 deg of
+  // travel, solution 2 100 deg less `d`.
+  const core::TablePose at_zero{};
+  core::LevelSolution s1;
+  s1.a_deg = 10.0;
+  s1.c_deg = 90.0;
+  s1.reachable = true;
+  for (const double d : {0.0, 0.5 * core::kLevelTieDeg, 0.99 * core::kLevelTieDeg, 1.01 * core::kLevelTieDeg,
+                         2.0 * core::kLevelTieDeg, -2.0 * core::kLevelTieDeg}) {
+    CAPTURE(d);
+    core::LevelSolution s2;
+    s2.a_deg = -10.0;
+    s2.c_deg = -90.0 + d;
+    s2.reachable = true;
+    core::LevelSolution chosen, other;
+    core::order_level_solutions(s1, s2, at_zero, chosen, other);
+    const bool second = d > core::kLevelTieDeg;
+    CHECK(chosen.c_deg == (second ? s2.c_deg : s1.c_deg));
+    CHECK(other.c_deg == (second ? s1.c_deg : s2.c_deg));
+  }
 }

@@ -32,6 +32,7 @@
 
 #include "data/store_5f22699_expected.hpp"
 #include "fakes.hpp"
+#include "module_rig.hpp"
 #include "trueaxis/hal/posix/file_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
 
@@ -70,14 +71,15 @@ struct StoreCopy {
   ~StoreCopy() { std::remove(path.c_str()); }
 };
 
-// The module of today over a file, as trueaxis-sim runs it.
+// The module of today over a file, as trueaxis-sim runs it: the rig on that device.
 struct Started {
   trueaxis::hal::FileNvStorage nv;
-  trueaxis::test::FakeClock clock;
-  m::Module module{nv, clock};
+  trueaxis::test::ModuleRig rig{trueaxis::test::RigOptions{}.on(nv).unstarted()};
+  m::Module& module = rig.module();
+  trueaxis::test::FakeClock& clock = rig.clock;
   explicit Started(const std::string& path) {
     REQUIRE(nv.open(path.c_str(), m::kRequiredStorageBytes) == trueaxis::hal::IoStatus::kOk);
-    REQUIRE(module.start() == Status::kOk);
+    REQUIRE(rig.start() == Status::kOk);
   }
   double get(std::uint16_t n) {
     double value = std::numeric_limits<double>::quiet_NaN();

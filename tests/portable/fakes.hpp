@@ -38,6 +38,15 @@ class FlakyStorage final : public hal::NvStorage {
   std::size_t written_end = 0;           // one past the highest
   std::size_t written_bytes = 0;
 
+  // Blank, powered and obliging again, as a new device.
+  void reset() {
+    bytes.fill(0);
+    refuse = refuse_reads = land_then_fail = false;
+    unreadable_first = unreadable_end = 0;
+    cut_after_bytes = -1;
+    forget_writes();
+  }
+
   void forget_writes() {
     written_first = SIZE_MAX;
     written_end = 0;

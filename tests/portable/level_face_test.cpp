@@ -1,5 +1,6 @@
 // core::level_face (docs/METHODS.md M1): random faces against a ground truth built
-// with Eigen::AngleAxisd, and every documented error.
+// with Eigen::AngleAxisd (TRUEAXIS_LEVEL_CASES of them), and every documented
+// error. tests/core/test_leveling.cpp holds it to long-double oracles.
 #include <cmath>
 #include <limits>
 
@@ -120,7 +121,7 @@ TA_TEST("level_face rejects three coincident points") {
   TA_CHECK_EQ(trueaxis::core::level_face(in, LevelConfig{}).status(), Status::kPointsCoincident);
 }
 
-TA_TEST("level_face rejects a NaN in a point, the pose or the hint") {
+TA_TEST("level_face rejects a NaN or an infinity in a point, the pose or the hint") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (int k = 0; k < 3; ++k) {
     TiltedFace face;
@@ -136,6 +137,9 @@ TA_TEST("level_face rejects a NaN in a point, the pose or the hint") {
   TA_CHECK_EQ(trueaxis::core::level_face(in, LevelConfig{}).status(), Status::kNotFinite);
   in = face.input();
   in.outward_hint_machine = Vec3(0.0, nan, 1.0);
+  TA_CHECK_EQ(trueaxis::core::level_face(in, LevelConfig{}).status(), Status::kNotFinite);
+  in = face.input();
+  in.outward_hint_machine = Vec3(std::numeric_limits<double>::infinity(), 0.0, 1.0);
   TA_CHECK_EQ(trueaxis::core::level_face(in, LevelConfig{}).status(), Status::kNotFinite);
 }
 
@@ -176,7 +180,7 @@ TA_TEST("level_face flips the fitted normal to agree with the hint") {
   TA_CHECK_NEAR(r.value().tilt_deg, 150.0, 1e-12);
 }
 
-TA_TEST("level_face rejects an inconsistent configuration") {
+TA_TEST("level_face rejects an inconsistent or non-finite configuration") {
   const TiltedFace face;
   LevelConfig cfg;
   cfg.a_min_deg = 10.0;
@@ -184,6 +188,12 @@ TA_TEST("level_face rejects an inconsistent configuration") {
   TA_CHECK_EQ(trueaxis::core::level_face(face.input(), cfg).status(), Status::kConfigInvalid);
   cfg = LevelConfig{};
   cfg.c_sign = 0.5;
+  TA_CHECK_EQ(trueaxis::core::level_face(face.input(), cfg).status(), Status::kConfigInvalid);
+  cfg = LevelConfig{};
+  cfg.a_sign = 0.5;
+  TA_CHECK_EQ(trueaxis::core::level_face(face.input(), cfg).status(), Status::kConfigInvalid);
+  cfg = LevelConfig{};
+  cfg.probe_sigma_mm = std::numeric_limits<double>::quiet_NaN();
   TA_CHECK_EQ(trueaxis::core::level_face(face.input(), cfg).status(), Status::kConfigInvalid);
 }
 

@@ -11,6 +11,7 @@
 #include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
 #include "trueaxis/modbus/modbus_core.hpp"
+#include "module_rig.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 
@@ -21,7 +22,6 @@ namespace m = trueaxis::macros;
 
 class CoreTransport final : public c::Transport {
  public:
-  CoreTransport() { (void)module_.start(); }
 
   bool exchange(const c::Bytes& pdu, c::Bytes& reply, std::string&) override {
     std::uint8_t response[trueaxis::modbus::kMaxPduBytes];
@@ -34,10 +34,8 @@ class CoreTransport final : public c::Transport {
   m::Module& module() { return module_; }
 
  private:
-  std::vector<std::uint8_t> nv_bytes_ = std::vector<std::uint8_t>(m::kRequiredStorageBytes);
-  trueaxis::hal::RamNvStorage nv_{nv_bytes_.data(), nv_bytes_.size()};
-  trueaxis::test::FakeClock clock_;
-  m::Module module_{nv_, clock_};
+  trueaxis::test::ModuleRig rig_;
+  m::Module& module_ = rig_.module();
   trueaxis::modbus::ModbusCore core_{module_};
 };
 

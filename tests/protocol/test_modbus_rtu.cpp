@@ -14,6 +14,7 @@
 #include "trueaxis/hal/ram_nv_storage.hpp"
 #include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/modbus/modbus_rtu.hpp"
+#include "module_rig.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 
@@ -60,10 +61,8 @@ Bytes write_frame(std::uint8_t to, std::uint16_t variable, double value) {
 // The module and the framer, each with its own clock; the framer's is set by
 // the test (step 0: it reads what the test put there).
 struct Line {
-  Bytes nv_bytes = Bytes(m::kRequiredStorageBytes);
-  trueaxis::hal::RamNvStorage nv{nv_bytes.data(), nv_bytes.size()};
-  trueaxis::test::FakeClock module_clock;
-  m::Module module{nv, module_clock};
+  trueaxis::test::ModuleRig rig;
+  m::Module& module = rig.module();
   trueaxis::modbus::ModbusCore core{module};
   trueaxis::test::FakeClock line_clock;
   trueaxis::modbus::ModbusRtu rtu{core, line_clock, kSlave, kBaud};
@@ -76,7 +75,6 @@ struct Line {
   Line() {
     line_clock.now = 1'000'000;
     line_clock.step = 0;
-    REQUIRE(module.start() == trueaxis::core::Status::kOk);
   }
 
   void take(std::size_t n) {

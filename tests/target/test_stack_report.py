@@ -6,7 +6,10 @@ an indirect call resolved to two targets, and every error the tool must raise
 stack information, a stale or missing .ci); the tables' allowances (LIBRARY,
 DYNAMIC_FRAMES, RECURSIONS); gcc's unit-local and weak names; the command
 line (--bound, --json, exit status); the disassembly reader on canned objdump
-output. Python 3 standard library only; ctest runs it as stack_report_selftest.
+output; CALL_BOUNDS (a library call bounded through a chain of callers: context
+sensitivity, partial chains, the entries a root relies on, stale entries, the
+check against a disassembly with `skip` cut off). Python 3 standard library
+only; ctest runs it as stack_report_selftest.
 
     python3 tests/target/test_stack_report.py
 """
@@ -19,11 +22,12 @@ import tempfile
 import textwrap
 import time
 import unittest
+from unittest import mock
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
 import stack_report as sr  # noqa: E402
 
-Root, Rule = sr.Root, sr.Rule
+Root, Rule, CallBound = sr.Root, sr.Rule, sr.CallBound
 
 
 def vcg(source, nodes, edges):
@@ -65,11 +69,12 @@ class Build:
                 f.write("")
         return path
 
-    def analysis(self, roots, rules=(), library=None, dynamic=(), recursions=()):
+    def analysis(self, roots, rules=(), library=None, dynamic=(), recursions=(), call_bounds=None):
         paths, problems = sr.find_units(self.dir)
         g = sr.Graph([sr.parse_ci(p) for p in paths])
+        kw = {} if call_bounds is None else {"call_bounds": list(call_bounds)}
         an = sr.Analysis(g, roots=list(roots), rules=list(rules), library=library or {}, dynamic=list(dynamic),
-                         recursions=list(recursions))
+                         recursions=list(recursions), **kw)
         return an, problems
 
     def result(self, root_pattern, **kw):
@@ -484,6 +489,327 @@ class DisassemblyReader(unittest.TestCase):
                  ("sub", "r3, sp, #8"): None, ("stmdb", "sp!, {r4, r5, lr}"): 12, ("ldr", "r2, [sp, #4]"): None}
         for (mn, ops), want in cases.items():
             self.assertEqual(sr._insn_decrement(mn, ops), want, f"{mn} {ops}")
+
+
+# CALL_BOUNDS (convention 6). fa -> fb -> sin is the bounded chain; fc -> fb is
+# another way to the same fb; both() reaches fb both ways.
+TRIG_LIBRARY = {"sin": (744, "test: the large reduction"), "cos": (744, "test: as sin")}
+SIN = ("sin", "double sin(double)")
+FA, FB = r"\bfa\(", r"\bfb\("
+
+
+def trig_unit(extra_nodes=(), extra_edges=()):
+    return vcg("t.cpp", [("fa", "void fa()", 16, "static"), ("fb", "void fb()", 32, "static"),
+                         ("fc", "void fc()", 24, "static"), ("both", "void both()", 4, "static"), SIN,
+                         *extra_nodes],
+               [("both", "fa"), ("both", "fc"), ("fa", "fb"), ("fc", "fb"), ("fb", "sin"), *extra_edges])
+
+
+def small_sin(chain=(FA, FB), functions=("sin",), nbytes=72, skip=("__kernel_rem_pio2",)):
+    return CallBound(list(chain), functions, nbytes, skip, "test: the callers keep |x| small")
+
+
+class CallBounds(unittest.TestCase):
+    def setUp(self):
+        self.b = Build()
+
+    def tearDown(self):
+        self.b.close()
+
+    def results(self, roots, call_bounds, library=TRIG_LIBRARY):
+        """{root name: result} of roots (name, pattern) analysed together (one Analysis:
+        its memo must keep the contexts apart)."""
+        an, _ = self.b.analysis([Root(n, p, "") for n, p in roots], library=library, call_bounds=call_bounds)
+        return {r.name: an.root_result(r) for r in an.roots}, an
+
+    def test_chain_bounds_the_call_and_only_through_it(self):
+        self.b.add("t", trig_unit())
+        res, an = self.results([("a", r"\bfa\(\)"), ("c", r"\bfc\(\)"), ("both", r"\bboth\(\)"),
+                                ("b", r"\bfb\(\)")], [small_sin()])
+        for r in res.values():
+            self.assertEqual(r["errors"], [])
+        # Through fa: the chain fa -> fb holds, sin costs 72.
+        self.assertEqual(res["a"]["bytes"], 16 + 32 + 72)
+        self.assertEqual(res["a"]["path"][-1],
+                         {"function": "sin", "frame": 72, "cumulative": 120, "library": True, "call_bound": 0})
+        # The same fb through fc (not in the chain), or as a root: LIBRARY's 744.
+        self.assertEqual(res["c"]["bytes"], 24 + 32 + 744)
+        self.assertEqual(res["c"]["path"][-1], {"function": "sin", "frame": 744, "cumulative": 800, "library": True})
+        self.assertEqual(res["b"]["bytes"], 32 + 744)
+        # Both ways from one root: the worst (through fc), though fa's way is analysed first.
+        self.assertEqual(res["both"]["bytes"], 4 + 24 + 32 + 744)
+        self.assertEqual([p["function"] for p in res["both"]["path"]], ["both()", "fc()", "fb()", "sin"])
+
+    def test_context_is_kept_whichever_root_comes_first(self):
+        self.b.add("t", trig_unit())
+        res, _ = self.results([("c", r"\bfc\(\)"), ("b", r"\bfb\(\)"), ("a", r"\bfa\(\)")], [small_sin()])
+        self.assertEqual((res["c"]["bytes"], res["b"]["bytes"], res["a"]["bytes"]), (800, 776, 120))
+
+    def test_chain_starting_above_the_root(self):
+        # The root fb is called by fa elsewhere; analysed on its own, nothing guarantees its argument.
+        self.b.add("t", trig_unit())
+        res, _ = self.results([("b", r"\bfb\(\)")], [small_sin()])
+        self.assertEqual((res["b"]["bytes"], res["b"]["call_bounds"]), (776, []))
+
+    def test_partial_chains_do_not_count(self):
+        # fa calls sin itself (only the chain's first pattern matched); fb calls it
+        # through fd (the chain's last pattern is not sin's caller); fa -> fx -> fb
+        # (not consecutive); fb alone (the chain's first pattern missing: fc -> fb).
+        nodes = [("fd", "void fd()", 8, "static"), ("fx", "void fx()", 8, "static"),
+                 ("top_direct", "void top_direct()", 4, "static"), ("top_gap", "void top_gap()", 4, "static"),
+                 ("top_deeper", "void top_deeper()", 4, "static")]
+        self.b.add("t", trig_unit(nodes, [("fa", "sin")]))
+        self.b.add("u", vcg("u.cpp", [("fd", "void fd()", 8, "static"), ("fb2", "void fb_deep()", 32, "static"),
+                                      ("fa2", "void fa_deep()", 16, "static"), ("fx", "void fx()", 8, "static"),
+                                      ("fb", "void fb()"), ("fa3", "void fa_gap()", 16, "static"), SIN],
+                            [("fa2", "fb2"), ("fb2", "fd"), ("fd", "sin"), ("fa3", "fx"), ("fx", "fb")]))
+        chains = [small_sin(), small_sin(chain=(r"\bfa_deep\(", r"\bfb_deep\(")),
+                  small_sin(chain=(r"\bfa_gap\(", FB))]
+        res, _ = self.results([("direct", r"\bfa\(\)"), ("deeper", r"\bfa_deep\(\)"), ("gap", r"\bfa_gap\(\)"),
+                               ("c", r"\bfc\(\)")], chains)
+        # fa: its own sin call costs 744 (the chain fa -> fb is not complete at fa); fb's costs 72.
+        self.assertEqual(res["direct"]["bytes"], 16 + 744)
+        self.assertEqual(res["direct"]["path"][-1], {"function": "sin", "frame": 744, "cumulative": 760,
+                                                     "library": True})
+        self.assertEqual(res["deeper"]["bytes"], 16 + 32 + 8 + 744)
+        self.assertEqual(res["gap"]["bytes"], 16 + 8 + 32 + 744)
+        self.assertEqual(res["c"]["bytes"], 24 + 32 + 744)
+        for r in res.values():
+            self.assertEqual(r["errors"], [], r["root"])
+        # fa's figure relies on entry 0 all the same: through fb, sin would cost 16 + 32 + 744 without it.
+        self.assertEqual([res[n]["call_bounds"] for n in ("direct", "deeper", "gap", "c")], [[0], [], [], []])
+
+    def test_only_the_functions_named(self):
+        # The chain holds, but the entry bounds sin, not cos.
+        self.b.add("t", vcg("t.cpp", [("fa", "void fa()", 16, "static"), ("fb", "void fb()", 32, "static"),
+                                      ("cos", "double cos(double)")], [("fa", "fb"), ("fb", "cos")]))
+        res, _ = self.results([("a", r"\bfa\(\)")], [small_sin()])
+        self.assertEqual((res["a"]["bytes"], res["a"]["path"][-1]["function"]), (16 + 32 + 744, "cos"))
+        self.assertEqual(res["a"]["call_bounds"], [])
+        res, _ = self.results([("a", r"\bfa\(\)")], [small_sin(functions=("sin", "cos"))])
+        self.assertEqual((res["a"]["bytes"], res["a"]["call_bounds"]), (16 + 32 + 72, [0]))
+
+    def test_roots_list_the_entries_they_rely_on(self):
+        self.b.add("t", trig_unit())
+        # Entry 1 is the same chain but no smaller than LIBRARY: never relied on.
+        # Entry 2 bounds fc's way, entry 3 a chain the graph does not have.
+        entries = [small_sin(), small_sin(nbytes=744), small_sin(chain=(r"\bfc\(", FB), nbytes=100),
+                   small_sin(chain=(r"\bgone\(", FB))]
+        res, an = self.results([("a", r"\bfa\(\)"), ("c", r"\bfc\(\)"), ("both", r"\bboth\(\)"),
+                                ("b", r"\bfb\(\)")], entries)
+        self.assertEqual(res["a"]["call_bounds"], [0])
+        self.assertEqual(res["c"]["call_bounds"], [2])
+        self.assertEqual(res["b"]["call_bounds"], [])
+        # both(): its worst path is fc's, but fa's way would be the worse without entry 0.
+        self.assertEqual(res["both"]["bytes"], 4 + 24 + 32 + 100)
+        self.assertEqual(res["both"]["call_bounds"], [0, 2])
+        self.assertEqual(an.call_bound_hits, [2, 0, 2, 0])
+
+    def test_relied_on_though_off_the_worst_path(self):
+        # fb's worst is fe (200), not sin (72); without the entry sin (744) would be.
+        self.b.add("t", trig_unit([("fe", "void fe()", 200, "static")], [("fb", "fe")]))
+        res, _ = self.results([("a", r"\bfa\(\)")], [small_sin()])
+        self.assertEqual(res["a"]["bytes"], 16 + 32 + 200)
+        self.assertEqual(res["a"]["path"][-1]["function"], "fe()")
+        self.assertEqual(res["a"]["call_bounds"], [0])
+
+
+@contextlib.contextmanager
+def configured(roots, call_bounds):
+    """main() with these ROOTS and CALL_BOUNDS, and no INDIRECT_CALLS or RECURSIONS
+    (whose stale entries main() reports too). Analysis takes CALL_BOUNDS as a
+    default argument: the list is replaced in place, and restored."""
+    saved = sr.CALL_BOUNDS[:]
+    sr.CALL_BOUNDS[:] = call_bounds
+    try:
+        with mock.patch.object(sr, "ROOTS", roots), mock.patch.object(sr, "INDIRECT_CALLS", []), \
+                mock.patch.object(sr, "RECURSIONS", []):
+            yield
+    finally:
+        sr.CALL_BOUNDS[:] = saved
+
+
+class CallBoundsCommandLine(unittest.TestCase):
+    """main() with the module's tables (LIBRARY's sin: 744 B)."""
+
+    def setUp(self):
+        self.b = Build()
+        self.b.add("t", trig_unit())
+        self.entries = [small_sin(), small_sin(chain=(r"\bfc\(", FB))]
+
+    def tearDown(self):
+        self.b.close()
+
+    def test_entry_no_root_relies_on_is_stale(self):
+        with configured([Root("a", r"\bfa\(\)", "")], self.entries):
+            rc, out, _ = self.b.cli()
+        self.assertEqual(rc, 2, out)
+        self.assertIn(r"error: CALL_BOUNDS[1] (\bfc\( -> \bfb\( -> sin) bounds no call a root makes: stale", out)
+        self.assertNotIn("CALL_BOUNDS[0] (", out)
+        self.assertIn("relies on CALL_BOUNDS [0]", out)
+
+    def test_every_entry_relied_on(self):
+        with configured([Root("a", r"\bfa\(\)", ""), Root("c", r"\bfc\(\)", "")], self.entries):
+            rc, out, _ = self.b.cli("--bound", "a=120", "--bound", "c=128")
+        self.assertEqual(rc, 0, out)
+        self.assertNotIn("error", out)
+
+    def test_not_stale_with_root(self):
+        # --root analyses a few roots only: an entry they do not use is no error.
+        with configured([], self.entries):
+            rc, out, _ = self.b.cli("--root", r"a=\bfa\(\)", "--json")
+        self.assertEqual(rc, 0, out)
+        doc = json.loads(out)
+        self.assertEqual(doc["errors"], [])
+        (root,) = doc["roots"]
+        self.assertEqual((root["bytes"], root["call_bounds"]), (120, [0]))
+        self.assertEqual(doc["call_bounds"], [{"index": 0, "chain": [FA, FB], "function": "sin", "stated": 72,
+                                               "disassembly": None, "image": None, "path": []}])
+
+
+# newlib's sin and cos as linked: sin 24 + __ieee754_rem_pio2 48 +
+# __kernel_rem_pio2 656 + floor 16 = 744; without __kernel_rem_pio2, 72.
+TRIG_OBJDUMP = textwrap.dedent("""\
+    #!/bin/sh
+    if [ "$1" = "-t" ]; then cat <<'EOF'
+    00003000 g     F .text\t00000010 sin
+    00003010 g     F .text\t00000010 cos
+    00003020 g     F .text\t00000020 __ieee754_rem_pio2
+    00003040 g     F .text\t00000010 __kernel_rem_pio2
+    00003050 g     F .text\t00000004 floor
+    00003060 g     F .text\t00000004 __kernel_sin
+    00003064 g     F .text\t00000004 __kernel_cos
+    EOF
+    else cat <<'EOF'
+    00003000 <sin>:
+        3000:\tpush\t{r4, lr}
+        3002:\tsub\tsp, #16
+        3004:\tbl\t3020 <__ieee754_rem_pio2>
+        3008:\tbl\t3060 <__kernel_sin>
+        300c:\tadd\tsp, #16
+        300e:\tpop\t{r4, pc}
+
+    00003010 <cos>:
+        3010:\tpush\t{r4, lr}
+        3012:\tsub\tsp, #16
+        3014:\tbl\t3020 <__ieee754_rem_pio2>
+        3018:\tbl\t3064 <__kernel_cos>
+        301c:\tadd\tsp, #16
+        301e:\tpop\t{r4, pc}
+
+    00003020 <__ieee754_rem_pio2>:
+        3020:\tstmdb\tsp!, {r4, r5, r6, r7, r8, lr}
+        3024:\tsub\tsp, #24
+        3026:\tldr\tr3, [pc, #20]\t@ (303c <__ieee754_rem_pio2+0x1c>)
+        3028:\tcmp\tr4, r3
+        302a:\tbls.n\t3032 <__ieee754_rem_pio2+0x12>
+        302c:\tbl\t3040 <__kernel_rem_pio2>
+        3030:\tb.n\t3036 <__ieee754_rem_pio2+0x16>
+        3032:\tvmov\td0, r0, r1
+        3036:\tadd\tsp, #24
+        3038:\tldmia.w\tsp!, {r4, r5, r6, r7, r8, pc}
+        303c:\t.word\t0x413921fb
+
+    00003040 <__kernel_rem_pio2>:
+        3040:\tstmdb\tsp!, {r4, r5, r6, r7, r8, r9, sl, fp, lr}
+        3044:\tvpush\t{d8-d15}
+        3048:\tsub.w\tsp, sp, #556\t@ 0x22c
+        304c:\tbl\t3050 <floor>
+
+    00003050 <floor>:
+        3050:\tpush\t{r4, r5, r6, lr}
+        3052:\tpop\t{r4, r5, r6, pc}
+
+    00003060 <__kernel_sin>:
+        3060:\tvmov\td0, r0, r1
+        3062:\tbx\tlr
+
+    00003064 <__kernel_cos>:
+        3064:\tvmov\td0, r0, r1
+        3066:\tbx\tlr
+    EOF
+    fi
+    """)
+
+
+class CallBoundsDisassembly(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.objdump = os.path.join(self.tmp.name, "objdump")
+        with open(self.objdump, "w") as f:
+            f.write(TRIG_OBJDUMP)
+        os.chmod(self.objdump, 0o755)
+        self.dis = sr.Disassembly("image.elf", self.objdump)
+        self.b = Build()
+        self.b.add("t", trig_unit([("cos", "double cos(double)")], [("fb", "cos")]))
+
+    def tearDown(self):
+        self.b.close()
+        self.tmp.cleanup()
+
+    def check(self, entry):
+        an, _ = self.b.analysis([Root("a", r"\bfa\(\)", "")], library=TRIG_LIBRARY, call_bounds=[entry])
+        r = an.root_result(an.roots[0])
+        self.assertEqual((r["errors"], r["call_bounds"]), ([], [0]))
+        return sr.check_call_bounds(an, [self.dis], set(r["call_bounds"]))
+
+    def test_bound_with_skip(self):
+        self.assertEqual(self.dis.bound("sin"), (744, [], ["sin (24)", "__ieee754_rem_pio2 (48)",
+                                                         "__kernel_rem_pio2 (656)", "floor (16)"]))
+        self.assertEqual(self.dis.bound("sin", ("__kernel_rem_pio2",)),
+                         (72, [], ["sin (24)", "__ieee754_rem_pio2 (48)"]))
+        self.assertEqual(self.dis.skipped, {"__kernel_rem_pio2"})
+        self.dis.bound("sin", ("__kernel_cos",))
+        self.assertEqual(self.dis.skipped, set())
+
+    def test_correct_entry_passes(self):
+        for nbytes in (72, 100):
+            rows, errors, notes = self.check(small_sin(functions=("sin", "cos"), nbytes=nbytes))
+            self.assertEqual((errors, notes), ([], []))
+            self.assertEqual(rows, [(0, "sin", nbytes, 72, "image.elf", ["sin (24)", "__ieee754_rem_pio2 (48)"]),
+                                    (0, "cos", nbytes, 72, "image.elf", ["cos (24)", "__ieee754_rem_pio2 (48)"])])
+
+    def test_bound_below_the_disassembly(self):
+        _, errors, _ = self.check(small_sin(nbytes=71))
+        self.assertEqual(len(errors), 1, errors)
+        self.assertIn("CALL_BOUNDS[0] sin: the disassembly of image.elf needs 72 B without __kernel_rem_pio2, "
+                      "over the stated 71 B: sin (24) -> __ieee754_rem_pio2 (48)", errors[0])
+        # Cutting off nothing: the whole 744.
+        _, errors, _ = self.check(small_sin(skip=()))
+        self.assertEqual(len(errors), 1, errors)
+        self.assertIn("needs 744 B", errors[0])
+
+    def test_skip_on_no_path(self):
+        _, errors, _ = self.check(small_sin(skip=("__kernel_rem_pio2", "__kernel_cos")))
+        self.assertEqual(errors, ["CALL_BOUNDS[0] sin: __kernel_cos is on no path of sin in the images: the entry "
+                                  "cuts off nothing there (stale?)"])
+        # Checked for each function: cos's path has __kernel_cos, not __kernel_sin.
+        _, errors, _ = self.check(small_sin(functions=("sin", "cos"), skip=("__kernel_rem_pio2", "__kernel_sin")))
+        self.assertEqual(len(errors), 1, errors)
+        self.assertIn("CALL_BOUNDS[0] cos: __kernel_sin is on no path of cos", errors[0])
+
+    def test_unlinked_function_is_a_note(self):
+        self.b.add("t", trig_unit([("tan", "double tan(double)")], [("fb", "tan")]))
+        an, _ = self.b.analysis([Root("a", r"\bfa\(\)", "")], library=dict(TRIG_LIBRARY, tan=(744, "test")),
+                                call_bounds=[small_sin(functions=("tan",))])
+        r = an.root_result(an.roots[0])
+        self.assertEqual(r["call_bounds"], [0])
+        rows, errors, notes = sr.check_call_bounds(an, [self.dis], {0})
+        self.assertEqual((rows, errors), ([(0, "tan", 72, None, None, [])], []))
+        self.assertIn("CALL_BOUNDS[0] tan: linked in no image given with --elf", notes[0])
+
+    def test_command_line_checks_the_entries_relied_on(self):
+        entries = [small_sin(nbytes=71), small_sin(chain=(r"\bgone\(", FB), nbytes=1)]
+        with configured([], entries):
+            rc, out, _ = self.b.cli("--root", r"a=\bfa\(\)", "--elf", "image.elf", "--objdump", self.objdump)
+        self.assertEqual(rc, 2, out)
+        self.assertIn("error: CALL_BOUNDS[0] sin: the disassembly of image.elf needs 72 B", out)
+        self.assertNotIn("CALL_BOUNDS[1]", out)  # relied on by no root: not checked
+        with configured([], [small_sin(nbytes=72)]):
+            rc, out, _ = self.b.cli("--root", r"a=\bfa\(\)", "--elf", "image.elf", "--objdump", self.objdump)
+        self.assertEqual(rc, 0, out)
+        self.assertIn("[0] sin       72 B  via \\bfa\\( -> \\bfb\\(  disassembly 72 B (image.elf): "
+                      "sin (24) -> __ieee754_rem_pio2 (48)", out)
 
 
 if __name__ == "__main__":

@@ -31,7 +31,9 @@
 //  6. C is written as the representative (C + k 360) nearest to the current C
 //     inside the C travel limits. A solution is reachable when its A lies inside
 //     the A limits and such a representative exists. Of the reachable ones the one
-//     with the smaller |dA| + |dC| is chosen; on a tie, solution 1.
+//     with the smaller |dA| + |dC| is chosen; on a tie, solution 1. A tie is
+//     two costs within kLevelTieDeg of each other, so that rounding (another
+//     libm, another compiler) cannot turn an exact tie into a different choice.
 //  7. Uncertainty: probe noise sigma (mm, 1 sigma, along the normal) gives the
 //     fitted normal an error with covariance sigma^2 diag(1/s_u^2, 1/s_v^2) in the
 //     fit's in-plane axes (plane_fit.hpp). The tilt's standard uncertainty is the
@@ -114,8 +116,11 @@ struct LevelResult {
 // limits (convention 6). Shared with the calibrated leveling (rigidity_leveling.hpp).
 LevelSolution level_solution(double c_deg, double a_deg, const TablePose& current, const LevelConfig& config);
 
+// Convention 6's tie: costs closer than this (deg) are equal.
+inline constexpr double kLevelTieDeg = 1e-9;
+
 // Convention 6's choice: the reachable one of s1, s2 with the smaller |dA| + |dC|
-// (s1 on a tie, s1 when neither is reachable) becomes `chosen`.
+// (s1 on a tie, within kLevelTieDeg; s1 when neither is reachable) becomes `chosen`.
 void order_level_solutions(const LevelSolution& s1, const LevelSolution& s2, const TablePose& current,
                            LevelSolution& chosen, LevelSolution& other);
 

@@ -1,5 +1,5 @@
 // What every host program in build/host/bin answers to --help and --version,
-// the product's commands and the benches alike (tests/sim/test_commands.py
+// the product's commands and the benches alike (tests/sim/tools/test_commands.py
 // runs them all).
 //
 // Contract

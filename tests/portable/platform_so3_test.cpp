@@ -1,4 +1,5 @@
-// core::so3_exp / so3_log: round trips over the whole range, checked against
+// core::so3_exp / so3_log (the contract checks of so3.hpp, written once): round
+// trips over the whole range, orthonormality, exactly pi, hat and vee, checked against
 // Eigen::AngleAxisd, at the fixtures where such code breaks: 0, tiny angles, the
 // Taylor threshold +- one ulp, where log leaves its series, twice the threshold,
 // pi - 1e-6, pi - 1e-8 and exactly pi. The long-double bounds of so3.hpp
@@ -30,6 +31,14 @@ double log_series_end() { return 2.0 * std::atan(0.5 * trueaxis::core::so3_taylo
 double log_tolerance(double theta) { return (theta < log_series_end() ? 1.5 : 4.0) * kEps * theta; }
 
 double max_abs(const Mat3& m) { return m.cwiseAbs().maxCoeff(); }
+
+// A unit vector uniform on the sphere.
+Vec3 random_axis(trueaxis::test::SplitMix64& rng) {
+  for (;;) {
+    const Vec3 v(rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0));
+    if (v.squaredNorm() > 1e-6 && v.squaredNorm() <= 1.0) return v.normalized();
+  }
+}
 
 // The angles every check runs at.
 double fixture_angle(int i) {
@@ -91,13 +100,16 @@ TA_TEST("so3_log inverts so3_exp at every fixture angle below pi") {
   }
 }
 
-TA_TEST("so3_log at exactly pi returns an angle of pi that maps back to the same rotation") {
-  for (int j = 0; j < kAxisCount; ++j) {
+TA_TEST("so3_log at exactly pi returns an angle of pi, one of the two equivalent vectors, that maps back") {
+  // The fixture axes, then 200 random ones, as the rotation 2 n n^T - I.
+  trueaxis::test::SplitMix64 rng(0x5EED'0005);
+  for (int j = 0; j < kAxisCount + 200; ++j) {
     TA_CASE_INDEX(j);
-    const Mat3 r = reference_exp(kPi * fixture_axis(j));
+    const Vec3 n = j < kAxisCount ? fixture_axis(j) : random_axis(rng);
+    const Mat3 r = j < kAxisCount ? reference_exp(kPi * n) : Mat3(2.0 * n * n.transpose() - Mat3::Identity());
     const Vec3 w = trueaxis::core::so3_log(r);
     TA_CHECK_NEAR(w.norm(), kPi, 8.0 * kEps);
-    TA_CHECK(std::fabs(std::fabs(w.normalized().dot(fixture_axis(j))) - 1.0) <= 8.0 * kEps);
+    TA_CHECK(std::fmin((w - kPi * n).norm(), (w + kPi * n).norm()) < 1e-14);
     TA_CHECK(max_abs(trueaxis::core::so3_exp(w) - r) <= 8.0 * kEps);
   }
 }
@@ -121,10 +133,24 @@ TA_TEST("so3 exp and log round-trip random rotation vectors") {
 }
 
 TA_TEST("hat and vee are inverse and hat(w) v is the cross product") {
-  const Vec3 w(0.3, -1.2, 2.5);
-  const Vec3 v(-4.0, 0.5, 1.0);
-  TA_CHECK(trueaxis::core::vee(trueaxis::core::hat(w)) == w);
-  TA_CHECK(((trueaxis::core::hat(w) * v) - w.cross(v)).norm() <= 4.0 * kEps * w.norm() * v.norm());
+  trueaxis::test::SplitMix64 rng(0x5EED'0006);
+  for (int i = 0; i < 101; ++i) {
+    TA_CASE_INDEX(i);
+    const Vec3 w = i == 0 ? Vec3(0.3, -1.2, 2.5) : random_axis(rng) * rng.uniform(0.0, 10.0);
+    const Vec3 v = i == 0 ? Vec3(-4.0, 0.5, 1.0) : random_axis(rng);
+    TA_CHECK(trueaxis::core::vee(trueaxis::core::hat(w)) == w);
+    TA_CHECK(((trueaxis::core::hat(w) * v) - w.cross(v)).norm() <= 4.0 * kEps * w.norm() * v.norm());
+  }
+}
+
+TA_TEST("so3_exp returns orthonormal matrices with determinant one up to 7 rad") {
+  trueaxis::test::SplitMix64 rng(0x5EED'0007);
+  for (int i = 0; i < 2000; ++i) {
+    TA_CASE_INDEX(i);
+    const Mat3 r = trueaxis::core::so3_exp(rng.uniform(0.0, 7.0) * random_axis(rng));
+    TA_CHECK(max_abs(r.transpose() * r - Mat3::Identity()) < 16 * kEps);
+    TA_CHECK(std::fabs(r.determinant() - 1.0) < 16 * kEps);
+  }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
+#include "module_rig.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/sim/instruments/calibration_ball.hpp"
 #include "trueaxis/sim/server/simulator.hpp"
@@ -25,14 +26,10 @@ namespace simvar = trueaxis::sim::simvar;
 constexpr double kArcsecPerRad = trueaxis::sim::kArcsecPerRad;
 
 struct Bench {
-  explicit Bench(std::uint64_t seed = 1, bool errors_on = false) : simulator{module, FaceConfig{}, seed, errors_on} {
-    (void)module.start();
-  }
+  explicit Bench(std::uint64_t seed = 1, bool errors_on = false) : simulator{module, FaceConfig{}, seed, errors_on} {}
 
-  std::vector<std::uint8_t> nv_bytes = std::vector<std::uint8_t>(trueaxis::macros::kRequiredStorageBytes);
-  trueaxis::hal::RamNvStorage nv{nv_bytes.data(), nv_bytes.size()};
-  trueaxis::test::FakeClock clock;
-  trueaxis::macros::Module module{nv, clock};
+  trueaxis::test::ModuleRig rig;
+  trueaxis::macros::Module& module = rig.module();
   trueaxis::sim::Simulator simulator;
 
   AccessFault write(std::uint16_t first, std::initializer_list<double> values) {

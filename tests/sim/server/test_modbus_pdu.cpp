@@ -10,6 +10,7 @@
 #include "alloc_counter.hpp"
 #include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
+#include "module_rig.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/sim/server/simulator.hpp"
@@ -20,15 +21,11 @@ namespace {
 using Bytes = std::vector<std::uint8_t>;
 
 struct Core {
-  std::vector<std::uint8_t> nv_bytes = std::vector<std::uint8_t>(trueaxis::macros::kRequiredStorageBytes);
-  trueaxis::hal::RamNvStorage nv{nv_bytes.data(), nv_bytes.size()};
-  trueaxis::test::FakeClock clock;
-  trueaxis::macros::Module module{nv, clock};
+  trueaxis::test::ModuleRig rig;
+  trueaxis::macros::Module& module = rig.module();
   trueaxis::sim::Simulator simulator{module, trueaxis::sim::FaceConfig{}, 1};
   trueaxis::sim::VariableRouter router{module, simulator};
   trueaxis::modbus::ModbusCore core{router};
-
-  Core() { (void)module.start(); }
 
   Bytes run(const Bytes& pdu) {
     std::uint8_t response[trueaxis::modbus::kMaxPduBytes];

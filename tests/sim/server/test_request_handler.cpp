@@ -11,6 +11,7 @@
 
 #include "fakes.hpp"
 #include "trueaxis/hal/ram_nv_storage.hpp"
+#include "module_rig.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/sim/server/simulator.hpp"
@@ -22,17 +23,13 @@ using trueaxis::macros::ModbusException;
 namespace simvar = trueaxis::sim::simvar;
 
 struct Bench {
-  std::vector<std::uint8_t> nv_bytes = std::vector<std::uint8_t>(trueaxis::macros::kRequiredStorageBytes);
-  trueaxis::hal::RamNvStorage nv{nv_bytes.data(), nv_bytes.size()};
-  trueaxis::test::FakeClock clock;
-  trueaxis::macros::Module module{nv, clock};
+  trueaxis::test::ModuleRig rig;
+  trueaxis::macros::Module& module = rig.module();
   trueaxis::sim::Simulator simulator{module, trueaxis::sim::FaceConfig{}, 1};
   trueaxis::sim::VariableRouter router{module, simulator};
   trueaxis::modbus::ModbusCore core{router};
   std::vector<std::uint16_t> image = std::vector<std::uint16_t>(65536);
   std::vector<std::uint8_t> response;
-
-  Bench() { (void)module.start(); }
 
   // The exception of the response (kNone for a normal one); the registers a
   // served FC3 or FC23 read land in `image` at their protocol addresses.
@@ -213,7 +210,7 @@ TEST_CASE("probing stores the touch point into a work offset through the module"
   CHECK(b.module.value(5283) > 30.0);
 }
 
-TEST_CASE("probing into a number that is not a work offset or point-list X is exception 03") {
+TEST_CASE("probing into a number that is not a work offset or point-list X is exception 03 (the request handler alone)") {
   Bench b;
   for (double target : {5282.0, 5222.0, 1002.0, 100.0, 0.0}) {
     CHECK(b.run(write_pdu(4 * simvar::kProbeInto, words_of({target}))) == ModbusException::kIllegalDataValue);

@@ -13,9 +13,9 @@
 #include <thread>
 #include <vector>
 
+#include "module_rig.hpp"
 #include "trueaxis/core/status.hpp"
 #include "trueaxis/hal/posix/steady_clock.hpp"
-#include "trueaxis/hal/ram_nv_storage.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/modbus/modbus_core.hpp"
 #include "trueaxis/sim/server/modbus_server.hpp"
@@ -33,13 +33,9 @@ extern "C" inline void on_wake(int) {}
 // SIGUSR1 (blocked in that thread but while it waits, so it cannot be lost).
 class InProcessSim {
  public:
-  InProcessSim()
-      : nv_(trueaxis::macros::kRequiredStorageBytes),
-        storage_(nv_.data(), nv_.size()),
-        module_(std::make_unique<trueaxis::macros::Module>(storage_, clock_)) {
-    REQUIRE(module_->start() == core::Status::kOk);
-    simulator_ = std::make_unique<sim::Simulator>(*module_, sim::FaceConfig{}, 1);
-    router_ = std::make_unique<sim::VariableRouter>(*module_, *simulator_);
+  InProcessSim() {
+    simulator_ = std::make_unique<sim::Simulator>(rig_.module(), sim::FaceConfig{}, 1);
+    router_ = std::make_unique<sim::VariableRouter>(rig_.module(), *simulator_);
     core_ = std::make_unique<trueaxis::modbus::ModbusCore>(*router_);
     server_ = std::make_unique<sim::ModbusTcpServer>(*core_, *simulator_);
     REQUIRE(server_->listen("127.0.0.1", 0));
@@ -72,10 +68,8 @@ class InProcessSim {
   sim::VariableClient& client() { return client_; }
 
  private:
-  std::vector<std::uint8_t> nv_;
-  trueaxis::hal::RamNvStorage storage_;
   trueaxis::hal::SteadyClock clock_;
-  std::unique_ptr<trueaxis::macros::Module> module_;
+  ModuleRig rig_{RigOptions{}.with_clock(clock_)};  // the rig's RAM device, the host's clock
   std::unique_ptr<sim::Simulator> simulator_;
   std::unique_ptr<sim::VariableRouter> router_;
   std::unique_ptr<trueaxis::modbus::ModbusCore> core_;
