@@ -13,17 +13,15 @@
 
 namespace trueaxis::macros {
 
+// The encoded length of M3's table (its poses').
+inline std::size_t rigidity_record_bytes(const core::RigidityTable& t) {
+  return core::rigidity_table_bytes(t.pose_count);
+}
+
 // The record of M3's table (key 3), named here because M1 reads the table too.
-struct RigidityTableRecord {
-  using Type = core::RigidityTable;
+struct RigidityTableRecord : TableCodec<core::RigidityTable, &core::decode_rigidity_table,
+                                        &core::encode_rigidity_table, &rigidity_record_bytes> {
   static constexpr RecordSpec kRecord{3, 1, 4096, "rigidity_table"};
-  static core::Status decode(const std::uint8_t* bytes, std::size_t length, Type& out) {
-    return core::decode_rigidity_table(bytes, length, out);
-  }
-  static std::size_t encode(const Type& t, std::uint8_t* out, std::size_t capacity) {
-    return core::encode_rigidity_table(t, out, capacity);
-  }
-  static std::size_t bytes(const Type& t) { return core::rigidity_table_bytes(t.pose_count); }
 };
 static_assert(core::kRigidityTableMaxBytes <= RigidityTableRecord::kRecord.capacity_bytes);
 

@@ -9,6 +9,8 @@
 //       static Status decode(const std::uint8_t*, std::size_t, Type&);
 //       static std::size_t encode(const Type&, std::uint8_t*, std::size_t);
 //       static std::size_t bytes(const Type&); its encoded length (<= capacity)
+//     TableCodec below makes all but kRecord from a table type and its codec
+//     in firmware_core.
 //     Module::start() loads the record into the live table (load()), or marks
 //     it damaged; a method stages a new table through its context
 //     (MethodContext::stage_table), and the module makes it live after the
@@ -24,6 +26,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 #include <utility>
 
 #include "trueaxis/core/status.hpp"
@@ -31,6 +34,33 @@
 #include "trueaxis/macros/live_table.hpp"
 
 namespace trueaxis::macros {
+
+// Contract 1's Spec but kRecord, from a table type T and its codec: Decode and
+// Encode as firmware_core's decode_* and encode_*, Bytes the encoded length of
+// every table (a std::size_t) or its function of the table. A method's record:
+//   struct FramesRecord : TableCodec<core::GantryTable, &core::decode_gantry_table,
+//                                    &core::encode_gantry_table, core::kGantryTableBytes> {
+//     static constexpr RecordSpec kRecord{4, 1, 3072, "gantry_frames"};
+//   };
+template <typename T, core::Status (*Decode)(const std::uint8_t*, std::size_t, T&),
+          std::size_t (*Encode)(const T&, std::uint8_t*, std::size_t), auto Bytes>
+struct TableCodec {
+  using Type = T;
+  static core::Status decode(const std::uint8_t* bytes, std::size_t length, Type& out) {
+    return Decode(bytes, length, out);
+  }
+  static std::size_t encode(const Type& t, std::uint8_t* out, std::size_t capacity) {
+    return Encode(t, out, capacity);
+  }
+  static std::size_t bytes(const Type& t) {
+    if constexpr (std::is_invocable_r_v<std::size_t, decltype(Bytes), const Type&>) {
+      return Bytes(t);
+    } else {
+      static_cast<void>(t);
+      return Bytes;
+    }
+  }
+};
 
 template <typename Spec>
 class StoredTable {

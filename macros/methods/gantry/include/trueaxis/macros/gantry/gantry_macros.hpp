@@ -101,16 +101,9 @@ class PointSession {
 };
 
 // The record of the stored frames (key 4).
-struct FramesRecord {
-  using Type = core::GantryTable;
+struct FramesRecord : TableCodec<core::GantryTable, &core::decode_gantry_table, &core::encode_gantry_table,
+                                 core::kGantryTableBytes> {
   static constexpr RecordSpec kRecord{4, 1, 3072, "gantry_frames"};
-  static core::Status decode(const std::uint8_t* bytes, std::size_t length, Type& out) {
-    return core::decode_gantry_table(bytes, length, out);
-  }
-  static std::size_t encode(const Type& t, std::uint8_t* out, std::size_t capacity) {
-    return core::encode_gantry_table(t, out, capacity);
-  }
-  static std::size_t bytes(const Type&) { return core::kGantryTableBytes; }
 };
 static_assert(core::kGantryTableBytes <= FramesRecord::kRecord.capacity_bytes, "the frames must fit their record");
 

@@ -52,16 +52,9 @@
 namespace trueaxis::macros::spindle {
 
 // The record of the stored model (key 5).
-struct ModelRecord {
-  using Type = core::SpindleModel;
+struct ModelRecord : TableCodec<core::SpindleModel, &core::decode_spindle_model, &core::encode_spindle_model,
+                                core::kSpindleModelBytes> {
   static constexpr RecordSpec kRecord{5, 1, 2048, "spindle_model"};
-  static core::Status decode(const std::uint8_t* bytes, std::size_t length, Type& out) {
-    return core::decode_spindle_model(bytes, length, out);
-  }
-  static std::size_t encode(const Type& t, std::uint8_t* out, std::size_t capacity) {
-    return core::encode_spindle_model(t, out, capacity);
-  }
-  static std::size_t bytes(const Type&) { return core::kSpindleModelBytes; }
 };
 static_assert(core::kSpindleModelBytes <= ModelRecord::kRecord.capacity_bytes, "the model must fit its record");
 
