@@ -7,8 +7,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "fakes.hpp"
-#include "trueaxis/hal/ram_nv_storage.hpp"
+#include "module_rig.hpp"
 #include "trueaxis/macros/module.hpp"
 
 namespace {
@@ -26,19 +25,17 @@ void check(bool ok, const char* what) {
   }
 }
 
-struct Rig {
-  std::uint8_t bytes[m::kRequiredStorageBytes] = {};
-  trueaxis::hal::RamNvStorage storage{bytes, sizeof bytes};
-  trueaxis::test::FakeClock clock;
-};
+// The module rig's steps that fail (a refused write, a macro that never ends,
+// a start that fails) are failed checks too.
+void on_rig_failure(const trueaxis::test::Where& where, const char* what) {
+  std::printf("canary: FAILED: %s:%d: %s\n", where.file, where.line, what);
+  ++g_failed;
+}
 
-double run(m::Module& module, double number, double a = 0.0, double r = 0.0) {
-  const double args[1] = {a};
-  if (module.write(v::kArgA, 1, args) != m::AccessFault::kNone) return -1.0;
-  if (module.write(v::kArgR, 1, &r) != m::AccessFault::kNone) return -1.0;
-  if (module.write(v::kCmd, 1, &number) != m::AccessFault::kNone) return -1.0;
-  for (int i = 0; i < 100 && module.busy(); ++i) module.step();
-  return module.value(v::kStatus);
+double run(trueaxis::test::ModuleRig& rig, double number, double a = 0.0, double r = 0.0) {
+  rig.set(v::kArgA, a);
+  rig.set(v::kArgR, r);
+  return rig.run(number);
 }
 
 }  // namespace
@@ -59,33 +56,26 @@ int main() {
   check(std::strcmp(m::status_name(m::canary::kCanaryEmpty), "canary_empty") == 0,
         "the status table names the canary's code 1901");
 
-  Rig rig;
-  {
-    m::Module module(rig.storage, rig.clock);
-    check(module.start() == Status::kOk, "the module starts");
-    check(run(module, 9850, 3.0) == 2.0 && module.value(100) == 6.0, "9850: A times the default gain");
-    check(run(module, 9853) == 3.0 && module.value(v::kError) == 1901.0, "9853 on no session: canary_empty (1901)");
-    check(run(module, 9851) == 2.0, "9851 opens the session");
-    check(run(module, 9852, 1.5) == 2.0 && run(module, 9852, 2.5) == 2.0 && module.value(100) == 2.0,
-          "9852 adds to the session");
-    check(module.session<Canary>() != nullptr && module.session<Canary>()->size() == 2,
-          "the session lives in the shared arena");
-    check(run(module, 9853, 0.0, 1.0) == 3.0 && module.value(v::kError) == static_cast<double>(Status::kTableLocked),
-          "9853 R = 1 while locked: table_locked");
-    const double code = 2718.0;
-    check(module.write(v::kUnlock, 1, &code) == m::AccessFault::kNone, "unlock");
-    check(run(module, 9853, 0.0, 1.0) == 2.0 && module.value(100) == 8.0, "9853 R = 1: gain times the sum, stored");
-    check(run(module, 9854) == 2.0 && module.value(100) == 4.0, "9854 reads the stored sum");
-    check(run(module, 9810) == 2.0 || module.value(v::kError) != static_cast<double>(Status::kUnknownMacro),
-          "another method's macro still dispatches");
-  }
-  {
-    m::Module module(rig.storage, rig.clock);
-    check(module.start() == Status::kOk, "the module starts again");
-    check(run(module, 9854) == 2.0 && module.value(100) == 4.0, "the stored sum survives a restart (record key 6)");
-    check(run(module, 9852, 1.0) == 2.0 && module.value(100) == 1.0,
-          "after a restart the first add opens an empty session");
-  }
+  trueaxis::test::g_rig_failure = on_rig_failure;
+  trueaxis::test::ModuleRig rig;  // the module rig of every test (tests/portable/module_rig.hpp), started
+  m::Module& module = rig.module();
+  check(run(rig, 9850, 3.0) == 2.0 && rig.get(100) == 6.0, "9850: A times the default gain");
+  check(run(rig, 9853) == 3.0 && rig.get(v::kError) == 1901.0, "9853 on no session: canary_empty (1901)");
+  check(run(rig, 9851) == 2.0, "9851 opens the session");
+  check(run(rig, 9852, 1.5) == 2.0 && run(rig, 9852, 2.5) == 2.0 && rig.get(100) == 2.0, "9852 adds to the session");
+  check(module.session<Canary>() != nullptr && module.session<Canary>()->size() == 2,
+        "the session lives in the shared arena");
+  check(run(rig, 9853, 0.0, 1.0) == 3.0 && rig.get(v::kError) == static_cast<double>(Status::kTableLocked),
+        "9853 R = 1 while locked: table_locked");
+  check(rig.unlock(), "unlock");
+  check(run(rig, 9853, 0.0, 1.0) == 2.0 && rig.get(100) == 8.0, "9853 R = 1: gain times the sum, stored");
+  check(run(rig, 9854) == 2.0 && rig.get(100) == 4.0, "9854 reads the stored sum");
+  check(run(rig, 9810) == 2.0 || rig.get(v::kError) != static_cast<double>(Status::kUnknownMacro),
+        "another method's macro still dispatches");
+
+  check(rig.start() == Status::kOk, "the module starts again (a restart over the same device)");
+  check(run(rig, 9854) == 2.0 && rig.get(100) == 4.0, "the stored sum survives a restart (record key 6)");
+  check(run(rig, 9852, 1.0) == 2.0 && rig.get(100) == 1.0, "after a restart the first add opens an empty session");
   std::printf("canary: %s\n", g_failed == 0 ? "every check holds" : "checks failed");
   return g_failed == 0 ? 0 : 1;
 }

@@ -43,6 +43,24 @@ void check_size(t::Rng& rng) {
       CHECK((l * l.transpose() - a).norm() <= 1e-14 * N * a.norm());
       const core::SquareMatrix<N> eigen_l = a.llt().matrixL();
       CHECK((l - eigen_l).norm() <= 1e-15 * N * condition * eigen_l.norm());
+      // The other forms do the same arithmetic: L exactly, in place and into a
+      // matrix whose upper triangle they leave alone.
+      core::SquareMatrix<N> in_place = a;
+      REQUIRE(core::cholesky_in_place<N>(in_place));
+      core::SquareMatrix<N> lower = core::SquareMatrix<N>::Constant(7.0);
+      REQUIRE(core::cholesky_lower<N>(a, lower));
+      for (int i = 0; i < N; ++i) {
+        for (int j = 0; j < N; ++j) {
+          if (i >= j) {
+            CHECK(in_place(i, j) == l(i, j));
+            CHECK(lower(i, j) == l(i, j));
+          } else {
+            CHECK(l(i, j) == 0.0);
+            CHECK(in_place(i, j) == a(i, j));
+            CHECK(lower(i, j) == 7.0);
+          }
+        }
+      }
       const core::ColumnVector<N> b = core::ColumnVector<N>::Random();
       const core::ColumnVector<N> x = core::cholesky_solve<N>(l, b);
       CHECK((a * x - b).norm() <= 1e-12 * condition * b.norm());

@@ -135,8 +135,6 @@ TEST_CASE("exp and log round-trip at the fixtures with 100000 random axes each",
   t::Rng rng(2);
   for (double angle : fixtures) {
     Worst exp_off, exp_diag, log_alone, round_trip;
-    double worst_round_trip_rel = 0.0;
-    double worst_pi_reexp = 0.0;
     for (int i = 0; i < 100000; ++i) {
       const Vec3 w = angle * rng.unit_vector();
       const double theta = w.norm();
@@ -149,13 +147,10 @@ TEST_CASE("exp and log round-trip at the fixtures with 100000 random axes each",
         log_alone.add(log_error(w), theta < end ? kLogSeries : kLog, theta);
         const double rt = relative_error(back, w);
         round_trip.add(rt, theta < end ? kRoundTripSeries : kRoundTrip, theta);
-        worst_round_trip_rel = std::max(worst_round_trip_rel, rt * kEps);
       } else {
         // At pi, w and -w are the same rotation (convention 2).
         const double rt = std::min(relative_error(back, w), relative_error(back, -w));
         round_trip.add(rt, kRoundTrip, theta);
-        worst_round_trip_rel = std::max(worst_round_trip_rel, rt * kEps);
-        worst_pi_reexp = std::max(worst_pi_reexp, (core::so3_exp(back) - r).cwiseAbs().maxCoeff() / kEps);
       }
     }
     INFO("angle " << angle << ": worst error / bound: exp off-diagonal " << exp_off.ratio << ", diagonal "
@@ -164,8 +159,7 @@ TEST_CASE("exp and log round-trip at the fixtures with 100000 random axes each",
     CHECK(exp_diag.ratio <= 1.0);
     CHECK(log_alone.ratio <= 1.0);
     CHECK(round_trip.ratio <= 1.0);
-    CHECK(worst_round_trip_rel <= 1e-12);
-    CHECK(worst_pi_reexp <= 2.0 * kExpDiagonal);
+    // That exp(log(R)) at pi maps back is the portable test's (tests/portable/platform_so3_test.cpp).
   }
 }
 

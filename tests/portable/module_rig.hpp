@@ -23,7 +23,7 @@
 //     checking to the test. set(), value() and the run() of a macro that must
 //     start report a failure they meet through the failure handler and go on
 //     (a portable test records it; a Catch2 program installs a handler that
-//     fails the test case, tests/support/rig_catch.cpp), naming the line of
+//     fails the test case, tests/support/catch_main.cpp), naming the line of
 //     the test that called them.
 //  5. run() writes #9000, steps until the module is idle (at most kMaxSteps
 //     steps) and returns #9001: kDone, kError, or -1 when the command was

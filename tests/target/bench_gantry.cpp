@@ -208,7 +208,8 @@ int main() {
   print("", total, " in all\n");
   bool within = longest <= m::Module::kStepBoundInstructions;
 
-  // The values (a contract check on the target): p in sub-machine N's frame is
+  // The run measured computed the right frames (the bench's own sanity, at the
+  // module's capacities; the contracts are tests/portable's): p in sub-machine N's frame is
   // p - O_N to within the noise's effect.
   double worst_mm = 0.0;
   const core::Vec3 p(2500.0, 1200.0, 400.0);

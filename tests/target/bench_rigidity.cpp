@@ -91,7 +91,8 @@ int main() {
     within = within && longest <= m::Module::kStepBoundInstructions;
   }
 
-  // The values, too (a contract check on the target): the droop is a turn
+  // The run measured computed the right table (the bench's own sanity; the
+  // contracts are tests/portable's): the droop is a turn
   // about the A axis, which M3's definitions count as A positioning error, so
   // pose 16 (A = 96) must read a_error = 30" sin 96 deg and a zero rotation vector.
   const double pose_args[2] = {16.0, 1.0};  // Q = pose 16, R = 1: the stored table

@@ -97,7 +97,8 @@ int main() {
   print("", total, " in all\n");
   bool within = longest <= m::Module::kStepBoundInstructions && worst_add <= m::Module::kStepBoundInstructions;
 
-  // The values (a contract check on the target): the tool tip at 250 mm, not a
+  // The run measured computed the right model (the bench's own sanity, at the
+  // module's capacities; the contracts are tests/portable's): the tool tip at 250 mm, not a
   // ball depth, against the one the true parameters give.
   double worst_nm = 0.0;
   const core::SpindleAxes axes = core::spindle_axes(p);

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 
 #include "trueaxis/macros/platform_map.hpp"
 
@@ -41,6 +42,11 @@ bool finite_number(const char* text, double& out) {
   char* end = nullptr;
   out = std::strtod(text, &end);
   return end != text && *end == '\0' && std::isfinite(out);
+}
+
+bool write_text_file(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  return out && (out << text) && out.flush();
 }
 
 }  // namespace trueaxis::sim

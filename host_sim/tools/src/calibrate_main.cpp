@@ -26,6 +26,8 @@
 #include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
 
+using trueaxis::sim::write_text_file;
+
 namespace {
 
 using trueaxis::sim::CalibrateMethod;
@@ -42,11 +44,6 @@ int fail(const std::string& line) {
 }
 
 int usage_error(const std::string& why) { return fail(why + " (trueaxis-calibrate --help)"); }
-
-bool write_file(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  return static_cast<bool>(out << text) && static_cast<bool>(out.flush());
-}
 
 // Runs Debian's python3 (where python3-matplotlib installs, whatever else is
 // first on PATH) on the report script with argv, no shell; true on exit 0.
@@ -173,12 +170,12 @@ int main(int argc, char** argv) {
     std::remove(tmp.c_str());
     return fail(line);
   };
-  if (!write_file(tmp, r.json)) return fail_clean(o.json_path + ": cannot be written");
+  if (!write_text_file(tmp, r.json)) return fail_clean(o.json_path + ": cannot be written");
   std::string summary = r.summary + "; wrote " + o.json_path;
   if (!o.report_dir.empty()) {
     struct stat st {};
     if ((::mkdir(o.report_dir.c_str(), 0755) != 0 && errno != EEXIST) || ::stat(o.report_dir.c_str(), &st) != 0 ||
-        !S_ISDIR(st.st_mode) || !write_file(o.report_dir + "/module_figures.json", r.report_extras) ||
+        !S_ISDIR(st.st_mode) || !write_text_file(o.report_dir + "/module_figures.json", r.report_extras) ||
         !make_report(*method, o, tmp)) {
       return fail_clean(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
     }

@@ -23,6 +23,8 @@
 #include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/tools/gantry_measure.hpp"
 
+using trueaxis::sim::write_text_file;
+
 namespace {
 
 constexpr const char* kHelp =
@@ -43,11 +45,6 @@ int fail(const std::string& what) {
 }
 
 bool number(const char* text, double& out) { return trueaxis::sim::finite_number(text, out); }
-
-bool write_file(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::trunc | std::ios::binary);
-  return out && (out << text) && out.flush();
-}
 
 }  // namespace
 
@@ -91,9 +88,9 @@ int main(int argc, char** argv) {
                 seed, distance_m, noise.c_str(), near_mm / 1000.0, far_mm / 1000.0);
   const std::string samples_text = samples_csv_text(
       samples, {"trueaxis-measure-gantry: the virtual gantry (realistic errors), tracker frame, mm", about});
-  if (!write_file(out_path, samples_text)) return fail(out_path + ": cannot be written");
-  if (!write_file(machine_path, machine_csv_text(machine, tracker))) return fail(machine_path + ": cannot be written");
-  if (!truth_path.empty() && !write_file(truth_path, truth_json_text(machine, tracker, plan))) {
+  if (!write_text_file(out_path, samples_text)) return fail(out_path + ": cannot be written");
+  if (!write_text_file(machine_path, machine_csv_text(machine, tracker))) return fail(machine_path + ": cannot be written");
+  if (!truth_path.empty() && !write_text_file(truth_path, truth_json_text(machine, tracker, plan))) {
     return fail(truth_path + ": cannot be written");
   }
   std::printf("measured %zu points of %zu sub-machines (%s) into %s\n", samples.size(), machine.sub_machine_count(),

@@ -42,6 +42,8 @@
 #include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/tools/spindle_measure.hpp"
 
+using trueaxis::sim::write_text_file;
+
 namespace {
 
 using trueaxis::core::Vec3;
@@ -76,11 +78,6 @@ bool whole(double v) { return v == std::floor(v); }
 bool splits_revolution(double step_deg) {
   const double n = 360.0 / step_deg;
   return n >= 8 && n <= 3600 && std::abs(n - std::round(n)) < 1e-9 * n;
-}
-
-bool write_file(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::trunc | std::ios::binary);
-  return out && (out << text) && out.flush();
 }
 
 std::string num(double v) {
@@ -189,9 +186,9 @@ int main(int argc, char** argv) {
                 ac.revolutions, step_deg, noise.c_str(), 1e6 * ac.form_rms_mm);
   double theta_max = 0, d_e_max = 0, tip_max = 0;
   const std::string truth = truth_text(spindle, tool_length_mm, theta_max, d_e_max, tip_max);
-  if (!write_file(out_path, samples_text(samples, about))) return fail(out_path + ": cannot be written");
-  if (!write_file(machine_path, machine_text(spindle, tool_length_mm))) return fail(machine_path + ": cannot be written");
-  if (!truth_path.empty() && !write_file(truth_path, truth)) return fail(truth_path + ": cannot be written");
+  if (!write_text_file(out_path, samples_text(samples, about))) return fail(out_path + ": cannot be written");
+  if (!write_text_file(machine_path, machine_text(spindle, tool_length_mm))) return fail(machine_path + ": cannot be written");
+  if (!truth_path.empty() && !write_text_file(truth_path, truth)) return fail(truth_path + ": cannot be written");
   std::printf("measured %zu ball centres (%s) into %s\n", samples.size(), about, out_path.c_str());
   std::printf("truth: theta_e up to %.3f arcsec, d_e up to %.3f um, tool tip at %g mm up to %.3f um across the axis\n",
               theta_max, 1000.0 * d_e_max, tool_length_mm, 1000.0 * tip_max);

@@ -6,9 +6,11 @@
 // (tests/core/test_small_linear.cpp).
 //
 // Conventions
-//  1. cholesky(A, L): A = L L^T for a symmetric A (its lower triangle is read);
-//     false, L unspecified, when a pivot is not positive (A not positive
-//     definite to working precision) or not finite.
+//  1. cholesky(A, L): A = L L^T for a symmetric A (its lower triangle is read),
+//     L's upper triangle zero; false, L unspecified, when a pivot is not
+//     positive (A not positive definite to working precision) or not finite.
+//     cholesky_lower(A, L) writes L's lower triangle only (L may be A itself),
+//     cholesky_in_place(A) overwrites A's.
 //  2. cholesky_solve(L, b): x with L L^T x = b; cholesky_inverse(L): (L L^T)^-1.
 //     The _in_place and out-parameter forms do the same arithmetic without an
 //     N x N temporary (a solver's scratch instead: README "Stack").
@@ -32,30 +34,40 @@ using ColumnVector = Eigen::Matrix<double, N, 1>;
 
 inline constexpr int kJacobiSweeps = 50;
 
-// Convention 1 in place: L overwrites a's lower triangle (the upper one is
-// left as it was; cholesky_solve reads the lower one only). The same
-// arithmetic as cholesky(), without a second N x N matrix.
+// Convention 1 into `l`'s lower triangle, which may be `a` itself: a's lower
+// triangle is read (each entry before L's entry in its place is written), l's
+// upper triangle is left as it was (cholesky_solve reads the lower one only).
+// Neither a copy nor a second N x N matrix (README "Stack").
 template <int N>
-bool cholesky_in_place(SquareMatrix<N>& a) {
+bool cholesky_lower(const SquareMatrix<N>& a, SquareMatrix<N>& l) {
   for (int j = 0; j < N; ++j) {
     double d = a(j, j);
-    for (int k = 0; k < j; ++k) d -= a(j, k) * a(j, k);
+    for (int k = 0; k < j; ++k) d -= l(j, k) * l(j, k);
     if (!(d > 0.0) || !std::isfinite(d)) return false;
     const double root = std::sqrt(d);
-    a(j, j) = root;
+    l(j, j) = root;
     for (int i = j + 1; i < N; ++i) {
       double s = a(i, j);
-      for (int k = 0; k < j; ++k) s -= a(i, k) * a(j, k);
-      a(i, j) = s / root;
+      for (int k = 0; k < j; ++k) s -= l(i, k) * l(j, k);
+      l(i, j) = s / root;
     }
   }
   return true;
 }
 
+// Convention 1 in place: L overwrites a's lower triangle.
+template <int N>
+bool cholesky_in_place(SquareMatrix<N>& a) {
+  return cholesky_lower<N>(a, a);
+}
+
+// Convention 1 with L's upper triangle zero.
 template <int N>
 bool cholesky(const SquareMatrix<N>& a, SquareMatrix<N>& l) {
-  l = a.template triangularView<Eigen::Lower>();
-  return cholesky_in_place<N>(l);
+  for (int j = 1; j < N; ++j) {
+    for (int i = 0; i < j; ++i) l(i, j) = 0.0;
+  }
+  return cholesky_lower<N>(a, l);
 }
 
 template <int N>

@@ -17,7 +17,7 @@
 //     method's inside its block (method.hpp convention 2).
 // A number not in the table is not defined: reading or writing it is refused.
 // The checks take their lists as arguments so that tests can feed them bad
-// ones (tests/macros/test_register_map.cpp).
+// ones (tests/portable/platform_map_test.cpp).
 #pragma once
 
 #include <array>

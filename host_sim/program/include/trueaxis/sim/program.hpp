@@ -15,6 +15,8 @@
 //  3. A help text starts with "usage: NAME ..." and ends with a newline.
 //  4. finite_number(text, out): the whole of `text` read as C's strtod reads
 //     it, and finite; false (out unspecified) otherwise.
+//  5. write_text_file(path, text): `path` holds exactly `text` (created or
+//     truncated, bytes as they are); false when it could not be written.
 #pragma once
 
 #include <string>
@@ -32,5 +34,8 @@ bool answered_help_or_version(int argc, char** argv, const char* name, const cha
 
 // Contract 4.
 bool finite_number(const char* text, double& out);
+
+// Contract 5.
+bool write_text_file(const std::string& path, const std::string& text);
 
 }  // namespace trueaxis::sim

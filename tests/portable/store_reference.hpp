@@ -1,6 +1,9 @@
 // An independent writer of keyed-store records (macros/keyed_store.hpp, layout
 // note 2), with a bitwise CRC-32: the tests forge records with it (any sequence,
 // any version) and check that the store writes the documented bytes.
+// Heap-free: the portable tests forge records with it on the Cortex-M7 too
+// (platform_store_contract_test.cpp); the host's oracle checks are in
+// tests/macros/test_keyed_store.cpp.
 #pragma once
 
 #include <cstddef>
