@@ -140,6 +140,20 @@ TA_TEST("wrong codes are counted and slowed down: 1 s, doubling, at most 64 s") 
   TA_CHECK(rig.unlock());
 }
 
+TA_TEST("a lock during an active back-off is accepted: a wrong code never keeps a controller unlocked") {
+  ModuleRig rig;
+  const t::ConfigVariable config = t::config_variable();
+  TA_REQUIRE(rig.unlock());
+  TA_REQUIRE(rig.put(v::kUnlock, 1111) == F::kBadUnlockCode);  // the unlock stays open; a 1 s back-off starts
+  TA_CHECK_EQ(rig.get(v::kUnlock), 1.0);
+  rig.clock.now += 1;  // inside the back-off
+  TA_CHECK_EQ(rig.put(v::kUnlock, m::kUnlockCode), F::kUnlockBackoff);
+  TA_CHECK_EQ(rig.put(v::kUnlock, 0.0), F::kNone);
+  TA_CHECK_EQ(rig.get(v::kUnlock), 0.0);
+  TA_CHECK(!rig.module().unlocked());
+  TA_CHECK_EQ(rig.put(config.number, config.changed), F::kLocked);
+}
+
 TA_TEST("the unlock code is stored, reads 0, and takes 1..9999") {
   Rig rig;
   TA_REQUIRE(rig.unlock());

@@ -120,7 +120,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
     const double n = row.numbers[0];
     const std::string where = options.machine_path + ":" + std::to_string(row.line);
     if (!(n >= 1 && n <= 8 && n == static_cast<int>(n))) {
-      r.error = where + ": sub_machine must be 1..8";
+      r.error = where + ": sub_machine must be a whole number 1..8";
       return r;
     }
     if (!parameters.emplace(static_cast<int>(n), &row).second) {

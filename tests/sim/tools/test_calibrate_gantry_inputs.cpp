@@ -173,7 +173,14 @@ TEST_CASE("calibrate gantry: every bad input has its own error and stores nothin
     cases.push_back({"a sub-machine twice in MACHINE", with(good), twice,
                      twice + ":7: sub-machine 2 is given twice", true});
     const std::string nine = w.write("nine.csv", m.machine + "9,250,0,0,1\n");
-    cases.push_back({"sub-machine 9 in MACHINE", with(good), nine, nine + ":7: sub_machine must be 1..8", true});
+    cases.push_back({"sub-machine 9 in MACHINE", with(good), nine, nine + ":7: sub_machine must be a whole number 1..8",
+                     true});
+    // Not taken as sub-machine 1.
+    const std::string half = w.write("half.csv", m.machine.substr(0, m.machine.find("\n1,") + 1) + "1.5" +
+                                                     m.machine.substr(m.machine.find("\n1,") + 2));
+    REQUIRE(half.size() > 0);
+    cases.push_back({"a fractional sub-machine in MACHINE", with(good), half,
+                     half + ":3: sub_machine must be a whole number 1..8", true});
     const std::string word = w.write("word.csv", m.machine + "4,abc,0,0,1\n");
     cases.push_back({"a malformed MACHINE row", with(good), word,
                      word + ":7: 'swing_mm' is not a finite number: 'abc'", true});
