@@ -276,6 +276,17 @@ TEST_CASE("degenerate rigidity inputs are refused, each with its status", "[rigi
     s.push_back({25.0, 280.0, cradle.ball(25.0, 280.0).cast<double>()});
     CHECK(run(s) == Status::kOk);
   }
+  SECTION("a pose whose C positions straddle 0/360 (C = 0, 90, 180 and -5e-7): 3 distinct") {
+    std::vector<core::RigiditySample> s;
+    for (const auto& x : good) {
+      if (x.a_deg != 25.0) s.push_back(x);
+    }
+    for (double c : {0.0, 90.0, 180.0, -5e-7}) s.push_back({25.0, c, cradle.ball(25.0, c).cast<double>()});
+    CHECK(run(s) == Status::kTooFewCPositions);  // -5e-7 is 0 within kPoseAToleranceDeg, across the wrap
+    CHECK(builder->failed_pose() == 5);
+    s.push_back({25.0, 270.0, cradle.ball(25.0, 270.0).cast<double>()});
+    CHECK(run(s) == Status::kOk);
+  }
   SECTION("a C arc shorter than the configured one") {
     t::Plan short_arc;
     short_arc.c_per_pose = 4;
