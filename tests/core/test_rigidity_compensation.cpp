@@ -158,6 +158,36 @@ TEST_CASE("the blends between poses match independent computations", "[rigidity]
                                            << static_cast<double>(worst[2]));
 }
 
+TEST_CASE("the linear and geodesic blends weight e(A) and d(A) by the bracket, on non-zero offsets",
+          "[rigidity][compensation]") {
+  // The reference table's offsets, replaced by distinct non-zero ones per pose
+  // (tens of micrometres, microradians), so that swapped weights show.
+  core::RigidityTable table = reference_table();
+  const std::size_t m = table.pose_count;
+  for (std::size_t i = 0; i < m; ++i) {
+    const double k = static_cast<double>(i);
+    table.poses[i].origin_offset_mm = core::Vec3(0.010 * k, -0.004 * k * k, 0.025 - 0.003 * k);
+    table.poses[i].a_error_rad = 2e-5 * k - 1e-6 * k * k;
+  }
+  core::prepare_rigidity_table(table);
+  t::Rng rng(503);
+  for (int trial = 0; trial < 200; ++trial) {
+    const double a = rng.uniform(table.poses[0].a_deg, table.poses[m - 1].a_deg);
+    std::size_t k = 0;
+    while (k + 2 < m && table.poses[k + 1].a_deg <= a) ++k;
+    const long double w = (static_cast<long double>(a) - table.poses[k].a_deg) /
+                          (static_cast<long double>(table.poses[k + 1].a_deg) - table.poses[k].a_deg);
+    const t::Vec3L d = (1.0L - w) * to_l(table.poses[k].origin_offset_mm) + w * to_l(table.poses[k + 1].origin_offset_mm);
+    const long double e = (1.0L - w) * table.poses[k].a_error_rad + w * table.poses[k + 1].a_error_rad;
+    for (Blend blend : {Blend::kLinear, Blend::kGeodesic}) {
+      const auto st = core::rigidity_state(table, a, blend, false);
+      REQUIRE(st.ok());
+      CHECK(static_cast<double>((to_l(st.value().origin_offset_mm) - d).norm()) < 1e-15);
+      CHECK(static_cast<double>(std::abs(st.value().a_error_rad - e)) < 1e-19);
+    }
+  }
+}
+
 TEST_CASE("A outside the measured range is refused unless clamped", "[rigidity][compensation]") {
   const core::RigidityTable& table = reference_table();
   const double first = table.poses[0].a_deg;
