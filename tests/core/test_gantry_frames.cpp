@@ -5,9 +5,11 @@
 
 #include <Eigen/SVD>
 #include <memory>
+#include <vector>
 
 #include "alloc_counter.hpp"
 #include "gantry_truth.hpp"
+#include "trueaxis/core/gantry_table.hpp"
 #include "trueaxis/core/so3.hpp"
 
 namespace core = trueaxis::core;
@@ -134,6 +136,42 @@ TEST_CASE("exact data give every frame of the ground truth", "[gantry]") {
       CHECK((m.topRightCorner<3, 1>() - out->sub_machines[i].global_T_sub.t).norm() == 0.0);
     }
   }
+}
+
+TEST_CASE("eight sub-machines, the documented maximum, are computed, stored and read back", "[gantry]") {
+  // Sub-machines 5..8 measured as 1..4 were: the same data, so the same frames.
+  const Fixture f;
+  core::GantryInput in = t::make_input(f.truth, f.samples);
+  REQUIRE(core::kMaxSubMachines == 8);
+  for (std::size_t i = 0; i < 4; ++i) {
+    in.sub_machines[4 + i] = in.sub_machines[i];
+    in.sub_machines[4 + i].id = in.sub_machines[i].id + 4;
+  }
+  in.sub_machine_count = 8;
+  auto out = std::make_unique<core::GantryFrames>();
+  REQUIRE(core::compute_gantry_frames(in, core::GantryOptions{}, *out) == core::Status::kOk);
+  REQUIRE(out->sub_machine_count == 8);
+  for (std::size_t i = 0; i < 4; ++i) {
+    const core::SubMachineFrame& a = out->sub_machines[i];
+    const core::SubMachineFrame& b = out->sub_machines[4 + i];
+    CHECK(b.id == a.id + 4);
+    CHECK((b.global_T_sub.t - a.global_T_sub.t).norm() <= 1e-12);
+    CHECK((b.global_T_sub.R - a.global_T_sub.R).cwiseAbs().maxCoeff() <= 1e-15);
+  }
+  auto table = std::make_unique<core::GantryTable>();
+  core::merge_frames(*table, *out);
+  CHECK(table->id_mask() == 0xFF);
+  CHECK(table->count() == 8);
+  std::vector<std::uint8_t> bytes(core::kGantryTableBytes);
+  REQUIRE(core::encode_gantry_table(*table, bytes.data(), bytes.size()) == core::kGantryTableBytes);
+  auto back = std::make_unique<core::GantryTable>();
+  REQUIRE(core::decode_gantry_table(bytes.data(), bytes.size(), *back) == core::Status::kOk);
+  CHECK(back->id_mask() == 0xFF);
+  const Vec3 p(1234.5, 2345.6, 456.7);
+  CHECK((core::global_to_sub_mm(back->sub_machines[7], p) - core::global_to_sub_mm(table->sub_machines[7], p)).norm() ==
+        0.0);
+  CHECK((core::global_to_sub_mm(back->sub_machines[7], p) - core::global_to_sub_mm(out->sub_machines[3], p)).norm() <=
+        1e-9);
 }
 
 TEST_CASE("flatness and straightness match long-double references on bent data", "[gantry]") {
