@@ -404,3 +404,95 @@ TA_TEST("failures return their status and change nothing") {
     TA_CHECK(d.bytes == f.saved);
   }
 }
+
+namespace {
+
+// A device whose next writes do what a script says, one act per write() call:
+// land whole (kLand), land and report failure (kLandThenFail, a failed sync),
+// be refused with nothing written (kRefuse), or program only their first
+// `cut` bytes and fail (kCut). Writes beyond the script land.
+class ScriptedStorage final : public trueaxis::hal::NvStorage {
+ public:
+  enum class Act : std::uint8_t { kLand, kLandThenFail, kRefuse, kCut };
+  struct Step {
+    Act act;
+    std::size_t cut;
+  };
+
+  ScriptedStorage(std::uint8_t* bytes, std::size_t size) : bytes_(bytes), size_(size) {}
+  template <std::size_t N>
+  void script(const Step (&steps)[N]) {
+    steps_ = steps;
+    count_ = N;
+    next_ = 0;
+  }
+
+ private:
+  std::size_t do_size_bytes() const override { return size_; }
+  trueaxis::hal::IoStatus do_read(std::size_t offset, std::uint8_t* out, std::size_t length) override {
+    std::memcpy(out, bytes_ + offset, length);
+    return trueaxis::hal::IoStatus::kOk;
+  }
+  trueaxis::hal::IoStatus do_write(std::size_t offset, const std::uint8_t* data, std::size_t length) override {
+    const Step step = next_ < count_ ? steps_[next_++] : Step{Act::kLand, 0};
+    switch (step.act) {
+      case Act::kLand:
+        std::memcpy(bytes_ + offset, data, length);
+        return trueaxis::hal::IoStatus::kOk;
+      case Act::kLandThenFail:
+        std::memcpy(bytes_ + offset, data, length);
+        return trueaxis::hal::IoStatus::kIoError;
+      case Act::kRefuse:
+        return trueaxis::hal::IoStatus::kIoError;
+      case Act::kCut:
+        std::memcpy(bytes_ + offset, data, step.cut < length ? step.cut : length);
+        return trueaxis::hal::IoStatus::kIoError;
+    }
+    return trueaxis::hal::IoStatus::kIoError;
+  }
+
+  std::uint8_t* bytes_;
+  std::size_t size_;
+  const Step* steps_ = nullptr;
+  std::size_t count_ = 0;
+  std::size_t next_ = 0;
+};
+
+}  // namespace
+
+TA_TEST("a save that reported failure does not come back when the next save is cut after its sequence field") {
+  // X is stored. Y's save clears the other slot's CRC (a slot never written
+  // since the mount), lands whole but reports failure, and the write that
+  // would blank it is refused: Y sits valid (sequence 2) in the other slot, and
+  // the store must clear that slot's CRC before it writes there again. Z, as
+  // long as Y, is then cut after 16 bytes: magic .. sequence (Z's sequence is
+  // Y's, 2), not its CRC, and the power is gone (the blanking write after it
+  // fails). Y's CRC must stay cleared: after a restart X loads.
+  using Act = ScriptedStorage::Act;
+  static std::array<std::uint8_t, t::kTestRequiredBytes> bytes{};
+  bytes.fill(0);
+  ScriptedStorage storage(bytes.data(), bytes.size());
+  std::array<std::uint8_t, t::kTestScratchBytes> scratch{};
+  const m::RecordSpec* specs = t::kTestSpecs;
+  const Bytes x = pattern(30, 1), y = pattern(30, 2), z = pattern(30, 3);
+  {
+    KeyedStore store(storage, specs, t::kTestRecordCount, scratch.data(), scratch.size());
+    TA_REQUIRE(store.mount() == Status::kOk);
+    save(store, 1, x);
+    static const ScriptedStorage::Step y_fails[] = {{Act::kLand, 0}, {Act::kLandThenFail, 0}, {Act::kRefuse, 0}};
+    storage.script(y_fails);
+    TA_CHECK_EQ(store.save(1, y.data, y.size), Status::kStorageFailure);
+    TA_CHECK(load(store, 1) == x);
+    {
+      KeyedStore look(storage, specs, t::kTestRecordCount, scratch.data(), scratch.size());
+      TA_REQUIRE(look.mount() == Status::kOk);
+      TA_CHECK(load(look, 1) == y);  // the scene: a restart now would find Y (its save was cut: allowed)
+    }
+    static const ScriptedStorage::Step z_cut[] = {{Act::kLand, 0}, {Act::kCut, 16}, {Act::kRefuse, 0}};
+    storage.script(z_cut);
+    TA_CHECK_EQ(store.save(1, z.data, z.size), Status::kStorageFailure);
+  }
+  KeyedStore restarted(storage, specs, t::kTestRecordCount, scratch.data(), scratch.size());
+  TA_REQUIRE(restarted.mount() == Status::kOk);
+  TA_CHECK(load(restarted, 1) == x);
+}
