@@ -143,7 +143,8 @@ INDIRECT_CALLS = [
           r"::do_write\(std::size_t, const uint8_t\*, std::size_t\)"],
          "hal::NvStorage's read/write/size: every NvStorage implementation analysed (RamNvStorage)"),
     Rule(None, r"/variable_access\.hpp:",
-         [r"::do_read\(uint16_t, uint16_t, double\*\)", r"::do_write\(uint16_t, uint16_t, const double\*\)",
+         [r"::do_read\(uint16_t, uint16_t, double\*, (trueaxis::macros::)?ClientId\)",
+          r"::do_write\(uint16_t, uint16_t, const double\*, (trueaxis::macros::)?ClientId\)",
           r"::do_note_fault\(trueaxis::macros::AccessFault\)"],
          "VariableAccess's read/write/note_fault: every implementation analysed (Module)"),
     # The macro table (each method descriptor's kMacros, MacroInfo::run): by

@@ -182,20 +182,41 @@ void Module::load_variables(RecordKey key) {
 
 bool Module::unlocked() const { return unlocked_ && clock_.now_us() - last_write_us_ < kUnlockIdleUs; }
 
-double Module::value(std::uint16_t number) const {
-  if (number == var::kUnlock) return unlocked() ? 1.0 : 0.0;
-  if (number == var::kUnlockCodeSetting) return 0.0;  // write-only
+ClientId Module::holder() const {
+  if (holder_ == kNoClient || busy()) return holder_;
+  return clock_.now_us() - holder_active_us_ < kInterfaceIdleUs ? holder_ : kNoClient;
+}
+
+void Module::disconnected(ClientId client) {
+  if (holder_ == client) holder_ = kNoClient;
+  if (unlocked_by_ == client) unlocked_ = false;
+}
+
+double Module::value(std::uint16_t number, ClientId client) const {
+  switch (number) {
+    case var::kUnlock: return unlocked() ? 1.0 : 0.0;
+    case var::kUnlockCodeSetting: return 0.0;  // write-only
+    case var::kInterface: {
+      const ClientId h = holder();
+      return h == kNoClient ? 0.0 : h == client ? 1.0 : 2.0;
+    }
+    case var::kUnlockBackoffLeft: {
+      const std::uint64_t now = clock_.now_us();
+      return now < backoff_until_us_ ? static_cast<double>((backoff_until_us_ - now + 999'999) / 1'000'000) : 0.0;
+    }
+    default: break;
+  }
   const std::size_t slot = slot_of(number);
   return slot < kVariableCount ? values_[slot] : 0.0;
 }
 
 void Module::set(std::uint16_t number, double value) { values_[slot_of(number)] = value; }
 
-AccessFault Module::do_read(std::uint16_t first, std::uint16_t count, double* out) {
+AccessFault Module::do_read(std::uint16_t first, std::uint16_t count, double* out, ClientId client) {
   for (std::uint16_t i = 0; i < count; ++i) {
     if (find_var(static_cast<std::uint16_t>(first + i)) == nullptr) return fault(AccessFault::kUndefined);
   }
-  for (std::uint16_t i = 0; i < count; ++i) out[i] = value(static_cast<std::uint16_t>(first + i));
+  for (std::uint16_t i = 0; i < count; ++i) out[i] = value(static_cast<std::uint16_t>(first + i), client);
   return AccessFault::kNone;
 }
 
@@ -209,6 +230,8 @@ AccessFault Module::check_write(std::uint16_t number, double value) const {
       return check_unlock(value);
     case Access::kCommand:
       if (busy()) return AccessFault::kBusy;
+      return check_value(*info, value);
+    case Access::kInterface:  // contract 8: taken or given back, busy or not
       return check_value(*info, value);
     case Access::kConfig:
       if (!unlocked()) return AccessFault::kLocked;
@@ -252,8 +275,17 @@ AccessFault Module::save_variables(Access group, std::uint16_t first, std::uint1
   return s == core::Status::kOk ? AccessFault::kNone : AccessFault::kStorageFailure;
 }
 
-AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const double* values) {
+AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const double* values, ClientId client) {
   if (unlocked_ && !unlocked()) unlocked_ = false;  // idle past kUnlockIdleUs: closed for good
+  // Contract 8: a lock alone is taken from anyone; any other write needs the
+  // macro interface. A client that takes it closes an unlock another opened
+  // (its holder has given the interface up), before its own write is checked.
+  const bool lock_alone = count == 1 && first == var::kUnlock && values[0] == 0.0;
+  if (!lock_alone) {
+    const ClientId h = holder();
+    if (h != kNoClient && h != client) return fault(AccessFault::kInterfaceHeld);
+    if (h != client && unlocked_by_ != client) unlocked_ = false;
+  }
   bool touches[2] = {false, false};  // config, work offsets
   for (std::uint16_t i = 0; i < count; ++i) {
     const auto number = static_cast<std::uint16_t>(first + i);
@@ -274,23 +306,36 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
     return fault(AccessFault::kStorageFailure);
   }
 
+  bool gives_back = false;
   for (std::uint16_t i = 0; i < count; ++i) {
     const auto number = static_cast<std::uint16_t>(first + i);
     const Access access = access_of(number);
     if (access == Access::kUnlock) {
       unlocked_ = values[i] != 0.0;  // check_unlock passed: the code or 0
-      if (unlocked_) failed_in_row_ = 0;
+      if (unlocked_) {
+        failed_in_row_ = 0;
+        unlocked_by_ = client;
+      }
+      continue;
+    }
+    if (access == Access::kInterface) {
+      gives_back = values[i] == 0.0;
       continue;
     }
     set(number, values[i]);
     if (access == Access::kCommand && values[i] != 0.0) {  // 0 runs nothing and changes no state
       pending_ = static_cast<std::uint16_t>(values[i]);
+      runner_ = client;
       phase_ = Phase::kStart;
       at<var::kStatus>() = state_value(MacroState::kBusy);
       at<var::kError>() = 0.0;
     }
   }
   last_write_us_ = clock_.now_us();
+  if (!lock_alone) {
+    holder_ = gives_back ? kNoClient : client;
+    holder_active_us_ = last_write_us_;
+  }
   return AccessFault::kNone;
 }
 
@@ -337,7 +382,7 @@ void Module::step() {
     } else if (!record_.staged) {
       publish_results();
       finish(core::Status::kOk);
-    } else if (!unlocked()) {
+    } else if (!unlocked() || unlocked_by_ != runner_) {  // stored under its own client's unlock only
       finish(core::Status::kTableLocked);
     } else {
       phase_ = Phase::kCommitting;  // the save is a step of its own: it bounds the step
@@ -366,7 +411,8 @@ void Module::finish(core::Status status) {
   at<var::kStatus>() = state_value(ok ? MacroState::kDone : MacroState::kError);
   at<var::kError>() = static_cast<double>(static_cast<int>(status));
   at<var::kDoneCount>() = at<var::kDoneCount>() + 1.0;
-  at<var::kRunTime>() = static_cast<double>(clock_.now_us() - started_us_);
+  holder_active_us_ = clock_.now_us();  // contract 8: idle counts from the macro's end
+  at<var::kRunTime>() = static_cast<double>(holder_active_us_ - started_us_);
   at<var::kStepCount>() = static_cast<double>(steps_);
   for (const SlotRun& run : kReadWriteRuns) {
     for (std::size_t k = 0; k < run.count; ++k) values_[run.first + k] = 0.0;

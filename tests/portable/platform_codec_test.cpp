@@ -23,13 +23,13 @@ class Recorder final : public m::VariableAccess {
   m::AccessFault last_fault = m::AccessFault::kNone;
 
  private:
-  m::AccessFault do_read(std::uint16_t f, std::uint16_t n, double* out) override {
+  m::AccessFault do_read(std::uint16_t f, std::uint16_t n, double* out, m::ClientId) override {
     first = f;
     count = n;
     for (std::uint16_t i = 0; i < n; ++i) out[i] = 1.0 + i;
     return m::AccessFault::kNone;
   }
-  m::AccessFault do_write(std::uint16_t f, std::uint16_t n, const double* in) override {
+  m::AccessFault do_write(std::uint16_t f, std::uint16_t n, const double* in, m::ClientId) override {
     first = f;
     count = n;
     for (std::uint16_t i = 0; i < n; ++i) values[i] = in[i];

@@ -108,6 +108,7 @@ void ModbusTcpServer::accept_clients(Clock::time_point now) {
     clients_.emplace_back();
     Connection& c = clients_.back();
     c.fd = fd;
+    c.client = next_client_++;
     c.last_frame = now;
   }
 }
@@ -138,9 +139,7 @@ bool ModbusTcpServer::serve_frames(Connection& c, Clock::time_point now) {
     std::uint8_t* reply = c.out + c.out_used;
     std::copy(frame, frame + 4, reply);  // transaction id, protocol id
     reply[6] = frame[6];                 // unit id
-    const bool was_unlocked = simulator_.module().unlocked();
-    const std::size_t pdu_bytes = core_.respond(frame + 7, length - 1, reply + 7);
-    if (!was_unlocked && simulator_.module().unlocked()) unlock_owner_ = c.fd;  // contract 8
+    const std::size_t pdu_bytes = core_.respond(frame + 7, length - 1, reply + 7, c.client);
     reply[4] = static_cast<std::uint8_t>((pdu_bytes + 1) >> 8);
     reply[5] = static_cast<std::uint8_t>(pdu_bytes + 1);
     c.out_used += 7 + pdu_bytes;
@@ -195,10 +194,7 @@ const timespec* ModbusTcpServer::next_timeout(Clock::time_point now, timespec& s
 }
 
 void ModbusTcpServer::drop(std::size_t index) {
-  if (clients_[index].fd == unlock_owner_) {  // contract 8
-    simulator_.module().lock();
-    unlock_owner_ = -1;
-  }
+  simulator_.module().disconnected(clients_[index].client);  // contract 8
   ::close(clients_[index].fd);
   accept_paused_until_ = Clock::time_point{};  // a descriptor is free again
   if (index + 1 != clients_.size()) clients_[index] = clients_.back();

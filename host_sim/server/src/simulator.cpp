@@ -74,7 +74,7 @@ double Simulator::read_one(std::uint16_t number) const {
   }
 }
 
-AccessFault Simulator::do_read(std::uint16_t first, std::uint16_t count, double* out) {
+AccessFault Simulator::do_read(std::uint16_t first, std::uint16_t count, double* out, macros::ClientId) {
   for (std::uint32_t n = first; n < static_cast<std::uint32_t>(first) + count; ++n) {
     if (find_sim_var(static_cast<std::uint16_t>(n)) == nullptr) return AccessFault::kUndefined;
   }
@@ -82,7 +82,8 @@ AccessFault Simulator::do_read(std::uint16_t first, std::uint16_t count, double*
   return AccessFault::kNone;
 }
 
-AccessFault Simulator::do_write(std::uint16_t first, std::uint16_t count, const double* values) {
+AccessFault Simulator::do_write(std::uint16_t first, std::uint16_t count, const double* values,
+                                macros::ClientId client) {
   for (std::uint32_t n = first; n < static_cast<std::uint32_t>(first) + count; ++n) {
     if (find_sim_var(static_cast<std::uint16_t>(n)) == nullptr) return AccessFault::kUndefined;
   }
@@ -108,7 +109,7 @@ AccessFault Simulator::do_write(std::uint16_t first, std::uint16_t count, const 
   if (probe_requested) {
     const double target = next.values[simvar::kProbeInto - simvar::kFirst];
     if (!is_probe_target(target)) return AccessFault::kOutOfRange;
-    const AccessFault f = probe(next, static_cast<std::uint16_t>(target));
+    const AccessFault f = probe(next, static_cast<std::uint16_t>(target), client);
     if (f != AccessFault::kNone) return f;
   }
   if (measure_requested) measure_ball(next);
@@ -130,7 +131,7 @@ void Simulator::measure_ball(State& next) const {
   v[simvar::kLastBallZ - simvar::kFirst] = p.z();
 }
 
-AccessFault Simulator::probe(State& next, std::uint16_t target) {
+AccessFault Simulator::probe(State& next, std::uint16_t target, macros::ClientId client) {
   const double* v = next.values;
   const Plane face = machine_for(v).face_at(v[simvar::kAxisA - simvar::kFirst], v[simvar::kAxisC - simvar::kFirst]);
   core::Vec3 touch_machine;
@@ -141,8 +142,9 @@ AccessFault Simulator::probe(State& next, std::uint16_t target) {
   const TouchProbe probe{v[simvar::kProbeSigma - simvar::kFirst]};
   const core::Vec3 p = probe.read(touch_machine, next.rng);
   const double point[3] = {p.x(), p.y(), p.z()};
-  // The module's own write path: its validation, busy check and persistence apply.
-  const AccessFault f = module_.write(target, 3, point);
+  // The module's own write path, for the client that asked for the probe: its
+  // validation, busy check, persistence and the macro interface's grant apply.
+  const AccessFault f = module_.write(target, 3, point, client);
   if (f != AccessFault::kNone) return f;
   next.values[simvar::kLastProbeX - simvar::kFirst] = point[0];
   next.values[simvar::kLastProbeY - simvar::kFirst] = point[1];

@@ -18,6 +18,8 @@ bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string&
   const std::string where = context.empty() ? "" : context + ": ";
   if (outcome.status == 3) {
     fail.error = where + module_error_text(outcome.error) + " (macro " + std::to_string(macro) + ")";
+  } else if (client.exception() != 0) {
+    fail.error = where + "macro " + std::to_string(macro) + " not started: " + client.failure_text();
   } else {
     fail.error = where + "macro " + std::to_string(macro) + " did not finish: " + client.error_text();
   }
@@ -25,7 +27,7 @@ bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string&
 }
 
 bool transport(VariableClient& client, bool ok, FlowResult& fail) {
-  if (!ok) fail.error = "Modbus: " + client.error_text();
+  if (!ok) fail.error = client.failure_text();
   return ok;
 }
 
@@ -42,7 +44,7 @@ bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& 
   stored = stored && transport(client, client.write_one(var::kArgR, 1.0), fail) &&
            run_or_fail(client, build_macro, "", fail);
   const bool locked = client.write_one(var::kUnlock, 0.0);  // lock again, whatever happened
-  if (stored && !locked) fail.error = "Modbus: the controller could not be locked again: " + client.error_text();
+  if (stored && !locked) fail.error = "the controller could not be locked again: " + client.failure_text();
   return stored && locked;
 }
 

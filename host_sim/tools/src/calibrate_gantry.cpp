@@ -144,7 +144,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
     const double xyz[3] = {s.row->numbers[1], s.row->numbers[2], s.row->numbers[3]};
     if (!client.write_one(var::kArgT, tqd[0]) || !client.write_one(var::kArgQ, tqd[1]) ||
         !client.write_one(var::kArgD, tqd[2]) || !client.write(var::kArgX, 3, xyz)) {
-      r.error = where + ": the module refused the sample: " + client.error_text();
+      r.error = where + ": the module refused the sample: " + client.failure_text();
       return r;
     }
     if (!run_or_fail(client, kAdd, where, r)) return r;
@@ -158,7 +158,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
     const double tool[3] = {row->numbers[2], row->numbers[3], row->numbers[4]};
     if (!client.write_one(var::kArgT, n) || !client.write_one(var::kArgD, row->numbers[1]) ||
         !client.write(var::kArgI, 3, tool)) {
-      r.error = where + ": the module refused the row: " + client.error_text();
+      r.error = where + ": the module refused the row: " + client.failure_text();
       return r;
     }
     if (!run_or_fail(client, kSubMachine, where, r)) return r;

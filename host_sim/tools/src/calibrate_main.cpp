@@ -1,5 +1,6 @@
 // trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
 //                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
+//                   [--wait SECONDS]
 // The integrator's command (docs/INTERFACE.md, "The integrator's command"):
 // reads the samples, streams them to the module over Modbus (default
 // 127.0.0.1:502), runs the method's macros there and writes what the module
@@ -10,7 +11,10 @@
 // Exit 0 with one summary line on stdout: what was computed, the worst figure
 // with its sigma, what was written and what stored. Exit 1 with one line on
 // stderr on any failure, bad usage included, and then nothing on stdout, no
-// OUT.json, no report and nothing stored.
+// OUT.json, no report and nothing stored. The module grants its macro interface
+// to one client at a time (macros/module.hpp contract 8): while another client
+// holds it, the command says so on stderr and waits, at most --wait seconds
+// (default 120), then fails with that sentence.
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -36,7 +40,8 @@ using trueaxis::sim::FlowResult;
 
 constexpr const char* kUsage =
     "usage: trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]\n"
-    "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n";
+    "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n"
+    "                          [--wait SECONDS]\n";
 
 int fail(const std::string& line) {
   std::fprintf(stderr, "trueaxis-calibrate: %s\n", line.c_str());
@@ -78,6 +83,8 @@ void print_help() {
               "                         unlock, store, lock again\n"
               "  --port PORT, --host ADDR  the module's Modbus TCP server (default 127.0.0.1:502)\n"
               "  --unlock-code CODE     the machine's unlock code (#900) for --store, 1..9999 (default 2718)\n"
+              "  --wait SECONDS         how long to wait while another client holds the controller's\n"
+              "                         macro interface, 0..3600 (default 120)\n"
               "  --help, --version      this text (METHOD --help: the method's files); the version line\n"
               "Exit 0 with one summary line on stdout; 1 with one line on stderr on any failure, and\n"
               "then no OUT.json and nothing stored.\n");
@@ -143,6 +150,11 @@ int main(int argc, char** argv) {
       const long code = std::strtol(argv[++i], &end, 10);
       if (*end != '\0' || code < 1 || code > 9999) return usage_error("--unlock-code takes 1..9999");
       o.unlock_code = static_cast<double>(code);
+    } else if (arg == "--wait" && has_value) {
+      char* end = nullptr;
+      const long seconds = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || seconds < 0 || seconds > 3600) return usage_error("--wait takes 0..3600 (seconds)");
+      o.wait_s = static_cast<int>(seconds);
     } else if (arg == "--host" && has_value) {
       o.host = argv[++i];
     } else if (arg == "--port" && has_value) {
@@ -159,6 +171,14 @@ int main(int argc, char** argv) {
   trueaxis::sim::VariableClient client;
   if (!client.connect(o.host, o.port)) {
     return fail("cannot connect to " + o.host + ":" + std::to_string(o.port) + ": " + client.error_text());
+  }
+  const std::string busy = "controller busy: another client holds the macro interface";
+  const bool taken = client.take_interface(o.wait_s * 1000, [&busy, &o] {
+    std::fprintf(stderr, "trueaxis-calibrate: %s, waiting (up to %d s)\n", busy.c_str(), o.wait_s);
+  });
+  if (!taken) {
+    const std::string why = client.failure_text();
+    return fail(why == busy ? busy + " (waited " + std::to_string(o.wait_s) + " s; --wait SECONDS)" : why);
   }
   FlowResult r = method->calibrate(client, o);
   if (!r.ok) return fail(r.error);
@@ -184,6 +204,7 @@ int main(int argc, char** argv) {
   r.unlock_code = o.unlock_code;
   if (o.store && !method->store(client, r)) return fail_clean(r.error);
   summary += o.store ? "; " + stored_text(method->name) : "; not stored";
+  client.give_back_interface();  // closing gives it back too; this is at once
   client.close();
   if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
   std::printf("%s\n", summary.c_str());

@@ -2,10 +2,12 @@
 
 #include <cerrno>
 #include <chrono>
+#include <thread>
 
 #include <poll.h>
 #include <unistd.h>
 
+#include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/modbus/register_codec.hpp"
 
 namespace trueaxis::sim {
@@ -119,5 +121,63 @@ int VariableClient::exception() const {
 }
 
 std::string VariableClient::error_text() const { return modbus_strerror(error_); }
+
+// Contract 5: the refusal's cause, read from the module right after it.
+std::string VariableClient::failure_text() {
+  using macros::AccessFault;
+  namespace var = macros::var;
+  const int error = error_;
+  const int exception = this->exception();
+  const std::string modbus = "Modbus: " + std::string(modbus_strerror(error));
+  double fault = 0.0;
+  if (exception == 0 || !read_one(var::kAccessFault, fault)) {
+    error_ = error;
+    return modbus;
+  }
+  error_ = error;
+  double backoff = 0.0;
+  switch (static_cast<AccessFault>(static_cast<int>(fault))) {
+    case AccessFault::kInterfaceHeld:
+      return "controller busy: another client holds the macro interface";
+    case AccessFault::kBusy:
+      return "controller busy: a macro is running";
+    case AccessFault::kBadUnlockCode:
+      read_one(var::kUnlockBackoffLeft, backoff);
+      return "wrong unlock code: the controller refused it (--unlock-code must be the machine's code, #900), "
+             "and takes no code for the next " + std::to_string(static_cast<int>(backoff)) + " s";
+    case AccessFault::kUnlockBackoff:
+      read_one(var::kUnlockBackoffLeft, backoff);
+      return "the controller takes no unlock code for " + std::to_string(static_cast<int>(backoff)) +
+             " s more: a wrong code was written moments ago (the back-off doubles with each wrong code, up to 64 s)";
+    case AccessFault::kLocked:
+      return "the controller is locked: configuration and calibration tables are written only after the "
+             "unlock code (#9004)";
+    default: break;
+  }
+  for (const macros::AccessFaultInfo& f : macros::kAccessFaultTable) {
+    if (static_cast<double>(f.fault) == fault && static_cast<int>(macros::modbus_exception(f.fault)) == exception) {
+      return modbus + ": " + f.name + ": " + f.message;
+    }
+  }
+  return modbus;
+}
+
+// Contract 6.
+bool VariableClient::take_interface(int wait_ms, const std::function<void()>& waiting) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(wait_ms);
+  bool told = false;
+  for (;;) {
+    if (write_one(kInterface, 1.0)) return true;
+    const int error = error_;
+    double fault = 0.0;
+    const bool held = exception() == 6 && read_one(macros::var::kAccessFault, fault) &&
+                      static_cast<macros::AccessFault>(static_cast<int>(fault)) == macros::AccessFault::kInterfaceHeld;
+    error_ = error;
+    if (!held || std::chrono::steady_clock::now() >= deadline) return false;
+    if (!told && waiting) waiting();
+    told = true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+}
 
 }  // namespace trueaxis::sim

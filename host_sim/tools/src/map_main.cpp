@@ -36,6 +36,7 @@ const char* access_name(m::Access a) {
     case m::Access::kConfig: return "config";
     case m::Access::kCommand: return "command";
     case m::Access::kUnlock: return "unlock";
+    case m::Access::kInterface: return "interface";
   }
   return "?";
 }

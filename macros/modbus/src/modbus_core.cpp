@@ -23,7 +23,9 @@ void put_be16(std::uint8_t* p, std::uint16_t v) {
 
 }  // namespace
 
-std::size_t ModbusCore::respond(const std::uint8_t* pdu, std::size_t length, std::uint8_t* response) {
+std::size_t ModbusCore::respond(const std::uint8_t* pdu, std::size_t length, std::uint8_t* response,
+                                ClientId client) {
+  client_ = client;
   ReadWords read;
   const ModbusException e = decide(pdu, length, read);
   const std::uint8_t fc = length > 0 ? pdu[0] : 0;
@@ -123,7 +125,7 @@ ModbusException ModbusCore::past_last_register(std::uint16_t address, std::uint1
 }
 
 ModbusException ModbusCore::read_into(std::uint16_t address, std::uint16_t quantity, ReadWords& read) {
-  const ModbusException e = modbus_exception(read_registers(vars_, address, quantity, read.words));
+  const ModbusException e = modbus_exception(read_registers(vars_, address, quantity, read.words, client_));
   if (e == ModbusException::kNone) {
     read.address = address;
     read.count = quantity;
@@ -134,7 +136,7 @@ ModbusException ModbusCore::read_into(std::uint16_t address, std::uint16_t quant
 ModbusException ModbusCore::write_from(std::uint16_t address, std::uint16_t quantity, const std::uint8_t* bytes) {
   std::uint16_t words[kMaxWriteQuantity];
   for (std::uint16_t i = 0; i < quantity; ++i) words[i] = be16(bytes + 2 * i);
-  return modbus_exception(write_registers(vars_, address, quantity, words));
+  return modbus_exception(write_registers(vars_, address, quantity, words, client_));
 }
 
 }  // namespace trueaxis::modbus

@@ -230,8 +230,16 @@ TEST_CASE("the conformance table holds over Modbus TCP against trueaxis-sim") {
 TEST_CASE("the TCP framing table: refused frames close and execute nothing, whole frames are answered once") {
   SimFixture f;
   TcpTransport control(f.port());
-  // The values the table's reads expect.
+  // The values the table's reads expect; then the control connection gives the
+  // macro interface back (module.hpp contract 8), so each case's connection may write.
   REQUIRE(c::run_cases(control, {c::pdu_cases().front()}).failures.empty());
+  {
+    Bytes reply;
+    std::string failed;
+    REQUIRE(control.exchange(c::fc16_values(9009, {0.0}), reply, failed));
+    REQUIRE(reply.size() == 5);
+    REQUIRE(reply[0] == 0x10);
+  }
   const std::vector<FramingCase> cases = framing_cases();
   REQUIRE(cases.size() >= 40);
   std::string why;

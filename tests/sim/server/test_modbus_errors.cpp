@@ -256,7 +256,7 @@ TEST_CASE("probing into a number that is not a work offset or point-list X is ex
   CHECK(f.snapshot() == before);
 }
 
-TEST_CASE("an unlock closes when the connection that opened it closes, and only then") {
+TEST_CASE("an unlock closes when the connection that opened it closes, and only then; meanwhile it is that connection's") {
   SimFixture f;
   const auto unlocked = [&f] { return f.get(9004) == 1.0; };
   const auto wait_locked = [&] {
@@ -277,10 +277,17 @@ TEST_CASE("an unlock closes when the connection that opened it closes, and only 
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     CHECK(unlocked());
-    f.set(506, 0.002);  // a configuration write through another connection while it is open
+    // Another connection's configuration write while the owner holds the
+    // macro interface (module.hpp contract 8): refused, busy, interface_held.
+    const double before = f.get(506);
+    CHECK(f.write_exception(506, {before + 0.001}) == kBusy);
+    CHECK(f.get(9007) == 12.0);
+    REQUIRE(owner.write_one(506, 0.002));  // the owner's own
   }
   CHECK(wait_locked());
+  // The owner has gone: the interface is free, and locked.
   CHECK(f.write_exception(506, {0.003}) == kIllegalAddress);
+  CHECK(f.get(9007) == 4.0);  // locked
   CHECK(f.get(506) == 0.002);
   // The fixture's connection unlocks now: its unlock is its own.
   f.set(9004, kUnlockCode);

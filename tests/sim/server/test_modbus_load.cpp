@@ -55,13 +55,19 @@ constexpr std::uint16_t kArgs[16] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 13, 17, 18, 
 
 }  // namespace
 
-TEST_CASE("16 clients at once: FC16 write, FC3 read back and FC23 write+read of their own variable, no error, no wrong value") {
+TEST_CASE("16 clients at once: FC16, FC3 and FC23 of their own variable, each answered; the macro interface's holder alone writes") {
+  // Module contract 8: the macro interface is granted to one client at a time.
+  // Client 0 takes it before the others start and keeps it (it writes all the
+  // time); every write of the 15 others is answered with exception 06 and
+  // changes nothing, every read of everyone is answered with the right value.
   SimFixture f;
   constexpr int kClients = 16;
   constexpr int kIterations = 300;
   std::atomic<int> connected{0};
   std::atomic<int> connect_failures{0};
-  std::atomic<long> errors{0};
+  std::atomic<int> finished{0};
+  std::atomic<long> errors{0};     // a failure that is not the holder's refusal of another
+  std::atomic<long> refused{0};    // exception 06 to a write of a client that does not hold
   std::atomic<long> wrong{0};
   std::atomic<long> requests{0};
   std::vector<double> last(kClients, 0.0);
@@ -70,49 +76,69 @@ TEST_CASE("16 clients at once: FC16 write, FC3 read back and FC23 write+read of 
   for (int id = 0; id < kClients; ++id) {
     threads.emplace_back([&, id] {
       VariableClient c;
-      const bool ok = c.connect("127.0.0.1", f.port());
+      const bool ok = c.connect("127.0.0.1", f.port()) && (id != 0 || c.write_one(9009, 1.0));
       if (!ok) ++connect_failures;
       ++connected;
-      // All connected before anyone starts: 16 (+ the fixture's) served at once.
+      // All connected (and client 0 holding) before anyone starts: 16 (+ the fixture's) served at once.
       while (connected.load() < kClients) std::this_thread::yield();
-      if (!ok) return;
+      if (!ok) {
+        ++finished;
+        return;
+      }
+      const bool holder = id == 0;
       const std::uint16_t number = kArgs[id];
       const int reg = static_cast<int>(trueaxis::modbus::register_of(number));
+      const auto write_failed = [&] {
+        if (!holder && c.exception() == 6) {
+          ++refused;
+        } else {
+          ++errors;
+        }
+      };
       for (int it = 0; it < kIterations; ++it) {
         // Client and iteration in the value; the fraction makes every bit count.
         const double sign = (it % 2 == 0) ? 1.0 : -1.0;
         const double v16 = sign * ((id + 1) * 1000.0 + it + 1.0 / 1024.0);
         const double v23 = sign * ((id + 1) * 1000.0 + it + 0.5 + 1.0 / 4096.0);
+        const double expected16 = holder ? v16 : 0.0;
         double back = 0.0;
-        if (!c.write_one(number, v16)) ++errors;
+        if (!c.write_one(number, v16)) {
+          write_failed();
+        } else if (!holder) {
+          ++wrong;  // another's write taken while client 0 holds the interface
+        }
         if (!c.read_one(number, back)) {
           ++errors;
-        } else if (back != v16) {
+        } else if (back != expected16) {
           ++wrong;
         }
         std::uint16_t w[4];
         std::uint16_t r[4] = {};
         trueaxis::modbus::encode_double(v23, w);
         if (modbus_write_and_read_registers(c.raw(), reg, 4, w, reg, 4, r) != 4) {
-          ++errors;
-        } else if (trueaxis::modbus::decode_double(r) != v23) {
+          write_failed();
+        } else if (!holder || trueaxis::modbus::decode_double(r) != v23) {
           ++wrong;
         }
         requests += 3;
-        last[static_cast<std::size_t>(id)] = v23;
+        if (holder) last[static_cast<std::size_t>(id)] = v23;
       }
+      // The holder keeps its connection (and the interface) until everyone is done.
+      ++finished;
+      while (holder && finished.load() < kClients) std::this_thread::yield();
     });
   }
   for (std::thread& t : threads) t.join();
   const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  std::printf("16 clients x %d iterations: %ld requests in %.2f s (%.0f/s), %ld errors, %ld wrong values\n",
-              kIterations, requests.load(), seconds, static_cast<double>(requests.load()) / seconds, errors.load(),
-              wrong.load());
+  std::printf("16 clients x %d iterations: %ld requests in %.2f s (%.0f/s), %ld refused (06), %ld errors, %ld wrong values\n",
+              kIterations, requests.load(), seconds, static_cast<double>(requests.load()) / seconds, refused.load(),
+              errors.load(), wrong.load());
   CHECK(connect_failures == 0);
   CHECK(requests == 3L * kClients * kIterations);
   CHECK(errors == 0);
+  CHECK(refused == 2L * (kClients - 1) * kIterations);
   CHECK(wrong == 0);
-  // Nobody wrote into anyone else's variable, and the values stayed (no macro ran).
+  // Only the holder's variable changed, and it holds its last value (no macro ran).
   for (int id = 0; id < kClients; ++id) {
     INFO("client " << id << ", #" << kArgs[id]);
     CHECK(f.get(kArgs[id]) == last[static_cast<std::size_t>(id)]);

@@ -213,16 +213,25 @@ TEST_CASE("configuration and work offsets persist over a restart with the same N
   CHECK(f.write_exception(500, {0.0}) == 2);
 }
 
-TEST_CASE("two clients are served at once and see each other's writes") {
+TEST_CASE("two clients are served at once: reads open to both, the macro interface to one at a time") {
   SimFixture f;
   VariableClient second;
   REQUIRE(second.connect("127.0.0.1", f.port()));
-  f.set(1, 11.0);
+  f.set(1, 11.0);  // the fixture's connection takes the macro interface
   double v = 0.0;
   REQUIRE(second.read_one(1, v));
   CHECK(v == 11.0);
+  REQUIRE(second.read_one(9009, v));
+  CHECK(v == 2.0);  // held by another client
+  CHECK(f.get(9009) == 1.0);  // held by the fixture's
+  CHECK_FALSE(second.write_one(3, 33.0));
+  CHECK(second.exception() == 6);
+  CHECK(second.failure_text() == "controller busy: another client holds the macro interface");
+  CHECK(f.get(3) == 0.0);
+  f.set(9009, 0.0);  // given back
   REQUIRE(second.write_one(3, 33.0));
   CHECK(f.get(3) == 33.0);
+  CHECK(f.get(9009) == 2.0);
   // A third connection that sends half a frame and goes away disturbs no one.
   {
     VariableClient third;
@@ -236,10 +245,14 @@ TEST_CASE("two clients are served at once and see each other's writes") {
   REQUIRE(second.write_one(3, 0.0));
   CHECK(f.get(1) == 0.0);
   CHECK(f.get(3) == 0.0);
-  f.probe_triangle();
+  REQUIRE(second.give_back_interface());
+  f.probe_triangle();  // the probe writes G57..G59 for the fixture's connection: it takes the interface
+  CHECK_FALSE(second.write_one(1, 0.0));
+  f.set(9009, 0.0);  // and gives it back
   const auto outcome = second.run_macro(9810);
   CHECK(outcome.status == 2);
   CHECK(f.get(9001) == 2.0);
+  CHECK(f.write_exception(1, {1.0}) == 6);  // still the second's, after its macro
   // The second client's result is the one the first sees, and it is the virtual
   // face's tilt (12.5 deg, table at zero) within 5 of its standard uncertainties.
   REQUIRE(second.read_one(107, v));

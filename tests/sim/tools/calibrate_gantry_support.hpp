@@ -115,6 +115,7 @@ inline std::vector<std::vector<double>> conversions(sim::VariableClient& client)
     REQUIRE(client.read(macros::var::kGantryPointX, 3, p.data()));
     out.push_back(p);
   }
+  REQUIRE(client.give_back_interface());  // for the commands the test runs next (module contract 8)
   return out;
 }
 

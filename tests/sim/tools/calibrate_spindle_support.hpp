@@ -81,6 +81,7 @@ inline std::vector<double> correction(sim::VariableClient& client, double phi_de
 inline std::vector<std::vector<double>> corrections(sim::VariableClient& client, double tool_mm) {
   std::vector<std::vector<double>> out;
   for (double phi : kQueryAngles) out.push_back(correction(client, phi, tool_mm));
+  REQUIRE(client.give_back_interface());  // for the commands the test runs next (module contract 8)
   return out;
 }
 

@@ -88,7 +88,7 @@ TEST_CASE("calibrate spindle: every bad input has its own error and stores nothi
   cases.push_back(
       {"inf", replaced(41, "inf,2,0,0,250"), machine, at(41, "'phi_deg' is not a finite number: 'inf'"), true});
   cases.push_back({"an angle beyond 1e6 deg", replaced(50, "2e6,1,0,0,250"), machine,
-                   at(50, "the module refused the sample: Illegal data value"), true});  // the register's range
+                   at(50, "the module refused the sample: Modbus: Illegal data value: out_of_range: Outside the variable's range, or not a whole number or a sign."), true});  // the register's range
   cases.push_back({"one ball height only", kept([](double, int ball) { return ball == 1; }), machine,
                    module_error(Status::kMissingGroup) + " (macro 9842)", true});
   cases.push_back({"7 angles of ball 2",

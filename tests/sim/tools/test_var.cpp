@@ -212,6 +212,7 @@ TEST_CASE("trueaxis-var: a macro error is one line with the module's code, name 
   Workspace w("trueaxis-var");
   const double collinear[3][3] = {{0, 0, 40}, {50, 0, 40}, {100, 0, 40}};
   sim.set_points(collinear);
+  sim.set(v::kInterface, 0.0);  // the fixture's connection gives the macro interface back to the command's
   const auto s = trueaxis::core::Status::kPointsCollinear;
   check_failure(var(sim, w, {"run", "9810"}), "macro 9810 level_3pt: module error 201 points_collinear: " +
                                                   std::string(trueaxis::macros::status_message(s)));
@@ -225,8 +226,8 @@ TEST_CASE("trueaxis-var: refusals, time-outs and connections, each one line nami
   Workspace w("trueaxis-var");
   check_failure(var(sim, w, {"set", "500=1"}), refusal("#500", m::AccessFault::kLocked, "02 illegal data address"));
   check_failure(var(sim, w, {"get", "10"}), refusal("#10", m::AccessFault::kUndefined, "02 illegal data address"));
-  check_failure(var(sim, w, {"get", "9008..9010"}),
-                refusal("#9008..#9010", m::AccessFault::kUndefined, "02 illegal data address"));
+  check_failure(var(sim, w, {"get", "9010..9012"}),
+                refusal("#9010..#9012", m::AccessFault::kUndefined, "02 illegal data address"));
   check_failure(var(sim, w, {"set", "9004=1234"}),
                 refusal("#9004", m::AccessFault::kBadUnlockCode, "03 illegal data value"));
 

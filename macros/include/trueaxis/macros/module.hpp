@@ -39,9 +39,25 @@
 //     wrong code is refused (kBadUnlockCode), counted in #9010, and makes
 //     #9004 refuse every code for a back-off of 2^(k-1) s after the k-th wrong
 //     code in a row (at most 64 s; kUnlockBackoff, Modbus 06); a right code
-//     resets k. An unlock closes by itself kUnlockIdleUs after the last write
-//     that succeeded, and when the transport calls lock() (the connection
-//     that opened it closed). The clock is the one handed in.
+//     resets k; #9011 reads the seconds of back-off left. An unlock closes by
+//     itself kUnlockIdleUs after the last write that succeeded, when the
+//     transport calls lock() or disconnected() for the client that opened it,
+//     and when another client takes the macro interface (contract 8). The
+//     clock is the one handed in.
+//  8. One client at a time. Every write (arguments, data blocks, #9000, work
+//     offsets, configuration, #9004, #9009) is a write to the macro interface,
+//     which the module grants to one client (the ClientId each request names,
+//     variable_access.hpp) at a time: the first client that writes takes it,
+//     and holds it while its macro runs and until it gives it back (#9009 = 0),
+//     the transport calls disconnected() for it, or it has written nothing for
+//     kInterfaceIdleUs after its last write or its last macro's end. Another
+//     client's write is refused with kInterfaceHeld (Modbus 06) and changes
+//     nothing; a lock alone (#9004 = 0) is always taken, from anyone. Reads
+//     stay open to all; #9009 reads 0 when the interface is free, 1 to its
+//     holder, 2 to any other client. #9009 = 1 takes the interface without
+//     writing anything else (a client that waits for it polls that). A table
+//     a macro stages is stored only under the unlock of the client that
+//     started the macro.
 #pragma once
 
 #include <cstdint>
@@ -80,6 +96,9 @@ class Module final : public VariableAccess {
   // Contract 7: an unlock closes this long after the last successful write.
   static constexpr std::uint64_t kUnlockIdleUs = 300'000'000;
   static constexpr std::uint64_t kMaxBackoffUs = 64'000'000;
+  // Contract 8: the macro interface is free again this long after its
+  // holder's last write or its last macro's end.
+  static constexpr std::uint64_t kInterfaceIdleUs = 30'000'000;
 
   bool busy() const { return pending_ != 0; }
   // True while unlocked (and not yet idle past kUnlockIdleUs).
@@ -87,9 +106,15 @@ class Module final : public VariableAccess {
   // Contract 7: closes an unlock (a transport calls it when the connection
   // that opened the unlock closes).
   void lock() { unlocked_ = false; }
+  // Contracts 7 and 8: the transport's client went away (its connection
+  // closed): the interface it held is free and the unlock it opened closes.
+  void disconnected(ClientId client);
+  // Contract 8: who holds the macro interface now (kNoClient when free).
+  ClientId holder() const;
 
-  // The value of #number; 0 for a number the map does not define.
-  double value(std::uint16_t number) const;
+  // The value of #number as `client` reads it (only #9009 depends on who
+  // asks); 0 for a number the map does not define.
+  double value(std::uint16_t number, ClientId client = kLocalClient) const;
 
   // A built method's state, for its direct calls from the controller's
   // real-time task (e.g. rigidity::compensation_rad(module.state<rigidity::Method>(), ...)):
@@ -113,8 +138,8 @@ class Module final : public VariableAccess {
  private:
   enum class Phase : std::uint8_t { kStart, kRunning, kCommitting };
 
-  AccessFault do_read(std::uint16_t first, std::uint16_t count, double* out) override;
-  AccessFault do_write(std::uint16_t first, std::uint16_t count, const double* values) override;
+  AccessFault do_read(std::uint16_t first, std::uint16_t count, double* out, ClientId client) override;
+  AccessFault do_write(std::uint16_t first, std::uint16_t count, const double* values, ClientId client) override;
   void do_note_fault(AccessFault f) override;
 
   AccessFault check_write(std::uint16_t number, double value) const;
@@ -162,6 +187,10 @@ class Module final : public VariableAccess {
   std::uint64_t last_write_us_ = 0;   // contract 7's idle clock
   std::uint64_t backoff_until_us_ = 0;
   std::uint32_t failed_in_row_ = 0;
+  ClientId unlocked_by_ = kNoClient;  // contract 7: whose unlock is open
+  ClientId holder_ = kNoClient;       // contract 8
+  ClientId runner_ = kNoClient;       // who wrote the running macro's number
+  std::uint64_t holder_active_us_ = 0;  // its last write or its last macro's end
 };
 
 }  // namespace trueaxis::macros

@@ -12,7 +12,8 @@
 //  4. #1000 .. #4999 macro-input data of the methods (point lists), one block
 //                    per method; volatile, cleared after every macro.
 //  5. #5221 .. #5326 work offsets G54 .. G59 (+0 X .. +5 C); persistent.
-//  6. #9000 .. #9009 the handshake; #9010 the count of wrong unlock codes.
+//  6. #9000 .. #9009 the handshake; #9010 the count of wrong unlock codes,
+//     #9011 the seconds of unlock back-off left.
 //  7. Slots: every module keeps its variables in one array, the platform's
 //     first (kPlatformSlots: the arguments, the 100 results, then
 //     kPlatformRows), then each method's own rows in the order of the method
@@ -83,7 +84,9 @@ inline constexpr std::uint16_t kRunTime = 9005;
 inline constexpr std::uint16_t kInterfaceVersion = 9006;
 inline constexpr std::uint16_t kAccessFault = 9007;
 inline constexpr std::uint16_t kStepCount = 9008;
+inline constexpr std::uint16_t kInterface = 9009;
 inline constexpr std::uint16_t kFailedUnlocks = 9010;
+inline constexpr std::uint16_t kUnlockBackoffLeft = 9011;
 }  // namespace var
 
 // #9001 values.
@@ -169,7 +172,9 @@ inline constexpr VarInfo kPlatformRows[] = {
   {var::kInterfaceVersion, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, kInterfaceVersionValue, "interface_version", "", "Version of this register map."},
   {var::kAccessFault, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 255.0, 0.0, "access_fault", "", "Why the last refused register access was refused (see access_faults)."},
   {var::kStepCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "step_count", "", "Number of step() calls the last macro took (1 for a macro that finishes in one step)."},
+  {var::kInterface, 1, Access::kInterface, ValueKind::kInteger, 0.0, 1.0, 0.0, "interface", "", "The macro interface (every write: arguments, data, #9000, work offsets, configuration, #9004) is granted to one client (TCP connection) at a time: the first that writes takes it; others' writes get exception 06 (#9007 = interface_held) until the holder writes 0 here, disconnects, or writes nothing for 30 s after its last write or macro. Write 1 to take it (refused while another holds it), 0 to give it back. Reads 0 free, 1 held by you, 2 held by another client. A lock (#9004 = 0) is taken from anyone."},
   {var::kFailedUnlocks, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "failed_unlocks", "", "Wrong codes written to #9004 since start; each makes #9004 refuse codes for a back-off (1 s, doubling up to 64 s)."},
+  {var::kUnlockBackoffLeft, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 64.0, 0.0, "unlock_backoff_s", "s", "Seconds left (rounded up) before #9004 takes a code again after a wrong one; 0 when it takes one now."},
 };
 // clang-format on
 
@@ -202,6 +207,6 @@ constexpr std::size_t platform_slot(std::uint16_t number) {
   return rest == kNoSlot ? kNoSlot : kArgSlots + kResultSlots + rest;
 }
 static_assert(platform_slot(var::kArgA) == 0 && platform_slot(var::kResultFirst) == kArgSlots &&
-              platform_slot(var::kFailedUnlocks) == kPlatformSlots - 1 && platform_slot(10) == kNoSlot);
+              platform_slot(var::kUnlockBackoffLeft) == kPlatformSlots - 1 && platform_slot(10) == kNoSlot);
 
 }  // namespace trueaxis::macros

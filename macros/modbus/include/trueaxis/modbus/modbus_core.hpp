@@ -34,6 +34,10 @@
 //     the JSON map publishes) here; no transport maps faults itself.
 //  6. Stack: about 0.5 KiB (the read words and the write words); no state
 //     between calls but the module's.
+//  7. `client` names who sent the request (a TCP connection; kLocalClient for
+//     a serial line's one master): the module grants the macro interface to one
+//     client at a time (module.hpp contract 8) and refuses another's writes
+//     there with exception 06 (interface_held in #9007).
 #pragma once
 
 #include <cstddef>
@@ -58,7 +62,8 @@ class ModbusCore {
   explicit ModbusCore(VariableAccess& vars) : vars_(vars) {}
 
   // Contract 2.
-  [[nodiscard]] std::size_t respond(const std::uint8_t* pdu, std::size_t length, std::uint8_t* response);
+  [[nodiscard]] std::size_t respond(const std::uint8_t* pdu, std::size_t length, std::uint8_t* response,
+                                    ClientId client = kLocalClient);
 
  private:
   // What a served request read: `count` registers from protocol `address`.
@@ -79,6 +84,7 @@ class ModbusCore {
   ModbusException past_last_register(std::uint16_t address, std::uint16_t quantity);
 
   VariableAccess& vars_;
+  ClientId client_ = kLocalClient;  // the request being answered (contract 7)
 };
 
 }  // namespace trueaxis::modbus

@@ -21,6 +21,8 @@ namespace trueaxis::modbus {
 
 // The variable interface this room depends on, and nothing else of the module.
 using macros::AccessFault;
+using macros::ClientId;
+using macros::kLocalClient;
 using macros::ModbusException;
 using macros::VariableAccess;
 using macros::modbus_exception;
@@ -50,9 +52,9 @@ inline double decode_double(const std::uint16_t* words) {
 }
 
 [[nodiscard]] AccessFault read_registers(VariableAccess& vars, std::uint16_t address, std::uint16_t count,
-                                         std::uint16_t* words_out);
+                                         std::uint16_t* words_out, ClientId client = kLocalClient);
 
 [[nodiscard]] AccessFault write_registers(VariableAccess& vars, std::uint16_t address, std::uint16_t count,
-                                          const std::uint16_t* words);
+                                          const std::uint16_t* words, ClientId client = kLocalClient);
 
 }  // namespace trueaxis::modbus

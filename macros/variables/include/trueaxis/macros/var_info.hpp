@@ -25,7 +25,16 @@ enum class Access : std::uint8_t {
   kConfig,      // kept in non-volatile storage, writable only while unlocked
   kCommand,     // #9000: writing runs a macro
   kUnlock,      // #9004: writing the code unlocks, 0 locks; reads 1 when unlocked
+  kInterface,   // #9009: 1 takes the macro interface, 0 gives it back; reads 0 free, 1 yours, 2 held
 };
+
+// Who sent a request: the transport names its client (a TCP connection); the
+// controller itself, an RTU master (a serial line has one) and anything that
+// names none are kLocalClient. The module grants the macro interface to one
+// client at a time (module.hpp contract 8).
+using ClientId = std::uint32_t;
+inline constexpr ClientId kNoClient = 0;
+inline constexpr ClientId kLocalClient = 1;
 
 enum class ValueKind : std::uint8_t { kReal, kInteger, kSign };
 
@@ -45,6 +54,7 @@ enum class AccessFault : std::uint8_t {
   kStorageFailure = 9,  // non-volatile storage refused the write               -> 04
   kBadFunction = 10,    // a function code the server does not serve            -> 01
   kUnlockBackoff = 11,  // #9004 written while failed unlocks are slowed down   -> 06
+  kInterfaceHeld = 12,  // a write while another client holds the macro interface -> 06
 };
 
 // Modbus exception codes (Modbus Application Protocol V1.1b3, section 7).
@@ -68,7 +78,8 @@ constexpr ModbusException modbus_exception(AccessFault f) {
     case AccessFault::kOutOfRange:
     case AccessFault::kBadUnlockCode: return ModbusException::kIllegalDataValue;
     case AccessFault::kBusy:
-    case AccessFault::kUnlockBackoff: return ModbusException::kServerDeviceBusy;
+    case AccessFault::kUnlockBackoff:
+    case AccessFault::kInterfaceHeld: return ModbusException::kServerDeviceBusy;
     case AccessFault::kStorageFailure: return ModbusException::kServerDeviceFailure;
     case AccessFault::kBadFunction: return ModbusException::kIllegalFunction;
   }
@@ -97,7 +108,11 @@ inline constexpr AccessFaultInfo kAccessFaultTable[] = {
     {AccessFault::kBadFunction, "bad_function", "The server does not serve that Modbus function code."},
     {AccessFault::kUnlockBackoff, "unlock_backoff",
      "A wrong unlock code was written moments ago: #9004 takes no code until the back-off (1 s, doubling "
-     "with each further wrong code up to 64 s) has passed."},
+     "with each further wrong code up to 64 s) has passed; #9011 tells the seconds left."},
+    {AccessFault::kInterfaceHeld, "interface_held",
+     "Another client holds the macro interface (arguments, sessions, commands, configuration, work offsets): "
+     "it is granted to one client at a time, until that client gives it back (#9009 = 0), disconnects or "
+     "writes nothing for 30 s after its last macro; reads stay open."},
 };
 
 struct VarInfo {
@@ -165,7 +180,7 @@ constexpr bool map_is_well_formed(const VarInfo* table, std::size_t size) {
     if (v.count == 0) return false;
     if (static_cast<std::uint32_t>(v.number) + v.count - 1 > kMaxVariableNumber) return false;
     if (!(v.min <= v.max)) return false;
-    if (v.access != Access::kCommand && v.access != Access::kUnlock &&
+    if (v.access != Access::kCommand && v.access != Access::kUnlock && v.access != Access::kInterface &&
         check_value(v, v.default_value) != AccessFault::kNone) {
       return false;
     }

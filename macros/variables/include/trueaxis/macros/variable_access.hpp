@@ -9,6 +9,10 @@
 //     (a misaligned register range), so #9007 tells it like any other.
 //  4. The public methods check the arguments every implementation shares and
 //     forward to the private virtuals. No allocation, no exceptions.
+//  5. Every request names its client (var_info.hpp ClientId; kLocalClient when
+//     the caller names none): the module grants the macro interface to one
+//     client at a time (module.hpp contract 8); other implementations may
+//     ignore it.
 #pragma once
 
 #include <cstdint>
@@ -22,18 +26,20 @@ class VariableAccess {
   VariableAccess(const VariableAccess&) = delete;
   VariableAccess& operator=(const VariableAccess&) = delete;
 
-  [[nodiscard]] AccessFault read(std::uint16_t first, std::uint16_t count, double* out) {
+  [[nodiscard]] AccessFault read(std::uint16_t first, std::uint16_t count, double* out,
+                                 ClientId client = kLocalClient) {
     if (count == 0 || static_cast<std::uint32_t>(first) + count - 1 > kMaxVariableNumber) {
       return fault(AccessFault::kUndefined);
     }
-    return do_read(first, count, out);
+    return do_read(first, count, out, client);
   }
 
-  [[nodiscard]] AccessFault write(std::uint16_t first, std::uint16_t count, const double* values) {
+  [[nodiscard]] AccessFault write(std::uint16_t first, std::uint16_t count, const double* values,
+                                  ClientId client = kLocalClient) {
     if (count == 0 || static_cast<std::uint32_t>(first) + count - 1 > kMaxVariableNumber) {
       return fault(AccessFault::kUndefined);
     }
-    return do_write(first, count, values);
+    return do_write(first, count, values, client);
   }
 
   AccessFault fault(AccessFault f) {
@@ -46,8 +52,9 @@ class VariableAccess {
   ~VariableAccess() = default;
 
  private:
-  virtual AccessFault do_read(std::uint16_t first, std::uint16_t count, double* out) = 0;
-  virtual AccessFault do_write(std::uint16_t first, std::uint16_t count, const double* values) = 0;
+  virtual AccessFault do_read(std::uint16_t first, std::uint16_t count, double* out, ClientId client) = 0;
+  virtual AccessFault do_write(std::uint16_t first, std::uint16_t count, const double* values,
+                               ClientId client) = 0;
   virtual void do_note_fault(AccessFault f) = 0;
 };
 

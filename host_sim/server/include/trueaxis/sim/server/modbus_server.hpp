@@ -33,10 +33,13 @@
 //     signals and passes in `wait_mask` the mask to use while waiting (ppoll), so
 //     a signal can never be lost between test and wait.
 //  7. No allocation per request: buffers are sized when a client connects.
-//  8. Access control (module.hpp contract 7): the connection whose request
-//     turned the module from locked to unlocked owns the unlock; when it
-//     closes (the client's close, a refused frame, a time-out), the server
-//     locks the module. Other connections closing change nothing.
+//  8. Access control (module.hpp contracts 7 and 8): each connection is its
+//     own client (a ClientId the server numbers from 2 up; never reused while
+//     the server runs), named in every request it sends to the core. When a
+//     connection closes (the client's close, a refused frame, a time-out), the
+//     server tells the module (Module::disconnected): the macro interface it
+//     held is free, the unlock it opened closes. Other connections closing
+//     change nothing.
 #pragma once
 
 #include <chrono>
@@ -82,6 +85,7 @@ class ModbusTcpServer {
 
   struct Connection {
     int fd = -1;
+    macros::ClientId client = macros::kNoClient;
     std::size_t in_used = 0;
     std::size_t out_used = 0;
     std::size_t out_sent = 0;
@@ -111,7 +115,7 @@ class ModbusTcpServer {
   int listen_fd_ = -1;
   int port_ = 0;
   Clock::time_point accept_paused_until_{};  // contract 5: out of descriptors until then
-  int unlock_owner_ = -1;  // contract 8: the fd of the connection that opened the unlock
+  macros::ClientId next_client_ = macros::kLocalClient + 1;  // contract 8
   std::vector<Connection> clients_;
   std::vector<pollfd> polled_;
 };

@@ -75,11 +75,11 @@ class Simulator final : public macros::VariableAccess {
     SimRng rng{0};
   };
 
-  macros::AccessFault do_read(std::uint16_t first, std::uint16_t count, double* out) override;
-  macros::AccessFault do_write(std::uint16_t first, std::uint16_t count, const double* values) override;
+  macros::AccessFault do_read(std::uint16_t first, std::uint16_t count, double* out, macros::ClientId) override;
+  macros::AccessFault do_write(std::uint16_t first, std::uint16_t count, const double* values, macros::ClientId client) override;
   void do_note_fault(macros::AccessFault) override {}
 
-  macros::AccessFault probe(State& next, std::uint16_t target);
+  macros::AccessFault probe(State& next, std::uint16_t target, macros::ClientId client);
   void measure_ball(State& next) const;
   double read_one(std::uint16_t number) const;
   const CradleMachine& machine_for(const double* values) const;

@@ -31,19 +31,21 @@ class VariableRouter final : public macros::VariableAccess {
     return Route::kSpanning;
   }
 
-  macros::AccessFault do_read(std::uint16_t first, std::uint16_t count, double* out) override {
+  macros::AccessFault do_read(std::uint16_t first, std::uint16_t count, double* out,
+                              macros::ClientId client) override {
     switch (route(first, count)) {
-      case Route::kModule: return module_.read(first, count, out);
-      case Route::kSimulator: return fault(simulator_.read(first, count, out));
+      case Route::kModule: return module_.read(first, count, out, client);
+      case Route::kSimulator: return fault(simulator_.read(first, count, out, client));
       case Route::kSpanning: break;
     }
     return fault(macros::AccessFault::kUndefined);
   }
 
-  macros::AccessFault do_write(std::uint16_t first, std::uint16_t count, const double* values) override {
+  macros::AccessFault do_write(std::uint16_t first, std::uint16_t count, const double* values,
+                               macros::ClientId client) override {
     switch (route(first, count)) {
-      case Route::kModule: return module_.write(first, count, values);
-      case Route::kSimulator: return fault(simulator_.write(first, count, values));
+      case Route::kModule: return module_.write(first, count, values, client);
+      case Route::kSimulator: return fault(simulator_.write(first, count, values, client));
       case Route::kSpanning: break;
     }
     return fault(macros::AccessFault::kUndefined);

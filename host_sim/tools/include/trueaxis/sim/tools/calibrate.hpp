@@ -39,6 +39,7 @@ struct CalibrateOptions {
   double unlock_code = macros::kUnlockCode;  // --unlock-code: the machine's own (#900)
   std::string host = "127.0.0.1";
   int port = 502;
+  int wait_s = 120;  // --wait: for the macro interface another client holds
 };
 
 // #number = value: one argument of a macro.

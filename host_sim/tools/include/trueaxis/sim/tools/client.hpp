@@ -17,9 +17,21 @@
 //     times, once the line has been quiet for 100 ms, as a PLC on RS-485 does
 //     (a request torn on the line is discarded by the slave and executes
 //     nothing). 0 by default.
+//  5. failure_text() is the last failure as one sentence for an operator: a
+//     refusal is told by its cause, read from the module (#9007, and #9011 for
+//     the unlock back-off): another client holding the macro interface, a
+//     macro running, a wrong unlock code, the back-off with its seconds, a
+//     locked controller; a transport failure by libmodbus's text.
+//  6. take_interface() takes the module's macro interface (#9009 = 1,
+//     module.hpp contract 8). While another client holds it, it calls
+//     `waiting` once, then tries again every 200 ms for at most `wait_ms`;
+//     false when it could not, failure_text() then saying why.
+//     give_back_interface() writes #9009 = 0 (closing the connection gives it
+//     back too).
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include <modbus/modbus.h>
@@ -56,10 +68,18 @@ class VariableClient {
   // The Modbus exception code of the last failure, 0 when it was not an exception.
   int exception() const;
   std::string error_text() const;
+  // Contract 5.
+  std::string failure_text();
+
+  // Contract 6.
+  bool take_interface(int wait_ms, const std::function<void()>& waiting);
+  bool give_back_interface() { return write_one(kInterface, 0.0); }
 
  private:
   bool open(modbus_t* ctx, int response_timeout_ms);
   void drain();
+
+  static constexpr std::uint16_t kInterface = 9009;  // module.hpp contract 8
 
   modbus_t* ctx_ = nullptr;
   int error_ = 0;
