@@ -196,6 +196,11 @@ RigidityStep RigidityBuilder::step_nominal() {
     p.c_circle_rms_mm = f.rms_mm;
     p.c_arc_deg = f.arc_deg;
     p.c_count = f.count;
+    // step_finish sets them for every pose but the reference, whose 0 is
+    // exact: none may survive from the builder's last table.
+    p.rotvec_sigma_rad = Vec3::Zero();
+    p.rigidity_sigma_rad = 0.0;
+    p.a_error_sigma_rad = 0.0;
     rotvec_cov_[i] = Mat3::Zero();
     a_error_var_[i] = 0.0;
   }

@@ -10,6 +10,8 @@
 #include "module_rig.hpp"
 #include "portable_test.hpp"
 #include "rigidity_fixture.hpp"
+#include "split_mix64.hpp"
+#include "trueaxis/core/residual_noise.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 
@@ -145,6 +147,57 @@ TA_TEST("9834 reports every pose as the closed form has it, from the built and f
   TA_CHECK_EQ(pose(rig, 1, 2.0), kError);
   TA_CHECK_EQ(rig.code(), Status::kArgumentOutOfRange);
   TA_CHECK(rig.results() == kept);
+}
+
+TA_TEST("9834 reports the A error's sigma as stored and the C-circle RMS's sigma and noise floor under #601") {
+  ModuleRig rig;
+  // The fixture's ball positions, each moved by up to 2 um: sigmas that differ from pose to pose.
+  trueaxis::test::SplitMix64 noise(1717);
+  TA_REQUIRE(rig.done(9830));
+  for (int i = 0; i < rf::kPoses; ++i) {
+    for (int k = 0; k < rf::kCPositions; ++k) {
+      const double c = 360.0 / rf::kCPositions * k;
+      const Vec3 moved(noise.uniform(-0.002, 0.002), noise.uniform(-0.002, 0.002), noise.uniform(-0.002, 0.002));
+      TA_REQUIRE(rf::add(rig, rf::pose_a_deg(i), c, rf::actual_ball(rf::pose_a_deg(i), c) + moved) == kDone);
+    }
+  }
+  TA_REQUIRE(rf::build(rig, true) == kDone);
+  const double worst_rms = rig.get(v::kRigidityWorstCircleRms);
+  const double worst_floor = rig.get(v::kRigidityWorstCircleRmsFloor);
+  const double worst_sigma = rig.get(v::kRigidityWorstCircleRmsSigma);
+  trueaxis::core::RigidityTable table;
+  TA_REQUIRE(rig.module().state<m::rigidity::Method>().table.read([&](const trueaxis::core::RigidityTable& t) {
+    table = t;
+  }));
+  for (const double ball_noise : {m::rigidity::kDefaultBallNoiseMm, 0.004, 0.0}) {
+    if (ball_noise != m::rigidity::kDefaultBallNoiseMm) {
+      TA_REQUIRE(rig.unlock());
+      TA_REQUIRE(rig.put(v::kRigidityBallNoise, ball_noise) == m::AccessFault::kNone);
+      TA_REQUIRE(rig.lock());
+    }
+    TA_CHECK_EQ(rig.get(v::kRigidityBallNoise), ball_noise);
+    int worst_seen = 0;
+    for (const double r : {0.0, 1.0}) {
+      for (int q = 1; q <= rf::kPoses; ++q) {
+        TA_CASE_INDEX(10 * static_cast<int>(r) + q);
+        const trueaxis::core::RigidityPose& p = table.poses[q - 1];
+        TA_REQUIRE(pose(rig, q, r) == kDone);
+        TA_CHECK_EQ(rig.get(v::kPoseAErrorSigma), p.a_error_sigma_rad * trueaxis::core::kArcsecPerRad);
+        TA_CHECK(q == 3 || rig.get(v::kPoseAErrorSigma) > 0.0);  // pose 3 is the reference
+        const trueaxis::core::ResidualNoise want = trueaxis::core::residual_rms_noise(
+            p.c_circle_rms_mm, p.c_count, 2 * p.c_count - 6, ball_noise);
+        TA_CHECK_EQ(rig.get(v::kPoseCCircleRmsSigma), want.sigma_mm);
+        TA_CHECK_EQ(rig.get(v::kPoseCCircleRmsFloor), want.floor_mm);
+        TA_CHECK_EQ(want.floor_mm > 0.0, ball_noise > 0.0);
+        if (ball_noise == m::rigidity::kDefaultBallNoiseMm && p.c_circle_rms_mm == worst_rms) {
+          ++worst_seen;  // 9832 named this pose's figures
+          TA_CHECK_EQ(worst_floor, want.floor_mm);
+          TA_CHECK_EQ(worst_sigma, want.sigma_mm);
+        }
+      }
+    }
+    TA_CHECK(ball_noise != m::rigidity::kDefaultBallNoiseMm || worst_seen == 2);
+  }
 }
 
 namespace {

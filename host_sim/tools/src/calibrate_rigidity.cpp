@@ -57,8 +57,8 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
     const double args[2] = {static_cast<double>(q), 0.0};  // Q = pose, R = 0: the table just built
     if (!transport(client, client.write(var::kArgQ, 2, args), r)) return r;
     if (!run_or_fail(client, kPose, "", r)) return r;
-    double p[18];
-    if (!transport(client, client.read(var::kPoseA, 18, p), r)) return r;
+    double p[21];  // #100..#120 (rigidity_map.hpp kPoseOutputs)
+    if (!transport(client, client.read(var::kPoseA, 21, p), r)) return r;
     if (std::fabs(p[0]) <= core::kPoseAToleranceDeg) reference_a_deg = p[0];
     if (p[7] > worst[0]) {
       worst[0] = p[7];
@@ -69,9 +69,11 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
     pose_json += "    { \"a_deg\": " + json_number(p[0]) + ", \"rotation_vector_arcsec\": " + json_vec3(p + 1) +
                  ",\n      \"rotation_vector_sigma_arcsec\": " + json_vec3(p + 4) +
                  ", \"rigidity_arcsec\": " + json_number(p[7]) + ", \"rigidity_sigma_arcsec\": " + json_number(p[8]) +
-                 ",\n      \"a_positioning_error_arcsec\": " + json_number(p[9]) + ", \"c_centre_mm\": " +
+                 ",\n      \"a_positioning_error_arcsec\": " + json_number(p[9]) +
+                 ", \"a_positioning_error_sigma_arcsec\": " + json_number(p[18]) + ", \"c_centre_mm\": " +
                  json_vec3(p + 10) + ",\n      \"c_direction\": " + json_vec3(p + 13) +
-                 ", \"c_circle_rms_mm\": " + json_number(p[16]) + " }";
+                 ", \"c_circle_rms_mm\": " + json_number(p[16]) + ", \"c_circle_rms_sigma_mm\": " +
+                 json_number(p[19]) + ", \"c_circle_rms_noise_floor_mm\": " + json_number(p[20]) + " }";
   }
   // docs/INTERFACE.md writes the reference A as 0.0; keep that form when it is exactly 0.
   const std::string reference = reference_a_deg == 0.0 ? "0.0" : json_number(reference_a_deg);
@@ -79,8 +81,11 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
            "  \"a_axis\": { \"point_mm\": " + json_vec3(summary + 3) + ", \"direction\": " + json_vec3(summary + 6) +
            " },\n  \"poses\": [" + pose_json + "\n  ]\n}\n";
   // What the module computed beyond docs/INTERFACE.md's OUT.json, for the report only.
+  double ball_noise_mm = 0.0;
+  if (!transport(client, client.read(var::kRigidityBallNoise, 1, &ball_noise_mm), r)) return r;
   r.report_extras = "{ \"c_to_a_offset_mm\": " + json_number(summary[9]) +
-                    ", \"c_to_a_squareness_arcsec\": " + json_number(summary[10]) + " }\n";
+                    ", \"c_to_a_squareness_arcsec\": " + json_number(summary[10]) +
+                    ", \"ball_noise_mm\": " + json_number(ball_noise_mm) + " }\n";
   char line[160];
   std::snprintf(line, sizeof line, "rigidity: %d poses, worst rigidity %.2f\" +- %.2f\" (pose A=%g)", poses,
                 worst[0], worst[1], worst[2]);

@@ -53,7 +53,7 @@ Run calibrate(int port, const Workspace& w, const std::string& in, const std::st
   return run(argv, w.file("calibrate.err"));
 }
 
-// The pose's 17 figures in 9834's order (#100..#116), -1e300 for a missing or ill-typed key.
+// The pose's 20 figures in 9834's order (#100..#116, #118..#120), -1e300 for a missing or ill-typed key.
 std::vector<double> pose_figures(const Json& pose) {
   std::vector<double> f;
   const auto num = [&](const char* key) { f.push_back(pose[key].kind == Json::kNumber ? pose[key].number : -1e300); };
@@ -72,12 +72,22 @@ std::vector<double> pose_figures(const Json& pose) {
   vec("c_centre_mm");
   vec("c_direction");
   num("c_circle_rms_mm");
+  num("a_positioning_error_sigma_arcsec");
+  num("c_circle_rms_sigma_mm");
+  num("c_circle_rms_noise_floor_mm");
+  return f;
+}
+
+// 9834's #100..#120 less #117 (the pose count): what pose_figures reads from OUT.json.
+std::vector<double> figures_of(const std::vector<double>& p) {
+  std::vector<double> f(p.begin(), p.begin() + 17);
+  f.insert(f.end(), p.begin() + 18, p.end());
   return f;
 }
 
 // ---- the module over Modbus --------------------------------------------------------------
 
-// 9834 pose q of the table built last (stored = 0) or the stored one: #100..#117,
+// 9834 pose q of the table built last (stored = 0) or the stored one: #100..#120,
 // or {error} when the macro fails.
 std::vector<double> pose(VariableClient& client, int q, int stored) {
   const double args[2] = {static_cast<double>(q), static_cast<double>(stored)};
@@ -86,8 +96,8 @@ std::vector<double> pose(VariableClient& client, int q, int stored) {
   REQUIRE(outcome.status >= 2);
   REQUIRE(client.give_back_interface());  // for the commands the test runs next
   if (outcome.status == 3) return {static_cast<double>(outcome.error)};
-  std::vector<double> p(18);
-  REQUIRE(client.read(v::kPoseA, 18, p.data()));
+  std::vector<double> p(21);
+  REQUIRE(client.read(v::kPoseA, 21, p.data()));
   return p;
 }
 
@@ -111,7 +121,7 @@ std::vector<std::vector<double>> stored_table(VariableClient& client) {
   std::vector<std::vector<double>> t;
   const std::vector<double> first = pose(client, 1, 1);
   t.push_back(first);
-  for (int q = 2; first.size() == 18 && q <= static_cast<int>(first[17]); ++q) t.push_back(pose(client, q, 1));
+  for (int q = 2; first.size() == 21 && q <= static_cast<int>(first[17]); ++q) t.push_back(pose(client, q, 1));
   for (double a : {-75.0, 10.0, 45.0}) {
     for (int blend = 0; blend <= 2; ++blend) t.push_back(query(client, a, blend, 0));
   }
@@ -207,9 +217,12 @@ TEST_CASE("calibrate rigidity: OUT.json holds exactly what the module computed, 
   for (int q = 1; q <= 7; ++q) {
     CAPTURE(q);
     const std::vector<double> p = pose(client, q, 0);
-    REQUIRE(p.size() == 18);
+    REQUIRE(p.size() == 21);
     CHECK(p[17] == 7.0);
-    CHECK(pose_figures(poses.items[static_cast<std::size_t>(q - 1)]) == std::vector<double>(p.begin(), p.begin() + 17));
+    CHECK(pose_figures(poses.items[static_cast<std::size_t>(q - 1)]) == figures_of(p));
+    CHECK(p[19] > 0.0);  // the C-circle RMS's sigma and noise floor under the default #601
+    CHECK(p[20] > 0.0);
+    CHECK((q == 4) == (p[18] == 0.0));  // the A error's sigma: 0 only at the reference
     CHECK(p[0] == -120.0 + 30.0 * q);
   }
   const std::vector<double> reference = pose_figures(poses.items[3]);
@@ -251,8 +264,8 @@ TEST_CASE("calibrate rigidity: OUT.json holds exactly what the module computed, 
   for (int q = 1; q <= 7; ++q) {
     CAPTURE(q);
     const std::vector<double> p = pose(client, q, 1);
-    REQUIRE(p.size() == 18);
-    CHECK(pose_figures(poses.items[static_cast<std::size_t>(q - 1)]) == std::vector<double>(p.begin(), p.begin() + 17));
+    REQUIRE(p.size() == 21);
+    CHECK(pose_figures(poses.items[static_cast<std::size_t>(q - 1)]) == figures_of(p));
     for (int blend = 0; blend <= 2; ++blend) {
       const std::vector<double> at_pose = query(client, p[0], blend, 0);
       REQUIRE(at_pose.size() == 4);
@@ -403,7 +416,7 @@ TEST_CASE("calibrate rigidity: a bad sample is named by its line or the module's
     REQUIRE(calibrate(sim.port(), w, w.file("samples.csv"), w.file("good.json"), true).exit_code == 0);
     const std::vector<std::vector<double>> table = stored_table(client);
     REQUIRE(table.size() == 16);
-    REQUIRE(table[0].size() == 18);
+    REQUIRE(table[0].size() == 21);
     check_refusals(table);
     // An OUT.json already there stays as it was.
     w.write("out.json", "before");
@@ -435,7 +448,7 @@ TEST_CASE("calibrate rigidity: a stored table whose CRC fails is not used after 
   const std::vector<std::vector<double>> older = stored_table(client);
   REQUIRE(calibrate(sim.port(), w, w.file("samples.csv"), w.file("all.json"), true).exit_code == 0);
   const std::vector<std::vector<double>> newest = stored_table(client);
-  REQUIRE(older[0].size() == 18);
+  REQUIRE(older[0].size() == 21);
   REQUIRE(older[0][17] == 6.0);
   REQUIRE(newest[0][17] == 7.0);
   stop();

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "trueaxis/core/residual_noise.hpp"
 #include "trueaxis/macros/arguments.hpp"
 
 namespace trueaxis::macros::rigidity {
@@ -9,6 +10,11 @@ namespace trueaxis::macros::rigidity {
 namespace {
 
 using core::kArcsecPerRad;
+
+// The C-circle RMS's noise floor and sigma under the ball noise #601.
+core::ResidualNoise circle_noise(const core::RigidityPose& p, double ball_noise_mm) {
+  return core::residual_rms_noise(p.c_circle_rms_mm, p.c_count, core::circle_residual_dof(p.c_count), ball_noise_mm);
+}
 
 MacroStep report_session(Context& ctx, std::size_t count) {
   ctx.out<var::kRigiditySessionCount>(static_cast<double>(count));
@@ -71,11 +77,12 @@ MacroStep run_build(Context& ctx, State& state) {
 
   const core::RigidityTable& t = work->builder.table();
   std::size_t worst = 0;
-  double worst_rms = 0.0;
+  std::size_t worst_rms = 0;
   for (std::size_t i = 0; i < t.pose_count; ++i) {
     if (t.poses[i].rigidity_rad > t.poses[worst].rigidity_rad) worst = i;
-    worst_rms = std::fmax(worst_rms, t.poses[i].c_circle_rms_mm);
+    if (t.poses[i].c_circle_rms_mm > t.poses[worst_rms].c_circle_rms_mm) worst_rms = i;
   }
+  const core::ResidualNoise noise = circle_noise(t.poses[worst_rms], ctx.in<var::kRigidityBallNoise>());
   ctx.out<var::kRigidityPoses>(static_cast<double>(t.pose_count));
   ctx.out<var::kRigidityWorst>(t.poses[worst].rigidity_rad * kArcsecPerRad);
   ctx.out<var::kRigidityWorstSigma>(t.poses[worst].rigidity_sigma_rad * kArcsecPerRad);
@@ -83,7 +90,9 @@ MacroStep run_build(Context& ctx, State& state) {
   ctx.out3<var::kRigidityADirectionX>(t.a_axis_direction);
   ctx.out<var::kRigidityCToAOffset>(t.c_to_a_offset_mm);
   ctx.out<var::kRigidityCToASquareness>(t.c_to_a_squareness_rad * kArcsecPerRad);
-  ctx.out<var::kRigidityWorstCircleRms>(worst_rms);
+  ctx.out<var::kRigidityWorstCircleRms>(t.poses[worst_rms].c_circle_rms_mm);
+  ctx.out<var::kRigidityWorstCircleRmsFloor>(noise.floor_mm);
+  ctx.out<var::kRigidityWorstCircleRmsSigma>(noise.sigma_mm);
 
   ctx.set_on_success(state.built);
   if (!flag_of(ctx.in<var::kArgR>(), store) || !store) return done(core::Status::kOk);
@@ -119,6 +128,10 @@ MacroStep report_pose(Context& ctx, const core::RigidityTable& t) {
   ctx.out3<var::kPoseCDirectionX>(p.c_direction);
   ctx.out<var::kPoseCCircleRms>(p.c_circle_rms_mm);
   ctx.out<var::kPoseCount>(static_cast<double>(t.pose_count));
+  ctx.out<var::kPoseAErrorSigma>(p.a_error_sigma_rad * kArcsecPerRad);
+  const core::ResidualNoise noise = circle_noise(p, ctx.in<var::kRigidityBallNoise>());
+  ctx.out<var::kPoseCCircleRmsSigma>(noise.sigma_mm);
+  ctx.out<var::kPoseCCircleRmsFloor>(noise.floor_mm);
   return done(core::Status::kOk);
 }
 

@@ -12,9 +12,9 @@
 //  kSessionFull at capacity (nothing added); kSessionClosed when another
 //  method's session has replaced this one (9830 opens it again).
 // Macro 9832: build the table from the session (core RigidityBuilder, several
-//  steps): min C arc from #600. R = #18: 1 also stores the table (only while
+//  steps): min C arc from #600, ball noise from #601. R = #18: 1 also stores the table (only while
 //  unlocked: kTableLocked; committed whole through the keyed store, then made
-//  live), 0 builds it only (9834 R = 0 reports it). Out: #100..#111
+//  live), 0 builds it only (9834 R = 0 reports it). Out: #100..#113
 //  (rigidity_map.hpp kBuildOutputs). Status: those of the builder (too_few_poses,
 //  no_reference_pose, too_few_c_positions, arc_too_short, too_many_points for
 //  a pose of more than kMaxPoseSamples (36) ...), kSessionClosed; the session
@@ -29,7 +29,11 @@
 //  (it did not decode); kArgumentOutOfRange for a blend or R not in its set;
 //  kOutsideMeasuredRange for A outside the measured range with R = 0.
 // Macro 9834: pose Q = #17 (1..n, in A order) of the table: R = #18 0 the last
-//  table built since start, 1 the stored one. Out: #100..#117 (kPoseOutputs).
+//  table built since start, 1 the stored one. Out: #100..#120 (kPoseOutputs):
+//  #118 the A positioning error's sigma (stored with the table); #119, #120
+//  the C-circle RMS's sigma and noise floor, computed at the query from the
+//  pose's RMS and sample count and the ball noise #601 (core
+//  residual_rms_noise), so a stored table shows them under today's #601.
 //  With R = 0: kNoTable when none was built, kResultReplaced when another
 //  method's computation has used the work arena since.
 // Macro 9835: convert a point X, Y, Z (#24..#26) and a direction I, J, K
@@ -96,6 +100,7 @@ inline constexpr InputRef kAddInputs[] = {
 inline constexpr InputRef kBuildInputs[] = {
   {var::kArgR, 1, "1 stores the table (unlocked only), 0 builds it only."},
   {var::kRigidityMinCArc, 1, "Shortest C arc a pose may span."},
+  {var::kRigidityBallNoise, 1, "The ball instrument's noise, for the C-circle RMS's noise floor and sigma."},
 };
 inline constexpr InputRef kQueryInputs[] = {
   {var::kArgA, 1, "Commanded A (deg)."},
@@ -105,6 +110,7 @@ inline constexpr InputRef kQueryInputs[] = {
 inline constexpr InputRef kPoseInputs[] = {
   {var::kArgQ, 1, "Pose number, 1..n in A order."},
   {var::kArgR, 1, "0 the table built last, 1 the stored table."},
+  {var::kRigidityBallNoise, 1, "The ball instrument's noise, for the C-circle RMS's noise floor and sigma."},
 };
 inline constexpr InputRef kConvertInputs[] = {
   {var::kArgA, 1, "Commanded A (deg)."},

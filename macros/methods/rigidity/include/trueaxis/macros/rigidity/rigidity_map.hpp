@@ -20,6 +20,7 @@ namespace trueaxis::macros {
 
 namespace var {
 inline constexpr std::uint16_t kRigidityMinCArc = 600;
+inline constexpr std::uint16_t kRigidityBallNoise = 601;
 
 // 9830, 9831
 inline constexpr std::uint16_t kRigiditySessionCount = 100;
@@ -33,6 +34,8 @@ inline constexpr std::uint16_t kRigidityADirectionX = 106;
 inline constexpr std::uint16_t kRigidityCToAOffset = 109;
 inline constexpr std::uint16_t kRigidityCToASquareness = 110;
 inline constexpr std::uint16_t kRigidityWorstCircleRms = 111;
+inline constexpr std::uint16_t kRigidityWorstCircleRmsFloor = 112;
+inline constexpr std::uint16_t kRigidityWorstCircleRmsSigma = 113;
 // 9833
 inline constexpr std::uint16_t kRigidityRotvecX = 100;
 inline constexpr std::uint16_t kRigidityRotvecNorm = 103;
@@ -47,6 +50,9 @@ inline constexpr std::uint16_t kPoseCCentreX = 110;
 inline constexpr std::uint16_t kPoseCDirectionX = 113;
 inline constexpr std::uint16_t kPoseCCircleRms = 116;
 inline constexpr std::uint16_t kPoseCount = 117;
+inline constexpr std::uint16_t kPoseAErrorSigma = 118;
+inline constexpr std::uint16_t kPoseCCircleRmsSigma = 119;
+inline constexpr std::uint16_t kPoseCCircleRmsFloor = 120;
 // 9835
 inline constexpr std::uint16_t kConvertPointX = 100;
 inline constexpr std::uint16_t kConvertDirectionX = 103;
@@ -61,11 +67,16 @@ inline constexpr std::uint16_t kSessionCapacity = 512;
 // Samples one A pose may hold (C every 10 deg): a pose's circle fit is one step
 // of 9832, and this keeps it inside Module::kStepBoundInstructions.
 inline constexpr std::uint16_t kMaxPoseSamples = 36;
+// The default of #601: a ball-centre instrument measuring to 1 um (1 sigma per
+// axis), the simulator's (host_sim calibration_ball.hpp).
+inline constexpr double kDefaultBallNoiseMm = 0.001;
 
 // clang-format off
 inline constexpr VarInfo kRows[] = {
   rows::config(var::kRigidityMinCArc, 1.0, 360.0, 45.0, "rigidity_min_c_arc", "deg",
                "Rigidity: a pose whose C positions span a shorter arc is refused (arc_too_short)."),
+  rows::config(var::kRigidityBallNoise, 0.0, 1.0, kDefaultBallNoiseMm, "rigidity_ball_noise", "mm",
+               "Rigidity: the ball-centre instrument's stated noise, 1 sigma per axis; the C-circle RMS's noise floor and sigma come from it (0: not stated, both 0)."),
 };
 
 inline constexpr OutputInfo kSessionOutputs[] = {
@@ -86,6 +97,8 @@ inline constexpr OutputInfo kBuildOutputs[] = {
   {var::kRigidityCToAOffset, "rigidity_c_to_a_offset", "mm", "C-to-A offset: length of the common perpendicular of the C axis (A = 0) and the A axis."},
   {var::kRigidityCToASquareness, "rigidity_c_to_a_squareness", "arcsec", "C-to-A squareness: the angle between the C axis (A = 0) and the A axis minus 90 deg."},
   {var::kRigidityWorstCircleRms, "rigidity_worst_c_circle_rms", "mm", "Largest RMS distance of a pose's ball positions from its fitted C circle."},
+  {var::kRigidityWorstCircleRmsFloor, "rigidity_worst_c_circle_rms_noise_floor", "mm", "The RMS the ball noise (#601) alone would give at that pose: an RMS within 3 sigma of it is noise, not geometry."},
+  {var::kRigidityWorstCircleRmsSigma, "rigidity_worst_c_circle_rms_sigma", "mm", "1-sigma uncertainty of the largest C-circle RMS, from the ball noise (#601)."},
 };
 
 inline constexpr OutputInfo kQueryOutputs[] = {
@@ -114,6 +127,9 @@ inline constexpr OutputInfo kPoseOutputs[] = {
   {var::kPoseCDirectionX + 2, "pose_c_direction_z", "", "Z of the C direction."},
   {var::kPoseCCircleRms, "pose_c_circle_rms", "mm", "RMS 3-D distance of the pose's ball positions from its fitted C circle."},
   {var::kPoseCount, "pose_count", "", "Number of poses in the table."},
+  {var::kPoseAErrorSigma, "pose_a_positioning_error_sigma", "arcsec", "1-sigma uncertainty of the A positioning error, from the circle fits' own scatter (as the rotation vector's)."},
+  {var::kPoseCCircleRmsSigma, "pose_c_circle_rms_sigma", "mm", "1-sigma uncertainty of the C-circle RMS, from the ball noise (#601)."},
+  {var::kPoseCCircleRmsFloor, "pose_c_circle_rms_noise_floor", "mm", "The C-circle RMS the ball noise (#601) alone would give at this pose's sample count: an RMS within 3 sigma of it is noise, not geometry."},
 };
 
 inline constexpr OutputInfo kConvertOutputs[] = {
