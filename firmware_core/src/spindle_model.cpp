@@ -283,6 +283,10 @@ SpindleStep SpindleBuilder::step() {
         phase_ = Phase::kEvaluate;
         return {Status::kOk, true};
       }
+      // The samples and the geometry are finite (checked): a model value that
+      // is not means the iteration left the model's domain (the axis driven
+      // towards horizontal, convention 1), which is a fit that did not converge.
+      if (s.status == Status::kNotFinite) return fail(Status::kNoConvergence);
       if (s.status != Status::kOk) return fail(s.status);
       phase_ = Phase::kFinish;
       return {Status::kOk, true};

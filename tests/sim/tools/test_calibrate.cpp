@@ -318,6 +318,10 @@ TEST_CASE("calibrate rigidity: a bad sample is named by its line or the module's
   cases.push_back({"a missing column", "# rig 3\na_deg,c_deg,x_mm,z_mm\n0,0,1,3\n",
                    at + "2: the header has no column 'y_mm'\n", false});
   cases.push_back({"an empty file", "", at + "1: no header row\n", false});
+  cases.push_back({"';' as separator", "a_deg;c_deg;x_mm;y_mm;z_mm\n0;0;1;2;3\n",
+                   at + "1: the file uses ';' as separator; trueaxis reads ','\n", false});
+  cases.push_back({"tabs as separator", "# rig 3\na_deg\tc_deg\tx_mm\ty_mm\tz_mm\n0\t0\t1\t2\t3\n",
+                   at + "2: the file uses tabs as separator; trueaxis reads ','\n", false});
   cases.push_back({"CRLF lines", "a_deg,c_deg,x_mm,y_mm,z_mm\r\n0,0,1,2,3\r\n0,0,x,2,3\r\n",
                    at + "3: 'x_mm' is not a finite number: 'x'\n", false});
   {
@@ -346,7 +350,21 @@ TEST_CASE("calibrate rigidity: a bad sample is named by its line or the module's
       if (r.c_deg == 5) too_many += r.text + "\n";     // the 37th sample of pose 30
     }
     module_case("a pose spanning 15 deg of C", short_arc, Status::kArcTooShort);
-    module_case("37 samples in one pose", too_many, Status::kTooManyPoints);
+    // The module names no pose: the command names it, and the line of its 37th sample (header 1, 252 rows).
+    cases.push_back({"37 samples in one pose", too_many,
+                     at + "254: " + module_error(Status::kTooManyPoints).substr(20) +
+                         " (macro 9832): the pose at A = 30 deg has 37 samples, at most 36 (its sample 37)\n",
+                     true});
+  }
+  {
+    // A row given twice, and the file given twice: refused at the repeat's line, before any sigma.
+    const std::string once = csv_where(good, [](const Row&) { return true; });
+    cases.push_back({"a row given twice", once + good[100].text + "\n",
+                     at + "254: " + module_error(Status::kDuplicateSample).substr(20) + " (macro 9831)\n", true});
+    std::string twice = once;
+    for (const Row& r : good) twice += r.text + "\n";
+    cases.push_back({"the file given twice", twice,
+                     at + "254: " + module_error(Status::kDuplicateSample).substr(20) + " (macro 9831)\n", true});
   }
   {
     // Pose 30's samples at C 0 and C 180 with their C swapped: their phases are 180 deg off.
@@ -363,11 +381,13 @@ TEST_CASE("calibrate rigidity: a bad sample is named by its line or the module's
   }
   module_case("17 A poses", csv_where(many, [](const Row&) { return true; }), Status::kTooManyPoses);
   {
-    // 513 samples: the session is full at the 513th, physical line 2 + 513.
+    // 513 distinct samples: the session is full at the 513th, physical line 2 + 513.
     std::string full = "# three times over\n" + kHeader;
-    for (int k = 0; k < 513; ++k) full += good[static_cast<std::size_t>(k) % good.size()].text + "\n";
+    for (int k = 0; k < 513; ++k) full += "0," + std::to_string(k) + ",1,2,3\n";
     cases.push_back({"more samples than the session holds", full,
-                     at + "515: " + module_error(Status::kSessionFull).substr(20), true});
+                     at + "515: " + module_error(Status::kSessionFull).substr(20) +
+                         " (macro 9831): the session holds 512 samples\n",
+                     true});
   }
 
   const auto check_refusals = [&](const std::vector<std::vector<double>>& table_before) {

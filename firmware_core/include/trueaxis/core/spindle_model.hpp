@@ -65,7 +65,9 @@
 // ball index other than 1 or 2, b_2 <= b_1, a coordinate beyond kSpindleBigMm),
 // kSessionFull (a ball's kMaxSpindleAngles-th + 1 distinct angle),
 // kDuplicateSample (convention 4), and those of
-// the solver (kNotIdentifiable, kNoConvergence); a fit whose axis lies more than
+// the solver (kNotIdentifiable, kNoConvergence: also for an iteration whose
+// model values overflow, as lengths in metres against samples in mm drive
+// the axis horizontal; finite data never give kNotFinite from the fit); a fit whose axis lies more than
 // 30 deg from -Z (kMaxSpindleTilt) is kArgumentOutOfRange.
 #pragma once
 
