@@ -6,6 +6,7 @@
 // report, nothing stored and the module locked again; a stored table whose CRC
 // fails falls back to the older copy, then to no table.
 #include <catch2/catch.hpp>
+#include <dirent.h>
 
 #include <chrono>
 #include <cstdio>
@@ -517,10 +518,17 @@ TEST_CASE("calibrate --store unlocks with the machine's own code (--unlock-code)
   REQUIRE(client.write_one(v::kUnlock, m::kUnlockCode));
   REQUIRE(client.write_one(v::kUnlockCodeSetting, 4321.0));
   REQUIRE(client.write_one(v::kUnlock, 0.0));
-  Run r = calibrate(sim.port(), w, w.file("samples.csv"), w.file("out.json"), true);
+  // A store that fails (the published code, refused) leaves no OUT.json and no report, nor their temporaries.
+  Run r = calibrate(sim.port(), w, w.file("samples.csv"), w.file("out.json"), true, w.file("report"));
   CHECK(r.exit_code == 1);
   CHECK(r.err.find("Modbus") != std::string::npos);
   CHECK_FALSE(exists(w.file("out.json")));
+  CHECK_FALSE(exists(w.file("out.json.tmp")));
+  CHECK_FALSE(exists(w.file("report")));
+  DIR* d = ::opendir(w.dir.c_str());
+  REQUIRE(d != nullptr);
+  while (const dirent* e = ::readdir(d)) CHECK(std::string(e->d_name).rfind("report", 0) != 0);  // no report.tmp-*
+  ::closedir(d);
   CHECK(query(sim.client(), 45.0, 0, 0) == kNoTable);
   CHECK(read_var(client, v::kFailedUnlocks) == 1.0);
   std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // the wrong code's back-off
