@@ -126,7 +126,7 @@ ROOTS = [
          "Module::start(): once, at boot"),
 ]
 
-Rule = namedtuple("Rule", "caller site targets why tables", defaults=(None,))
+Rule = namedtuple("Rule", "caller site targets why tables layout", defaults=(None, None))
 
 # Ordered: the first rule matching (caller, site) resolves an indirect call.
 # caller/site None: any. Every target pattern of a rule that fires must match
@@ -134,6 +134,11 @@ Rule = namedtuple("Rule", "caller site targets why tables", defaults=(None,))
 # the data objects the calls take their pointers from; with --elf, every
 # function pointer those objects hold in the image must be among the rule's
 # targets (so a table entry the patterns miss is an error, not an underestimate).
+# layout (optional): (stride, offsets) when the tables are arrays of structs
+# of `stride` bytes holding pointers only at those byte offsets: the other
+# words are data (a macro number, 9841 = 0x2671, is a Thumb address when a
+# function starts at 0x2670), and a table whose size is no multiple of the
+# stride is an error (the struct changed).
 INDIRECT_CALLS = [
     Rule(None, r"/hal/clock\.hpp:",
          [r"::do_now_us\(\)"],
@@ -157,7 +162,8 @@ INDIRECT_CALLS = [
          [r"^(static )?(constexpr )?(trueaxis::macros::)?MacroStep .*\((trueaxis::macros::)?MacroCall&\)"
           r"( \[with .*\])?$"],
          "a macro handler through the macro table (MacroThunk): every function of that type",
-         r"^_ZN8trueaxis6macros.*kMacros"),
+         r"^_ZN8trueaxis6macros.*kMacros",
+         (32, (4,))),  # MacroInfo on the Cortex-M7: number, run, ... (macro_info.hpp asserts it)
 ]
 
 # Functions the build does not compile: bound in bytes of the function and
@@ -784,9 +790,10 @@ class Disassembly:
         for a, f in self.funcs.items():
             self.by_name.setdefault(f[0], a)
 
-    def function_pointers(self, pattern):
+    def function_pointers(self, pattern, layout=None):
         """{object name: [function names]}: the Thumb function addresses held in the
-        words of the image's data objects whose symbol matches pattern."""
+        words of the image's data objects whose symbol matches pattern (with a
+        layout (stride, offsets), only the words at those offsets of each entry)."""
         out = {}
         for name, (addr, size, section) in sorted(self.objects.items()):
             if not re.search(pattern, name) or size == 0:
@@ -803,7 +810,14 @@ class Disassembly:
                 if m:
                     data += bytes.fromhex(m.group(2).replace(" ", ""))
             ptrs = []
-            for i in range(0, len(data) - 3, 4):
+            offsets = range(0, len(data) - 3, 4)
+            if layout is not None:
+                stride, fields = layout
+                if len(data) % stride != 0:
+                    raise AnalysisError(f"{name} of {self.image}: {len(data)} bytes, no multiple of its "
+                                        f"entries' {stride}: the table's layout changed")
+                offsets = [e + f for e in range(0, len(data), stride) for f in fields]
+            for i in offsets:
                 w = int.from_bytes(data[i:i + 4], "little")
                 if w & 1 and (w & ~1) in self.funcs:
                     ptrs.append(self.funcs[w & ~1][0])
@@ -887,7 +901,7 @@ def check_tables(analysis, dis):
         names = {analysis.g.functions[k].mangled for k in keys}
         seen, objects = set(), set()
         for d in dis:
-            for obj, ptrs in d.function_pointers(r.tables).items():
+            for obj, ptrs in d.function_pointers(r.tables, r.layout).items():
                 objects.add(obj)
                 for p in ptrs:
                     seen.add(p)

@@ -99,6 +99,21 @@ Vec3 spindle_ball_jacobian(const SpindleParams& p, const SpindleGeometry& g, int
   return p.head<3>() + depth * a + c * v + s * a.cross(v);
 }
 
+std::uint32_t spindle_fingerprint(const SpindleSample& s) {
+  // Each word mixed in with a multiply and a shift (splitmix64's finaliser):
+  // every input bit reaches every output bit, so that a changed last digit
+  // of a coordinate changes the fingerprint.
+  std::uint64_t h = 0;
+  const double words[4] = {s.phi_deg, s.p_mm.x(), s.p_mm.y(), s.p_mm.z()};
+  for (const double w : words) {
+    h ^= bits_of(w);
+    h = (h ^ (h >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    h = (h ^ (h >> 27)) * 0x94d049bb133111ebULL;
+    h ^= h >> 31;
+  }
+  return static_cast<std::uint32_t>(h ^ (h >> 32));
+}
+
 void SpindleBins::clear() {
   angles_[0] = angles_[1] = 0;
   samples_[0] = samples_[1] = 0;
@@ -136,8 +151,13 @@ Status SpindleBins::add(const SpindleSample& s) {
   if (same == nullptr && n > 0 && phi > 360.0 - kSameAngleDeg && bins[0].phi_deg + 360.0 <= phi + kSameAngleDeg) {
     same = &bins[0];
   }
+  const std::uint32_t fingerprint = spindle_fingerprint(s);
   if (same != nullptr) {
+    if (fingerprint == same->first_fingerprint || fingerprint == same->last_fingerprint) {
+      return Status::kDuplicateSample;
+    }
     if (same->count >= kMaxBinCount) return Status::kSessionFull;
+    same->last_fingerprint = fingerprint;
     ++same->count;
     const Vec3 delta = s.p_mm - same->mean_mm;
     same->mean_mm += delta / static_cast<double>(same->count);
@@ -149,6 +169,7 @@ Status SpindleBins::add(const SpindleSample& s) {
     bins[lo].count = 1;
     bins[lo].mean_mm = s.p_mm;
     bins[lo].scatter_mm2 = 0.0;
+    bins[lo].first_fingerprint = bins[lo].last_fingerprint = fingerprint;
     ++n;
   }
   ++samples_[k];
@@ -262,6 +283,10 @@ SpindleStep SpindleBuilder::step() {
         phase_ = Phase::kEvaluate;
         return {Status::kOk, true};
       }
+      // The samples and the geometry are finite (checked): a model value that
+      // is not means the iteration left the model's domain (the axis driven
+      // towards horizontal, convention 1), which is a fit that did not converge.
+      if (s.status == Status::kNotFinite) return fail(Status::kNoConvergence);
       if (s.status != Status::kOk) return fail(s.status);
       phase_ = Phase::kFinish;
       return {Status::kOk, true};

@@ -231,7 +231,7 @@ TEST_CASE("angle bins: repeats merge, every angle once, capacity and coverage at
     CHECK(bins->add({0.5, 1, Vec3::Zero()}) == Status::kSessionFull);
     CHECK(bins->angles(1) == 360);
     CHECK(bins->samples(1) == 360);
-    CHECK(bins->add({7.0, 1, Vec3::Zero()}) == Status::kOk);  // a repeat still fits
+    CHECK(bins->add({367.0, 1, Vec3::Zero()}) == Status::kOk);  // a repeat still fits
     CHECK(bins->largest_gap_deg(1) == 1.0);
   }
   SECTION("bad samples change nothing") {
@@ -341,10 +341,14 @@ TEST_CASE("one revolution: the noise comes from every residual", "[spindle]") {
   CHECK(fit.synchronous_rms_mm == Approx(fit.rms_mm).epsilon(1e-12));
   // 8 repeats are not enough to use (kMinNoiseRepeats = 9); 9 are.
   auto more = s;
-  for (std::size_t i = 0; i < 8; ++i) more.push_back(s[i]);
+  const auto again = [&](std::size_t i) {  // a revolution on, the same centre
+    more.push_back(s[i]);
+    more.back().phi_deg += 360.0;
+  };
+  for (std::size_t i = 0; i < 8; ++i) again(i);
   REQUIRE(core::fit_spindle(more.data(), more.size(), kGeometry, fit) == Status::kOk);
   CHECK_FALSE(fit.noise_from_repeats);
-  more.push_back(s[8]);
+  again(8);
   REQUIRE(core::fit_spindle(more.data(), more.size(), kGeometry, fit) == Status::kOk);
   CHECK(fit.noise_from_repeats);
   CHECK(fit.noise_sigma_mm == 0.0);  // exact repeats: no scatter
@@ -425,9 +429,12 @@ TEST_CASE("2^24 repeats of an angle fit in its bin, the next is session_full and
   auto bins = std::make_unique<core::SpindleBins>();
   bins->clear();
   std::uint32_t ok = 0;
-  for (std::uint32_t i = 0; i < core::kMaxBinCount; ++i) ok += bins->add({10.0, 1, Vec3::Zero()}) == Status::kOk ? 1u : 0u;
+  // Each sample its own (a duplicate would be refused): the centre's x counts them, in um.
+  for (std::uint32_t i = 0; i < core::kMaxBinCount; ++i) {
+    ok += bins->add({10.0, 1, Vec3(1e-3 * static_cast<double>(i), 0, 0)}) == Status::kOk ? 1u : 0u;
+  }
   CHECK(ok == core::kMaxBinCount);
-  CHECK(bins->add({370.0, 1, Vec3::Zero()}) == Status::kSessionFull);
+  CHECK(bins->add({370.0, 1, Vec3(-1, 0, 0)}) == Status::kSessionFull);
   CHECK(bins->bin(1, 0).count == core::kMaxBinCount);
   CHECK(bins->samples(1) == core::kMaxBinCount);
 }

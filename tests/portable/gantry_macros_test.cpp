@@ -124,6 +124,34 @@ TA_TEST("bad points and parameters get their own codes and change nothing") {
   TA_CHECK_EQ(gf::parameters(rig, 1, 0.0, Vec3(0, 0, -1)), kDone);  // a swing of 0: a wrist-centred frame
 }
 
+TA_TEST("9821 refuses a point its group already holds bit for bit (duplicate_sample), before any other check") {
+  ModuleRig rig;
+  gf::stream(rig);
+  TA_REQUIRE(gf::build(rig, false) == kDone);
+  const ModuleRig::Results built = rig.results();
+  const std::size_t count = session_size(rig);
+  const g::PointSession* session = rig.module().session<g::Method>();
+  TA_REQUIRE(session != nullptr);
+  const trueaxis::core::PointSpan a_circle = session->span(g::PointSession::group_of(2, gf::kACircle, 0).value());
+  TA_REQUIRE(a_circle.count > 0);
+  const Vec3 last = a_circle.points_mm[a_circle.count - 1];
+  const Vec3 bed = session->span(0).points_mm[0];
+  TA_CHECK_EQ(gf::add(rig, 2, gf::kACircle, 0, last), kError);  // the last point again: a row given twice
+  TA_CHECK_EQ(rig.code(), Status::kDuplicateSample);
+  TA_CHECK_EQ(gf::add(rig, 0, gf::kBed, 0, bed), kError);  // the file again: duplicate, not group_not_contiguous
+  TA_CHECK_EQ(rig.code(), Status::kDuplicateSample);
+  TA_CHECK_EQ(session_size(rig), count);
+  TA_REQUIRE(gf::build(rig, false) == kDone);
+  TA_CHECK(rig.results() == built);
+  // One ulp off in one coordinate, or the same coordinates in another group: points of their own.
+  const double up = 1e300;
+  TA_CHECK_EQ(gf::add(rig, 2, gf::kACircle, 0, Vec3(std::nextafter(last.x(), up), last.y(), last.z())), kDone);
+  TA_CHECK_EQ(gf::add(rig, 2, gf::kACircle, 0, Vec3(last.x(), std::nextafter(last.y(), up), last.z())), kDone);
+  TA_CHECK_EQ(gf::add(rig, 2, gf::kACircle, 0, Vec3(last.x(), last.y(), std::nextafter(last.z(), up))), kDone);
+  TA_CHECK_EQ(gf::add(rig, 3, gf::kCCircle, 0, last), kDone);
+  TA_CHECK_EQ(session_size(rig), count + 4);
+}
+
 TA_TEST("each group holds exactly its capacity, the session exactly 2048 points") {
   ModuleRig rig;
   TA_REQUIRE(rig.done(9820));
@@ -131,13 +159,13 @@ TA_TEST("each group holds exactly its capacity, the session exactly 2048 points"
     for (std::size_t i = 0; i < n; ++i) TA_REQUIRE(gf::add(rig, sub, kind, pass, Vec3(static_cast<double>(i), 0, 0)) == kDone);
   };
   fill(0, gf::kBed, 0, g::kMaxPlanePoints);
-  TA_CHECK_EQ(gf::add(rig, 0, gf::kBed, 0, Vec3(0, 0, 0)), kError);
+  TA_CHECK_EQ(gf::add(rig, 0, gf::kBed, 0, Vec3(-1, 0, 0)), kError);
   TA_CHECK_EQ(rig.code(), Status::kTooManyPoints);
   fill(2, gf::kCCircle, 0, g::kMaxCirclePoints);
-  TA_CHECK_EQ(gf::add(rig, 2, gf::kCCircle, 0, Vec3(0, 0, 0)), kError);
+  TA_CHECK_EQ(gf::add(rig, 2, gf::kCCircle, 0, Vec3(-1, 0, 0)), kError);
   TA_CHECK_EQ(rig.code(), Status::kTooManyPoints);
   fill(2, gf::kYPass, 3, g::kMaxPassPoints);
-  TA_CHECK_EQ(gf::add(rig, 2, gf::kYPass, 3, Vec3(0, 0, 0)), kError);
+  TA_CHECK_EQ(gf::add(rig, 2, gf::kYPass, 3, Vec3(-1, 0, 0)), kError);
   TA_CHECK_EQ(rig.code(), Status::kTooManyPoints);
   // Fill to exactly 2048 with whole passes, then one more point anywhere.
   std::size_t count = session_size(rig);

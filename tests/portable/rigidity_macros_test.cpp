@@ -92,6 +92,39 @@ TA_TEST("the rigidity session takes exactly its capacity and refuses the next sa
   TA_CHECK_EQ(rig.get(v::kRigiditySessionCount), 1.0);
 }
 
+TA_TEST("9831 refuses a sample given twice bit for bit (duplicate_sample); the samples given twice change no figure") {
+  ModuleRig rig;
+  rf::stream(rig);
+  TA_REQUIRE(rf::build(rig, false) == kDone);
+  const ModuleRig::Results built = rig.results();
+  const m::rigidity::RigiditySession* session = rig.module().session<m::rigidity::Method>();
+  TA_REQUIRE(session != nullptr);
+  constexpr std::size_t kCount = rf::kPoses * rf::kCPositions;
+  TA_REQUIRE(session->size() == kCount);
+  // The whole file again (the very bits the session holds): every sample refused, the session as it was.
+  for (std::size_t i = 0; i < kCount; ++i) {
+    TA_CASE_INDEX(i);
+    const trueaxis::core::RigiditySample s = (*session)[i];
+    TA_CHECK_EQ(rf::add(rig, s.a_deg, s.c_deg, s.p_mm), kError);
+    TA_CHECK_EQ(rig.code(), Status::kDuplicateSample);
+  }
+  TA_CHECK_EQ(session->size(), kCount);
+  TA_REQUIRE(rf::build(rig, false) == kDone);
+  TA_CHECK(rig.results() == built);
+  // A measurement repeated differs somewhere: one ulp in any one field is a sample of its own.
+  const trueaxis::core::RigiditySample s = (*session)[7];
+  const double up = 1e300;
+  const Vec3 p = s.p_mm;
+  TA_CHECK_EQ(rf::add(rig, std::nextafter(s.a_deg, up), s.c_deg, p), kDone);
+  TA_CHECK_EQ(rf::add(rig, s.a_deg, std::nextafter(s.c_deg, up), p), kDone);
+  TA_CHECK_EQ(rf::add(rig, s.a_deg, s.c_deg, Vec3(std::nextafter(p.x(), up), p.y(), p.z())), kDone);
+  TA_CHECK_EQ(rf::add(rig, s.a_deg, s.c_deg, Vec3(p.x(), std::nextafter(p.y(), up), p.z())), kDone);
+  TA_CHECK_EQ(rf::add(rig, s.a_deg, s.c_deg, Vec3(p.x(), p.y(), std::nextafter(p.z(), up))), kDone);
+  TA_CHECK_EQ(session->size(), kCount + 5);
+  TA_CHECK_EQ(rf::add(rig, s.a_deg, s.c_deg, Vec3(p.x(), p.y(), std::nextafter(p.z(), up))), kError);  // that one twice
+  TA_CHECK_EQ(rig.code(), Status::kDuplicateSample);
+}
+
 TA_TEST("9832 builds the closed-form table in several steps; R = 0 stores nothing, R = 1 stores it") {
   ModuleRig rig;
   rf::stream(rig);

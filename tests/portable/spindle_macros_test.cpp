@@ -107,6 +107,53 @@ TA_TEST("9841 refuses a ball other than 1 or 2 and keeps the session; the 361st 
   TA_CHECK_EQ(sf::add(rig, 0.5, 1, Vec3(0, 0, 400)), kDone);  // the other ball has room
 }
 
+TA_TEST("9841 refuses a sample given twice bit for bit (duplicate_sample); a revolution on is a repeat; the samples given twice change no figure") {
+  ModuleRig rig;
+  // The fixture's revolution, computed once: the samples sent again are the same bits.
+  Vec3 file[2][sf::kAngles];
+  const auto phi_of = [](int i) { return 360.0 / sf::kAngles * i; };
+  TA_REQUIRE(rig.done(9840));
+  for (int k = 1; k <= 2; ++k) {
+    for (int i = 0; i < sf::kAngles; ++i) {
+      file[k - 1][i] = sf::ball(k, phi_of(i));
+      TA_REQUIRE(sf::add(rig, phi_of(i), k, file[k - 1][i]) == kDone);
+    }
+  }
+  sf::arguments(rig, 0.0);
+  TA_REQUIRE(rig.run(9842) == kDone);
+  const ModuleRig::Results built = rig.results();
+  const trueaxis::core::SpindleBins* bins = rig.module().session<sp::Method>();
+  TA_REQUIRE(bins != nullptr);
+  // The file again: every sample refused (each is its bin's first).
+  for (int k = 1; k <= 2; ++k) {
+    for (int i = 0; i < sf::kAngles; ++i) {
+      TA_CASE_INDEX(k * 100 + i);
+      TA_CHECK_EQ(sf::add(rig, phi_of(i), k, file[k - 1][i]), kError);
+      TA_CHECK_EQ(rig.code(), Status::kDuplicateSample);
+    }
+  }
+  TA_CHECK_EQ(bins->samples(), std::size_t{2 * sf::kAngles});
+  sf::arguments(rig, 0.0);
+  TA_REQUIRE(rig.run(9842) == kDone);
+  TA_CHECK(rig.results() == built);
+  // A revolution on (phi + 360), the same centre: a repeat of the measurement, taken.
+  TA_CHECK_EQ(sf::add(rig, 375.0, 1, file[0][1]), kDone);
+  // That row twice in a row: its bin's latest sample.
+  TA_CHECK_EQ(sf::add(rig, 375.0, 1, file[0][1]), kError);
+  TA_CHECK_EQ(rig.code(), Status::kDuplicateSample);
+  // One ulp off in any one field: a sample of its own.
+  const Vec3 p = file[1][2];
+  const double phi = phi_of(2);
+  const double up = 1e300;
+  TA_CHECK_EQ(sf::add(rig, std::nextafter(phi, up), 2, p), kDone);
+  TA_CHECK_EQ(sf::add(rig, phi, 2, Vec3(std::nextafter(p.x(), up), p.y(), p.z())), kDone);
+  TA_CHECK_EQ(sf::add(rig, phi, 2, Vec3(p.x(), std::nextafter(p.y(), up), p.z())), kDone);
+  TA_CHECK_EQ(sf::add(rig, phi, 2, Vec3(p.x(), p.y(), std::nextafter(p.z(), up))), kDone);
+  TA_CHECK_EQ(bins->samples(), std::size_t{2 * sf::kAngles + 5});
+  TA_CHECK_EQ(sf::add(rig, phi, 2, p), kError);  // the bin's first sample again, after four others
+  TA_CHECK_EQ(rig.code(), Status::kDuplicateSample);
+}
+
 TA_TEST("9842 identifies the closed-form model in several steps; R = 0 stores nothing, R = 1 stores it") {
   ModuleRig rig;
   sf::stream(rig);

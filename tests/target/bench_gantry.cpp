@@ -64,8 +64,11 @@ class Streamer {
     ok_ = ok_ && write_n(mod_, var::kArgD, 1, &tqd[2]) && write_n(mod_, var::kArgQ, 1, &tqd[1]) &&
           write_n(mod_, var::kArgT, 1, &tqd[0]) && write_n(mod_, var::kArgX, 3, xyz) &&
           run(mod_, clock_, overhead_, 9821, longest, steps);
+    worst_ = longest > worst_ ? longest : worst_;
     ++count_;
   }
+  // The longest 9821 (it compares a point with its group's, duplicate_sample).
+  std::uint64_t worst() const { return worst_; }
   bool ok() const { return ok_; }
   std::uint64_t count() const { return count_; }
 
@@ -78,6 +81,7 @@ class Streamer {
   trueaxis::test::SplitMix64 rng_{20261123};
   bool ok_ = true;
   std::uint64_t count_ = 0;
+  std::uint64_t worst_ = 0;
 };
 
 // Stack painting: a window below the caller's stack pointer is filled with a
@@ -188,7 +192,9 @@ int main() {
          write_n(module, var::kArgT, 1, &t) && run(module, clock, overhead, 9822, longest, steps);
   }
   ok = ok && s.ok();
-  print("session: ", s.count(), " points streamed by 9821\n");
+  print("session: ", s.count(), " points streamed by 9821, ");
+  print("at most ", s.worst(), " instructions each\n");
+  ok = ok && s.worst() <= m::Module::kStepBoundInstructions;
 
   const double unlock = m::kUnlockCode;
   const double store = 1.0;

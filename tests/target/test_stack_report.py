@@ -463,6 +463,11 @@ class DisassemblyReader(unittest.TestCase):
         # 0x1001: lib_top (Thumb bit set); 0x3000 no function; 0x1041 _Z8own_funcv.
         self.assertEqual(self.dis.function_pointers(r"^kTable$"), {"kTable": ["lib_top", "_Z8own_funcv"]})
         self.assertEqual(self.dis.function_pointers(r"^kOther$"), {})
+        # With a layout only the fields named are pointers: 0x1041 is then data.
+        self.assertEqual(self.dis.function_pointers(r"^kTable$", (12, (0,))), {"kTable": ["lib_top"]})
+        self.assertEqual(self.dis.function_pointers(r"^kTable$", (4, (0,))), {"kTable": ["lib_top", "_Z8own_funcv"]})
+        with self.assertRaises(sr.AnalysisError):
+            self.dis.function_pointers(r"^kTable$", (8, (0,)))  # 12 bytes: no whole entries
 
     def test_table_entry_the_rule_misses(self):
         b = Build()

@@ -1,4 +1,6 @@
+#include <chrono>
 #include <cstdio>
+#include <utility>
 
 #include "trueaxis/core/status.hpp"
 #include "trueaxis/macros/register_map.hpp"
@@ -10,6 +12,30 @@ std::string module_error_text(int code) {
   const auto status = static_cast<core::Status>(code);
   return "module error " + std::to_string(code) + " " + macros::status_name(status) + ": " +
          macros::status_message(status);
+}
+
+bool module_refused(const FlowResult& fail, int status) {
+  const std::string text = module_error_text(status);
+  return fail.error.find(text) != std::string::npos;
+}
+
+namespace {
+std::int64_t now_ms() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+constexpr std::int64_t kProgressMs = 2000;
+}  // namespace
+
+Progress::Progress(std::string what, std::string unit)
+    : what_(std::move(what)), unit_(std::move(unit)), start_ms_(now_ms()), last_ms_(start_ms_) {}
+
+void Progress::update(std::uint64_t done, std::uint64_t total) {
+  const std::int64_t now = now_ms();
+  if (now - last_ms_ < kProgressMs) return;
+  last_ms_ = now;
+  std::fprintf(stderr, "trueaxis-calibrate: %s: %llu of %llu %s\n", what_.c_str(), static_cast<unsigned long long>(done),
+               static_cast<unsigned long long>(total), unit_.c_str());
 }
 
 bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail) {

@@ -7,6 +7,7 @@
 #include <map>
 #include <vector>
 
+#include "trueaxis/core/status.hpp"
 #include "trueaxis/macros/gantry/gantry_map.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
@@ -72,6 +73,64 @@ std::string parse_group(const std::string& name, Group& g) {
   return "unknown group '" + name + "'";
 }
 
+// A group's name as SAMPLES writes it.
+std::string group_name(const Group& g) {
+  const std::string k = std::to_string(g.d);
+  const std::string n = "sp" + std::to_string(g.t) + "_";
+  switch (g.q) {
+    case GroupKind::kBed: return "bed";
+    case GroupKind::kSide1: return "side_1";
+    case GroupKind::kSide2: return "side_2";
+    case GroupKind::kGantryPass: return "gantry_" + k;
+    case GroupKind::kXPass: return n + "x_" + k;
+    case GroupKind::kYPass: return n + "y_" + k;
+    case GroupKind::kZPass: return n + "z_" + k;
+    case GroupKind::kCCircle: return n + "c";
+    default: return n + "a";
+  }
+}
+
+std::size_t capacity_of(GroupKind q) {
+  if (q == GroupKind::kBed || q == GroupKind::kSide1 || q == GroupKind::kSide2) return macros::gantry::kMaxPlanePoints;
+  if (q == GroupKind::kCCircle || q == GroupKind::kACircle) return macros::gantry::kMaxCirclePoints;
+  return macros::gantry::kMaxPassPoints;
+}
+
+// The group the module found missing (it names none): the first absent in the
+// order it fits them (core/gantry_frames.hpp): bed, side_1, side_2, the gantry's
+// passes 1..the last given, then each sub-machine in id order: its x, y, z passes
+// (1..the last given of each axis), its C circle, its A circle; before all, at
+// least one sub-machine.
+std::string first_missing_group(const std::vector<Group>& sent, const std::string& file) {
+  const auto has = [&](int t, GroupKind q, int d) {
+    return std::any_of(sent.begin(), sent.end(), [&](const Group& g) { return g.t == t && g.q == q && g.d == d; });
+  };
+  const auto last_pass = [&](int t, GroupKind q) {
+    int last = 0;
+    for (const Group& g : sent) {
+      if (g.t == t && g.q == q) last = std::max(last, g.d);
+    }
+    return last;
+  };
+  if (std::none_of(sent.begin(), sent.end(), [](const Group& g) { return g.t > 0; })) {
+    return file + " measures no sub-machine (no row of a group spN_...)";
+  }
+  std::vector<Group> needed = {{0, GroupKind::kBed, 0}, {0, GroupKind::kSide1, 0}, {0, GroupKind::kSide2, 0}};
+  for (int k = 1; k <= std::max(1, last_pass(0, GroupKind::kGantryPass)); ++k) needed.push_back({0, GroupKind::kGantryPass, k});
+  for (int t = 1; t <= 8; ++t) {
+    if (std::none_of(sent.begin(), sent.end(), [t](const Group& g) { return g.t == t; })) continue;
+    for (const GroupKind q : {GroupKind::kXPass, GroupKind::kYPass, GroupKind::kZPass}) {
+      for (int k = 1; k <= std::max(1, last_pass(t, q)); ++k) needed.push_back({t, q, k});
+    }
+    needed.push_back({t, GroupKind::kCCircle, 0});
+    needed.push_back({t, GroupKind::kACircle, 0});
+  }
+  for (const Group& g : needed) {
+    if (!has(g.t, g.q, g.d)) return file + " has no row of group '" + group_name(g) + "'";
+  }
+  return "every group trueaxis-calibrate knows of was sent";
+}
+
 std::string json_axes(const double* x, const double* y, const double* z) {
   return "\"x\": " + json_vec3(x) + ", \"y\": " + json_vec3(y) + ", \"z\": " + json_vec3(z);
 }
@@ -84,11 +143,24 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
     r.error = "gantry needs --machine MACHINE.csv (sub_machine,swing_mm,tool_x,tool_y,tool_z)";
     return r;
   }
-  const CsvResult csv =
-      read_csv(options.in_path, {{"group", false}, {"x_mm"}, {"y_mm"}, {"z_mm"}});
-  if (!csv.ok) {
-    r.error = csv.error;
-    return r;
+  // The rows are kept to sort them by group: at most the session's capacity.
+  std::vector<CsvRow> rows;
+  {
+    CsvReader reader(options.in_path, {{"group", false}, {"x_mm"}, {"y_mm"}, {"z_mm"}});
+    CsvRow row;
+    while (reader.next(row)) {
+      if (rows.size() == macros::gantry::kSessionCapacity) {
+        const std::string capacity = std::to_string(macros::gantry::kSessionCapacity);
+        r.error = options.in_path + ":" + std::to_string(row.line) + ": point " + capacity + " + 1: the module's " +
+                  "gantry session holds " + capacity + " points (session_full); nothing was sent";
+        return r;
+      }
+      rows.push_back(row);
+    }
+    if (!reader.error().empty()) {
+      r.error = reader.error();
+      return r;
+    }
   }
   const CsvResult machine = read_csv(options.machine_path,
                                      {{"sub_machine"}, {"swing_mm"}, {"tool_x"}, {"tool_y"}, {"tool_z"}});
@@ -103,7 +175,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
   };
   std::vector<Sample> samples;
   bool mentioned[9] = {};
-  for (const CsvRow& row : csv.rows) {
+  for (const CsvRow& row : rows) {
     Group g;
     const std::string what = parse_group(row.texts[0], g);
     if (!what.empty()) {
@@ -147,7 +219,15 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
       r.error = where + ": the module refused the sample: " + client.failure_text();
       return r;
     }
-    if (!run_or_fail(client, kAdd, where, r)) return r;
+    if (!run_or_fail(client, kAdd, where, r)) {
+      if (module_refused(r, static_cast<int>(core::Status::kTooManyPoints))) {
+        r.error += ": group '" + s.row->texts[0] + "' holds at most " + std::to_string(capacity_of(s.group.q)) +
+                   " points, and this is one more";
+      } else if (module_refused(r, static_cast<int>(core::Status::kSessionFull))) {
+        r.error += ": the session holds " + std::to_string(macros::gantry::kSessionCapacity) + " points";
+      }
+      return r;
+    }
   }
   // Only the sub-machines the samples measure: a MACHINE file may describe the
   // whole machine while one sub-machine is measured again (the module computes
@@ -166,7 +246,15 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
 
   // Computed without storing: the command stores only after the JSON and the
   // report are made (store_gantry), so a later failure stores nothing.
-  if (!transport(client, client.write_one(var::kArgR, 0.0), r) || !run_or_fail(client, kBuild, "", r)) return r;
+  if (!transport(client, client.write_one(var::kArgR, 0.0), r)) return r;
+  if (!run_or_fail(client, kBuild, "", r)) {
+    if (module_refused(r, static_cast<int>(core::Status::kMissingGroup))) {
+      std::vector<Group> sent;
+      for (const Sample& s : samples) sent.push_back(s.group);
+      r.error += ": " + first_missing_group(sent, options.in_path);
+    }
+    return r;
+  }
   double build[4];
   double global[20];
   if (!transport(client, client.read(var::kGantryBuilt, 4, build), r) ||

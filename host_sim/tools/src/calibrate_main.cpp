@@ -11,17 +11,22 @@
 // Exit 0 with one summary line on stdout: what was computed, the worst figure
 // with its sigma, what was written and what stored. Exit 1 with one line on
 // stderr on any failure, bad usage included, and then nothing on stdout, no
-// OUT.json, no report and nothing stored. The module grants its macro interface
-// to one client at a time (macros/module.hpp contract 8): while another client
-// holds it, the command says so on stderr and waits, at most --wait seconds
-// (default 120), then fails with that sentence.
+// OUT.json, no report and nothing stored (both are made in temporaries beside
+// their targets, DIR.tmp-XXXXXX and OUT.json.tmp, and moved into place after
+// the store). Work over 2 s reports its progress on stderr first. The module
+// grants its macro interface to one client at a time (macros/module.hpp
+// contract 8): while another client holds it, the command says so on stderr
+// and waits, at most --wait seconds (default 120), then fails with that
+// sentence.
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <string>
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <ftw.h>
 #include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -53,10 +58,10 @@ int usage_error(const std::string& why) { return fail(why + " (trueaxis-calibrat
 // Runs Debian's python3 (where python3-matplotlib installs, whatever else is
 // first on PATH) on the report script with argv, no shell; true on exit 0.
 // Its stderr goes nowhere: a failure is the command's one line.
-bool make_report(const CalibrateMethod& method, const CalibrateOptions& o, const std::string& json_path) {
+bool make_report(const CalibrateMethod& method, const std::string& dir, const std::string& json_path) {
   const std::string script = TRUEAXIS_REPORT_SCRIPT;
-  const char* args[] = {TRUEAXIS_PYTHON, script.c_str(), method.report_module, json_path.c_str(),
-                        o.report_dir.c_str(), nullptr};
+  const char* args[] = {TRUEAXIS_PYTHON, script.c_str(), method.report_module, json_path.c_str(), dir.c_str(),
+                        nullptr};
   posix_spawn_file_actions_t quiet;
   posix_spawn_file_actions_init(&quiet);
   posix_spawn_file_actions_addopen(&quiet, 1, "/dev/null", O_WRONLY, 0);
@@ -94,6 +99,31 @@ void print_method_help(const CalibrateMethod& m) {
   std::printf("trueaxis-calibrate %s: %s\n\n%s\n%s\n", m.name, m.title, kUsage, m.files);
   std::printf("CSV: a header row, columns in any order (others ignored); '#' lines are comments;\n"
               "numbers as C strtod reads them (not NaN or infinite).\n");
+}
+
+int remove_entry(const char* path, const struct stat*, int, struct FTW*) { return std::remove(path); }
+
+// A directory and all it holds.
+void remove_tree(const std::string& dir) {
+  if (!dir.empty()) ::nftw(dir.c_str(), remove_entry, 16, FTW_DEPTH | FTW_PHYS);
+}
+
+// The report made in `tmp` into its place `dir`: renamed when `dir` does not
+// exist, else each file moved into it (a report made earlier is replaced file
+// by file); true when all moved.
+bool place_report(const std::string& tmp, const std::string& dir) {
+  if (::rename(tmp.c_str(), dir.c_str()) == 0) return true;
+  DIR* d = ::opendir(tmp.c_str());
+  if (d == nullptr) return false;
+  bool moved = true;
+  while (const dirent* e = ::readdir(d)) {
+    const std::string name = e->d_name;
+    if (name == "." || name == "..") continue;
+    moved = moved && ::rename((tmp + "/" + name).c_str(), (dir + "/" + name).c_str()) == 0;
+  }
+  ::closedir(d);
+  remove_tree(tmp);
+  return moved;
 }
 
 // "; stored (record 3 rigidity_table)".
@@ -183,20 +213,27 @@ int main(int argc, char** argv) {
   FlowResult r = method->calibrate(client, o);
   if (!r.ok) return fail(r.error);
 
-  // OUT.json goes to a temporary file first and into place last, after the
-  // report and the store: on any failure it is absent and nothing is stored.
+  // OUT.json and the report go to temporaries beside their targets first and
+  // into place last, after the store: on any failure neither is there and
+  // nothing is stored.
   const std::string tmp = o.json_path + ".tmp";
-  const auto fail_clean = [&tmp](const std::string& line) {
+  std::string report_tmp;
+  const auto fail_clean = [&tmp, &report_tmp](const std::string& line) {
     std::remove(tmp.c_str());
+    remove_tree(report_tmp);
     return fail(line);
   };
   if (!write_text_file(tmp, r.json)) return fail_clean(o.json_path + ": cannot be written");
   std::string summary = r.summary + "; wrote " + o.json_path;
   if (!o.report_dir.empty()) {
+    std::string dir = o.report_dir;
+    while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+    std::string templ = dir + ".tmp-XXXXXX";
     struct stat st {};
-    if ((::mkdir(o.report_dir.c_str(), 0755) != 0 && errno != EEXIST) || ::stat(o.report_dir.c_str(), &st) != 0 ||
-        !S_ISDIR(st.st_mode) || !write_text_file(o.report_dir + "/module_figures.json", r.report_extras) ||
-        !make_report(*method, o, tmp)) {
+    const bool usable = ::stat(dir.c_str(), &st) != 0 ? errno == ENOENT : S_ISDIR(st.st_mode);
+    if (usable && ::mkdtemp(templ.data()) != nullptr) report_tmp = templ;
+    if (report_tmp.empty() || !write_text_file(report_tmp + "/module_figures.json", r.report_extras) ||
+        !make_report(*method, report_tmp, tmp)) {
       return fail_clean(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
     }
     summary += ", report " + o.report_dir + "/index.html";
@@ -206,6 +243,11 @@ int main(int argc, char** argv) {
   summary += o.store ? "; " + stored_text(method->name) : "; not stored";
   client.give_back_interface();  // closing gives it back too; this is at once
   client.close();
+  if (!report_tmp.empty() && !place_report(report_tmp, o.report_dir)) {
+    report_tmp.clear();  // place_report removed it
+    return fail_clean(o.report_dir + ": the report could not be moved into place");
+  }
+  report_tmp.clear();
   if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
   std::printf("%s\n", summary.c_str());
   return 0;

@@ -1,10 +1,12 @@
 // The rigidity flow (docs/INTERFACE.md "M3 rigidity"): samples -> session 9830/9831
 // -> build 9832 (stored with --store) -> per pose 9834 -> OUT.json.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
 #include "trueaxis/core/rigidity_table.hpp"
+#include "trueaxis/core/status.hpp"
 
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/macros/rigidity/rigidity_map.hpp"
@@ -26,13 +28,45 @@ constexpr std::uint16_t kPose = 9834;
 
 FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& options) {
   FlowResult r;
-  const CsvResult csv = read_csv(options.in_path, {{"a_deg"}, {"c_deg"}, {"x_mm"}, {"y_mm"}, {"z_mm"}});
-  if (!csv.ok) {
-    r.error = csv.error;
-    return r;
+  const std::vector<CsvColumn> columns = {{"a_deg"}, {"c_deg"}, {"x_mm"}, {"y_mm"}, {"z_mm"}};
+  // First pass: every row checked, and the poses as the module forms them
+  // (A within kPoseAToleranceDeg), to name a pose the module refuses.
+  struct Pose {
+    double a_deg;
+    int samples;
+    int line_beyond;  // the line of its sample kMaxPoseSamples + 1, 0 while none
+  };
+  std::vector<Pose> pose_rows;
+  std::uint64_t rows = 0;
+  {
+    CsvReader reader(options.in_path, columns);
+    CsvRow row;
+    Progress progress(options.in_path, "bytes read");
+    while (reader.next(row)) {
+      ++rows;
+      progress.update(reader.bytes_read(), reader.size_bytes());
+      auto pose = std::find_if(pose_rows.begin(), pose_rows.end(), [&](const Pose& p) {
+        return std::fabs(p.a_deg - row.numbers[0]) <= core::kPoseAToleranceDeg;
+      });
+      if (pose == pose_rows.end()) {
+        if (pose_rows.size() > core::kMaxAPoses) continue;  // the module refuses too_many_poses
+        pose_rows.push_back({row.numbers[0], 0, 0});
+        pose = pose_rows.end() - 1;
+      }
+      if (++pose->samples == macros::rigidity::kMaxPoseSamples + 1) pose->line_beyond = row.line;
+    }
+    if (!reader.error().empty()) {
+      r.error = reader.error();
+      return r;
+    }
   }
+
   if (!run_or_fail(client, kClear, "", r)) return r;
-  for (const CsvRow& row : csv.rows) {
+  CsvReader reader(options.in_path, columns);
+  CsvRow row;
+  Progress progress(options.in_path, "samples sent");
+  std::uint64_t sent = 0;
+  while (reader.next(row)) {
     const std::string where = options.in_path + ":" + std::to_string(row.line);
     const double ac[3] = {row.numbers[0], 0.0, row.numbers[1]};
     const double xyz[3] = {row.numbers[2], row.numbers[3], row.numbers[4]};
@@ -40,12 +74,31 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
       r.error = where + ": the module refused the sample: " + client.failure_text();
       return r;
     }
-    if (!run_or_fail(client, kAdd, where, r)) return r;
+    if (!run_or_fail(client, kAdd, where, r)) {
+      if (module_refused(r, static_cast<int>(core::Status::kSessionFull))) {
+        r.error += ": the session holds " + std::to_string(macros::rigidity::kSessionCapacity) + " samples";
+      }
+      return r;
+    }
+    progress.update(++sent, rows);
   }
 
   // Built without storing: the command stores only after the JSON and the
   // report are made (store_rigidity), so a later failure stores nothing.
-  if (!transport(client, client.write_one(var::kArgR, 0.0), r) || !run_or_fail(client, kBuild, "", r)) return r;
+  if (!transport(client, client.write_one(var::kArgR, 0.0), r)) return r;
+  if (!run_or_fail(client, kBuild, "", r)) {
+    // The module names no pose: the first in A order beyond its capacity (the builder's order).
+    std::sort(pose_rows.begin(), pose_rows.end(), [](const Pose& a, const Pose& b) { return a.a_deg < b.a_deg; });
+    const auto full = std::find_if(pose_rows.begin(), pose_rows.end(), [](const Pose& p) { return p.line_beyond != 0; });
+    if (module_refused(r, static_cast<int>(core::Status::kTooManyPoints)) && full != pose_rows.end()) {
+      char what[160];
+      std::snprintf(what, sizeof what, ": the pose at A = %g deg has %d samples, at most %d (its sample %d)",
+                    full->a_deg, full->samples, static_cast<int>(macros::rigidity::kMaxPoseSamples),
+                    static_cast<int>(macros::rigidity::kMaxPoseSamples) + 1);
+      r.error = options.in_path + ":" + std::to_string(full->line_beyond) + ": " + r.error + what;
+    }
+    return r;
+  }
 
   double summary[12];
   if (!transport(client, client.read(var::kRigidityPoses, 12, summary), r)) return r;

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "trueaxis/core/status.hpp"
 #include "trueaxis/macros/register_map.hpp"
@@ -77,31 +78,59 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
         "ball_1_mm, ball_2_mm, tool_length_mm)";
     return r;
   }
-  const CsvResult csv = read_csv(options.in_path, {{"phi_deg"}, {"ball"}, {"x_mm"}, {"y_mm"}, {"z_mm"}});
-  if (!csv.ok) {
-    r.error = csv.error;
-    return r;
-  }
   Machine m;
   r.error = read_machine(options.machine_path, m);
   if (!r.error.empty()) return r;
-  for (const CsvRow& row : csv.rows) {
-    if (row.numbers[1] != 1.0 && row.numbers[1] != 2.0) {
-      r.error = options.in_path + ":" + std::to_string(row.line) + ": ball must be 1 or 2, not '" + row.texts[1] + "'";
+  const std::vector<CsvColumn> columns = {{"phi_deg"}, {"ball"}, {"x_mm"}, {"y_mm"}, {"z_mm"}};
+  // First pass: every row checked; each ball's mean centre, to tell lengths
+  // in other units from a fit that failed for another reason.
+  std::uint64_t rows = 0;
+  double sum[2][3] = {};
+  std::uint64_t count[2] = {};
+  {
+    CsvReader reader(options.in_path, columns);
+    CsvRow row;
+    Progress progress(options.in_path, "bytes read");
+    while (reader.next(row)) {
+      if (row.numbers[1] != 1.0 && row.numbers[1] != 2.0) {
+        r.error = options.in_path + ":" + std::to_string(row.line) + ": ball must be 1 or 2, not '" + row.texts[1] + "'";
+        return r;
+      }
+      const int k = row.numbers[1] == 1.0 ? 0 : 1;
+      for (std::size_t i = 0; i < 3; ++i) sum[k][i] += row.numbers[2 + i];
+      ++count[k];
+      ++rows;
+      progress.update(reader.bytes_read(), reader.size_bytes());
+    }
+    if (!reader.error().empty()) {
+      r.error = reader.error();
       return r;
     }
   }
 
   if (!run_or_fail(client, kClear, "", r)) return r;
-  for (const CsvRow& row : csv.rows) {
-    const std::string where = options.in_path + ":" + std::to_string(row.line);
-    const double st[2] = {row.numbers[0], row.numbers[1]};  // S = #19, T = #20
-    const double xyz[3] = {row.numbers[2], row.numbers[3], row.numbers[4]};
-    if (!client.write(var::kArgS, 2, st) || !client.write(var::kArgX, 3, xyz)) {
-      r.error = where + ": the module refused the sample: " + client.failure_text();
-      return r;
+  {
+    CsvReader reader(options.in_path, columns);
+    CsvRow row;
+    Progress progress(options.in_path, "samples sent");
+    std::uint64_t sent = 0;
+    while (reader.next(row)) {
+      const std::string where = options.in_path + ":" + std::to_string(row.line);
+      const double st[2] = {row.numbers[0], row.numbers[1]};  // S = #19, T = #20
+      const double xyz[3] = {row.numbers[2], row.numbers[3], row.numbers[4]};
+      if (!client.write(var::kArgS, 2, st) || !client.write(var::kArgX, 3, xyz)) {
+        r.error = where + ": the module refused the sample: " + client.failure_text();
+        return r;
+      }
+      if (!run_or_fail(client, kAdd, where, r)) {
+        if (module_refused(r, static_cast<int>(core::Status::kSessionFull))) {
+          r.error += ": ball " + row.texts[1] + " has " + std::to_string(core::kMaxSpindleAngles) +
+                     " distinct angles already, the most the session holds";
+        }
+        return r;
+      }
+      progress.update(++sent, rows);
     }
-    if (!run_or_fail(client, kAdd, where, r)) return r;
   }
 
   // Identified without storing: the command stores only after the JSON and the
@@ -111,9 +140,30 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
   for (const MacroArgument& a : r.build_arguments) written = written && client.write_one(a.number, a.value);
   if (!transport(client, written && client.write_one(var::kArgR, 0.0), r)) return r;
   if (!run_or_fail(client, kBuild, "", r)) {
+    if (module_refused(r, static_cast<int>(core::Status::kMissingGroup))) {
+      r.error += ": " + options.in_path + " has no row for ball " + (count[0] == 0 ? "1" : "2");
+      return r;
+    }
+    // The balls' mean centres lie ball_2_mm - ball_1_mm apart along the axis:
+    // a distance far from it says which file's lengths are in other units.
+    double d2 = 0.0;
+    for (int i = 0; i < 3 && count[0] > 0 && count[1] > 0; ++i) {
+      const double d = sum[1][i] / static_cast<double>(count[1]) - sum[0][i] / static_cast<double>(count[0]);
+      d2 += d * d;
+    }
+    const double apart_mm = std::sqrt(d2);
+    const double machine_mm = m.value[kBall2] - m.value[kBall1];
+    if (machine_mm > 0.0 && apart_mm > 0.0 && (apart_mm / machine_mm > 10.0 || machine_mm / apart_mm > 10.0)) {
+      char why[240];
+      std::snprintf(why, sizeof why,
+                    " (the balls' centres in %s lie %.6g apart, MACHINE's ball_2_mm - ball_1_mm is %.6g: "
+                    "are the lengths of one file in metres, or in other units than mm?)",
+                    options.in_path.c_str(), apart_mm, machine_mm);
+      r.error = options.machine_path + ": " + r.error + why;
+      return r;
+    }
     // D, U and V are MACHINE's lengths: name the file when the module refuses one.
-    const std::string refused = module_error_text(static_cast<int>(core::Status::kArgumentOutOfRange));
-    if (r.error.compare(0, refused.size(), refused) == 0) {
+    if (module_refused(r, static_cast<int>(core::Status::kArgumentOutOfRange))) {
       r.error =
           options.machine_path + ": " + r.error + " (gauge_from_upper_bearing_mm > 0, 0 <= ball_1_mm < ball_2_mm)";
     }

@@ -36,66 +36,128 @@ bool parse_number(const std::string& field, double& out) {
   return true;
 }
 
-CsvResult fail(const std::string& name, int line, const std::string& what) {
-  CsvResult r;
-  r.error = name + ":" + std::to_string(line) + ": " + what;
-  return r;
+constexpr char kUtf8Bom[] = "\xEF\xBB\xBF";
+
+// Why a header lacks a column, when its form says more than the column's name.
+std::string header_form(const std::string& header) {
+  if (header.find(',') == std::string::npos) {
+    if (header.find(';') != std::string::npos) return "the file uses ';' as separator; trueaxis reads ','";
+    if (header.find('\t') != std::string::npos) return "the file uses tabs as separator; trueaxis reads ','";
+  }
+  if (header.find('\0') != std::string::npos) return "the file is UTF-16; trueaxis reads UTF-8 (or ASCII) text";
+  return "";
 }
 
 }  // namespace
 
+CsvLines::Kind CsvLines::fail(const std::string& what) {
+  error_ = name_ + ":" + std::to_string(line_) + ": " + what;
+  return Kind::kError;
+}
+
+CsvLines::Kind CsvLines::feed(std::string raw, CsvRow& row) {
+  ++line_;
+  if (line_ == 1 && raw.compare(0, 3, kUtf8Bom) == 0) raw.erase(0, 3);
+  if (line_ == 1 && raw.size() >= 2 && ((raw[0] == '\xFF' && raw[1] == '\xFE') || (raw[0] == '\xFE' && raw[1] == '\xFF'))) {
+    return fail("the file is UTF-16; trueaxis reads UTF-8 (or ASCII) text");
+  }
+  const std::string content = trim(raw);
+  if (content.empty() || content[0] == '#') return Kind::kSkip;
+  const std::vector<std::string> fields = split(content);
+  if (header_line_ == 0) {
+    header_line_ = line_;
+    index_.assign(columns_.size(), -1);
+    for (std::size_t c = 0; c < columns_.size(); ++c) {
+      for (std::size_t f = 0; f < fields.size(); ++f) {
+        if (fields[f] == columns_[c].name) index_[c] = static_cast<int>(f);
+      }
+      if (index_[c] < 0) {
+        const std::string form = header_form(content);
+        return fail(!form.empty() ? form : "the header has no column '" + columns_[c].name + "'");
+      }
+    }
+    return Kind::kHeader;
+  }
+  row.line = line_;
+  row.numbers.clear();
+  row.texts.clear();
+  for (std::size_t c = 0; c < columns_.size(); ++c) {
+    const auto f = static_cast<std::size_t>(index_[c]);
+    if (f >= fields.size()) return fail("too few fields: no value for '" + columns_[c].name + "'");
+    double v = 0.0;
+    if (columns_[c].numeric && !parse_number(fields[f], v)) {
+      return fail("'" + columns_[c].name + "' is not a finite number: '" + fields[f] + "'");
+    }
+    row.numbers.push_back(v);
+    row.texts.push_back(fields[f]);
+  }
+  return Kind::kRow;
+}
+
+std::string CsvLines::finish() const {
+  if (header_line_ != 0) return "";
+  return name_ + ":" + std::to_string(line_ == 0 ? 1 : line_) + ": no header row";
+}
+
 CsvResult parse_csv(const std::string& name, const std::string& text, const std::vector<CsvColumn>& columns) {
   CsvResult result;
-  std::vector<int> index(columns.size(), -1);
+  CsvLines lines(name, columns);
   std::istringstream in(text);
   std::string raw;
-  int line = 0;
+  CsvRow row;
   while (std::getline(in, raw)) {
-    ++line;
-    const std::string content = trim(raw);
-    if (content.empty() || content[0] == '#') continue;
-    const std::vector<std::string> fields = split(content);
-    if (result.header_line == 0) {
-      result.header_line = line;
-      for (std::size_t c = 0; c < columns.size(); ++c) {
-        for (std::size_t f = 0; f < fields.size(); ++f) {
-          if (fields[f] == columns[c].name) index[c] = static_cast<int>(f);
-        }
-        if (index[c] < 0) return fail(name, line, "the header has no column '" + columns[c].name + "'");
-      }
-      continue;
+    const CsvLines::Kind kind = lines.feed(raw, row);
+    if (kind == CsvLines::Kind::kError) {
+      result.error = lines.error();
+      return result;
     }
-    CsvRow row;
-    row.line = line;
-    for (std::size_t c = 0; c < columns.size(); ++c) {
-      const auto f = static_cast<std::size_t>(index[c]);
-      if (f >= fields.size()) {
-        return fail(name, line, "too few fields: no value for '" + columns[c].name + "'");
-      }
-      double v = 0.0;
-      if (columns[c].numeric && !parse_number(fields[f], v)) {
-        return fail(name, line, "'" + columns[c].name + "' is not a finite number: '" + fields[f] + "'");
-      }
-      row.numbers.push_back(v);
-      row.texts.push_back(fields[f]);
-    }
-    result.rows.push_back(std::move(row));
+    if (kind == CsvLines::Kind::kRow) result.rows.push_back(row);
   }
-  if (result.header_line == 0) return fail(name, line == 0 ? 1 : line, "no header row");
-  result.ok = true;
+  result.error = lines.finish();
+  result.header_line = lines.header_line();
+  result.ok = result.error.empty();
+  if (!result.ok) result.rows.clear();
   return result;
 }
 
 CsvResult read_csv(const std::string& path, const std::vector<CsvColumn>& columns) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {  // no line to name: "FILE: what"
-    CsvResult r;
-    r.error = path + ": cannot be read";
-    return r;
+  CsvResult result;
+  CsvReader reader(path, columns);
+  CsvRow row;
+  while (reader.next(row)) result.rows.push_back(row);
+  result.error = reader.error();
+  result.header_line = reader.header_line();
+  result.ok = result.error.empty();
+  if (!result.ok) result.rows.clear();
+  return result;
+}
+
+CsvReader::CsvReader(const std::string& path, const std::vector<CsvColumn>& columns)
+    : file_(path, std::ios::binary), lines_(path, columns) {
+  if (!file_) {  // no line to name: "FILE: what"
+    error_ = path + ": cannot be read";
+    done_ = true;
+    return;
   }
-  std::ostringstream text;
-  text << file.rdbuf();
-  return parse_csv(path, text.str(), columns);
+  file_.seekg(0, std::ios::end);
+  size_ = static_cast<std::uint64_t>(file_.tellg());
+  file_.seekg(0, std::ios::beg);
+}
+
+bool CsvReader::next(CsvRow& row) {
+  while (!done_ && std::getline(file_, raw_)) {
+    bytes_ += raw_.size() + 1;
+    const CsvLines::Kind kind = lines_.feed(raw_, row);
+    if (kind == CsvLines::Kind::kRow) return true;
+    if (kind == CsvLines::Kind::kError) {
+      error_ = lines_.error();
+      done_ = true;
+      return false;
+    }
+  }
+  if (!done_) error_ = lines_.finish();
+  done_ = true;
+  return false;
 }
 
 }  // namespace trueaxis::sim

@@ -6,6 +6,7 @@
 // report, nothing stored and the module locked again; a stored table whose CRC
 // fails falls back to the older copy, then to no table.
 #include <catch2/catch.hpp>
+#include <dirent.h>
 
 #include <chrono>
 #include <cstdio>
@@ -333,6 +334,10 @@ TEST_CASE("calibrate rigidity: a bad sample is named by its line or the module's
   cases.push_back({"a missing column", "# rig 3\na_deg,c_deg,x_mm,z_mm\n0,0,1,3\n",
                    at + "2: the header has no column 'y_mm'\n", false});
   cases.push_back({"an empty file", "", at + "1: no header row\n", false});
+  cases.push_back({"';' as separator", "a_deg;c_deg;x_mm;y_mm;z_mm\n0;0;1;2;3\n",
+                   at + "1: the file uses ';' as separator; trueaxis reads ','\n", false});
+  cases.push_back({"tabs as separator", "# rig 3\na_deg\tc_deg\tx_mm\ty_mm\tz_mm\n0\t0\t1\t2\t3\n",
+                   at + "2: the file uses tabs as separator; trueaxis reads ','\n", false});
   cases.push_back({"CRLF lines", "a_deg,c_deg,x_mm,y_mm,z_mm\r\n0,0,1,2,3\r\n0,0,x,2,3\r\n",
                    at + "3: 'x_mm' is not a finite number: 'x'\n", false});
   {
@@ -361,7 +366,21 @@ TEST_CASE("calibrate rigidity: a bad sample is named by its line or the module's
       if (r.c_deg == 5) too_many += r.text + "\n";     // the 37th sample of pose 30
     }
     module_case("a pose spanning 15 deg of C", short_arc, Status::kArcTooShort);
-    module_case("37 samples in one pose", too_many, Status::kTooManyPoints);
+    // The module names no pose: the command names it, and the line of its 37th sample (header 1, 252 rows).
+    cases.push_back({"37 samples in one pose", too_many,
+                     at + "254: " + module_error(Status::kTooManyPoints).substr(20) +
+                         " (macro 9832): the pose at A = 30 deg has 37 samples, at most 36 (its sample 37)\n",
+                     true});
+  }
+  {
+    // A row given twice, and the file given twice: refused at the repeat's line, before any sigma.
+    const std::string once = csv_where(good, [](const Row&) { return true; });
+    cases.push_back({"a row given twice", once + good[100].text + "\n",
+                     at + "254: " + module_error(Status::kDuplicateSample).substr(20) + " (macro 9831)\n", true});
+    std::string twice = once;
+    for (const Row& r : good) twice += r.text + "\n";
+    cases.push_back({"the file given twice", twice,
+                     at + "254: " + module_error(Status::kDuplicateSample).substr(20) + " (macro 9831)\n", true});
   }
   {
     // Pose 30's samples at C 0 and C 180 with their C swapped: their phases are 180 deg off.
@@ -378,11 +397,13 @@ TEST_CASE("calibrate rigidity: a bad sample is named by its line or the module's
   }
   module_case("17 A poses", csv_where(many, [](const Row&) { return true; }), Status::kTooManyPoses);
   {
-    // 513 samples: the session is full at the 513th, physical line 2 + 513.
+    // 513 distinct samples: the session is full at the 513th, physical line 2 + 513.
     std::string full = "# three times over\n" + kHeader;
-    for (int k = 0; k < 513; ++k) full += good[static_cast<std::size_t>(k) % good.size()].text + "\n";
+    for (int k = 0; k < 513; ++k) full += "0," + std::to_string(k) + ",1,2,3\n";
     cases.push_back({"more samples than the session holds", full,
-                     at + "515: " + module_error(Status::kSessionFull).substr(20), true});
+                     at + "515: " + module_error(Status::kSessionFull).substr(20) +
+                         " (macro 9831): the session holds 512 samples\n",
+                     true});
   }
 
   const auto check_refusals = [&](const std::vector<std::vector<double>>& table_before) {
@@ -513,12 +534,19 @@ TEST_CASE("calibrate --store unlocks with the machine's own code (--unlock-code)
   REQUIRE(client.write_one(v::kUnlockCodeSetting, 4321.0));
   REQUIRE(client.write_one(v::kUnlock, 0.0));
   REQUIRE(client.give_back_interface());
-  // The published code, now wrong: said as such, with the back-off it started.
-  Run r = calibrate(sim.port(), w, w.file("samples.csv"), w.file("out.json"), true);
+  // The published code, now wrong: said as such, with the back-off it started; a
+  // store that fails leaves no OUT.json and no report, nor their temporaries.
+  Run r = calibrate(sim.port(), w, w.file("samples.csv"), w.file("out.json"), true, w.file("report"));
   CHECK(r.exit_code == 1);
   CHECK(r.err == "trueaxis-calibrate: wrong unlock code: the controller refused it (--unlock-code must be the "
                  "machine's code, #900), and takes no code for the next 1 s\n");
   CHECK_FALSE(exists(w.file("out.json")));
+  CHECK_FALSE(exists(w.file("out.json.tmp")));
+  CHECK_FALSE(exists(w.file("report")));
+  DIR* d = ::opendir(w.dir.c_str());
+  REQUIRE(d != nullptr);
+  while (const dirent* e = ::readdir(d)) CHECK(std::string(e->d_name).rfind("report", 0) != 0);  // no report.tmp-*
+  ::closedir(d);
   CHECK(query(sim.client(), 45.0, 0, 0) == kNoTable);
   CHECK(read_var(client, v::kFailedUnlocks) == 1.0);
   // A retry at once: the back-off, with its seconds (not "server is busy"); or,

@@ -79,8 +79,36 @@ TEST_CASE("calibrate gantry: every bad input has its own error and stores nothin
                    at(first_sp1_x, "group 'sp1_x_5': the pass K must be 1..4"), true});
   cases.push_back({"gantry pass 0", replaced(2, "gantry_0,1,2,3"), machine,
                    at(2, "group 'gantry_0': the pass K must be 1..4"), true});
-  cases.push_back({"a missing group", without("sp2_a"), machine, module_error(Status::kMissingGroup), false});
-  cases.push_back({"no bed", without("bed"), machine, module_error(Status::kMissingGroup), false});
+  // The module names no group: the command names the one it did not send.
+  cases.push_back({"a missing group", without("sp2_a"), machine,
+                   module_error(Status::kMissingGroup) + " (macro 9823): " + bad + " has no row of group 'sp2_a'", true});
+  cases.push_back({"no bed", without("bed"), machine,
+                   module_error(Status::kMissingGroup) + " (macro 9823): " + bad + " has no row of group 'bed'", true});
+  cases.push_back({"a missing middle pass", without("gantry_1"), machine,
+                   module_error(Status::kMissingGroup) + " (macro 9823): " + bad + " has no row of group 'gantry_1'",
+                   true});
+  {
+    // A row given twice (at the end of the file), and the file given twice: refused at the repeat's line.
+    std::vector<Row> rows = good;
+    rows.push_back(good[10]);
+    cases.push_back({"a row given twice", with(rows), machine,
+                     at(good.size(), module_error(Status::kDuplicateSample) + " (macro 9821)"), true});
+    rows = good;
+    rows.insert(rows.end(), good.begin(), good.end());
+    std::size_t first_bed = 0;
+    while (good[first_bed].group != "bed") ++first_bed;
+    cases.push_back({"the file given twice", with(rows), machine,
+                     at(good.size() + first_bed, module_error(Status::kDuplicateSample) + " (macro 9821)"), true});
+    // More rows than the session holds: refused while reading, at the first beyond it.
+    rows = good;
+    for (std::size_t k = good.size(); k <= trueaxis::macros::gantry::kSessionCapacity; ++k) {
+      rows.push_back({"bed", "bed," + std::to_string(k) + ",2,0"});
+    }
+    cases.push_back({"more points than the session holds", with(rows), machine,
+                     at(trueaxis::macros::gantry::kSessionCapacity,
+                        "point 2048 + 1: the module's gantry session holds 2048 points (session_full); nothing was sent"),
+                     true});
+  }
   {
     // sp3's C circle 31 points (its capacity 30): the 31st in file order is refused.
     std::vector<Row> rows = good;
@@ -90,16 +118,22 @@ TEST_CASE("calibrate gantry: every bad input has its own error and stores nothin
     }
     REQUIRE(c.size() == 12);
     const std::size_t extra = trueaxis::macros::gantry::kMaxCirclePoints + 1 - c.size();
-    for (std::size_t k = 0; k < extra; ++k) rows.push_back(c[k % c.size()]);
+    for (std::size_t k = 0; k < extra; ++k) rows.push_back({"sp3_c", "sp3_c," + std::to_string(1000 + k) + ",2,3"});
     cases.push_back({"a circle over its capacity", with(rows), machine,
-                     bad + ":" + line_of(rows.size() - 1) + ": " + module_error(Status::kTooManyPoints), false});
+                     bad + ":" + line_of(rows.size() - 1) + ": " + module_error(Status::kTooManyPoints) +
+                         " (macro 9821): group 'sp3_c' holds at most 30 points, and this is one more",
+                     true});
     // A pass of 65 points (capacity 64).
     rows = good;
     std::size_t in_pass = 0;
     for (const Row& r : good) in_pass += r.group == "gantry_2" ? 1u : 0u;
-    for (std::size_t k = in_pass; k <= trueaxis::macros::gantry::kMaxPassPoints; ++k) rows.push_back({"gantry_2", "gantry_2,1,2,3"});
+    for (std::size_t k = in_pass; k <= trueaxis::macros::gantry::kMaxPassPoints; ++k) {
+      rows.push_back({"gantry_2", "gantry_2," + std::to_string(k) + ",2,3"});
+    }
     cases.push_back({"a pass over its capacity", with(rows), machine,
-                     bad + ":" + line_of(rows.size() - 1) + ": " + module_error(Status::kTooManyPoints), false});
+                     bad + ":" + line_of(rows.size() - 1) + ": " + module_error(Status::kTooManyPoints) +
+                         " (macro 9821): group 'gantry_2' holds at most 64 points, and this is one more",
+                     true});
   }
   {
     // sp2's A circle of 4 points (a circle needs 5): too_few_points.

@@ -12,6 +12,15 @@
 // Every bad input: test_calibrate_spindle_inputs.cpp.
 #include <algorithm>
 #include <catch2/catch.hpp>
+#include <chrono>
+#include <fstream>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
@@ -278,4 +287,56 @@ TEST_CASE("calibrate spindle: the command with --store and --report, the page dr
   const std::vector<std::string> pngs = pngs_in(w.file("report"));
   CHECK(pngs.size() == 5);
   for (const std::string& name : pngs) check_figure(page, w.file("report"), name);
+}
+
+TEST_CASE("calibrate spindle: a 1,000,000-row file (the samples over and over) is refused at its first repeat, in "
+          "bounded memory, with progress for work over 2 s", "[calibrate][spindle]") {
+  InProcessSim sim;
+  Workspace w("trueaxis-calibrate-spindle");
+  const SpindleFiles f = measure_spindle(w, "big", 5, 3);
+  const double tool = parse(slurp(f.truth))["tool_length_mm"].number;
+  const std::vector<std::string> lines = lines_of(slurp(f.samples));
+  REQUIRE(lines.size() == 3 + 432);  // two comments, the header, 3 revolutions x 72 angles x 2 balls
+  const std::string big = w.file("big.csv");
+  {
+    std::ofstream out(big, std::ios::binary);
+    for (std::size_t n = 0; n < 3; ++n) out << lines[n] << '\n';
+    for (std::size_t row = 0; row < 1000000; ++row) out << lines[3 + row % 432] << '\n';
+  }
+  const std::string err = w.file("big_err.txt");
+  const std::vector<std::string> argv = {TRUEAXIS_CALIBRATE_BINARY, "spindle", "--in", big, "--machine", f.machine,
+                                         "--json", w.file("out.json"), "--port", std::to_string(sim.port()),
+                                         "--store"};
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  const auto t0 = std::chrono::steady_clock::now();
+  pid_t pid = 0;
+  REQUIRE(posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ) == 0);
+  posix_spawn_file_actions_destroy(&actions);
+  int status = 0;
+  struct rusage usage {};
+  REQUIRE(::wait4(pid, &status, 0, &usage) == pid);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const std::string text = slurp(err);
+  INFO(text);
+  INFO("peak RSS " << usage.ru_maxrss << " KiB, " << seconds << " s");
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 1);
+  CHECK(usage.ru_maxrss <= 50 * 1024);  // KiB: at most 50 MB whatever the file's length
+  // The last line the error at the first repeated row (3 + 432 + 1), the lines before it progress.
+  const std::vector<std::string> said = lines_of(text);
+  REQUIRE_FALSE(said.empty());
+  CHECK(said.back() ==
+        "trueaxis-calibrate: " + big + ":436: " + module_error(Status::kDuplicateSample) + " (macro 9841)");
+  for (std::size_t n = 0; n + 1 < said.size(); ++n) {
+    CHECK(said[n].rfind("trueaxis-calibrate: " + big + ": ", 0) == 0);
+    CHECK(said[n].find(" of ") != std::string::npos);
+  }
+  if (seconds > 3.0) CHECK(said.size() > 1);  // work over 2 s said so (3: the process's start and end besides)
+  CHECK_FALSE(exists(w.file("out.json")));
+  for (const auto& c : corrections(sim.client(), tool)) CHECK(c == kNoTable);
 }

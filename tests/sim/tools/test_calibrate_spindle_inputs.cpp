@@ -90,7 +90,25 @@ TEST_CASE("calibrate spindle: every bad input has its own error and stores nothi
   cases.push_back({"an angle beyond 1e6 deg", replaced(50, "2e6,1,0,0,250"), machine,
                    at(50, "the module refused the sample: Modbus: Illegal data value: out_of_range: Outside the variable's range, or not a whole number or a sign."), true});  // the register's range
   cases.push_back({"one ball height only", kept([](double, int ball) { return ball == 1; }), machine,
-                   module_error(Status::kMissingGroup) + " (macro 9842)", true});
+                   module_error(Status::kMissingGroup) + " (macro 9842): " + bad + " has no row for ball 2", true});
+  {
+    // The file given twice: refused at the repeat's first row (line 3 + 144 + 1), before any
+    // sigma is computed; a row given twice in a row, at the second.
+    std::vector<std::string> twice = good;
+    twice.insert(twice.end(), good.begin() + 3, good.end());
+    cases.push_back({"the file given twice", text_of(twice), machine,
+                     at(148, module_error(Status::kDuplicateSample) + " (macro 9841)"), true});
+    std::vector<std::string> row_twice = good;
+    row_twice.insert(row_twice.begin() + 60, good[59]);
+    cases.push_back({"a row given twice", text_of(row_twice), machine,
+                     at(61, module_error(Status::kDuplicateSample) + " (macro 9841)"), true});
+  }
+  {
+    std::string semicolons = samples;
+    for (char& c : semicolons) c = c == ',' ? ';' : c;
+    cases.push_back({"';' as separator", semicolons, machine,
+                     at(3, "the file uses ';' as separator; trueaxis reads ','"), true});
+  }
   cases.push_back({"7 angles of ball 2",
                    kept([](double phi, int ball) { return ball == 1 || static_cast<int>(phi) % 55 == 0; }), machine,
                    module_error(Status::kTooFewSamples) + " (macro 9842)", true});
@@ -134,6 +152,15 @@ TEST_CASE("calibrate spindle: every bad input has its own error and stores nothi
                    bad_machine + ": " + module_error(Status::kArgumentOutOfRange), false});
   cases.push_back({"a zero bearing spacing", samples, machine_with(3, "bearing_spacing_mm,0"),
                    bad_machine + ":3: bearing_spacing_mm must be more than 0", true});
+  {
+    // MACHINE in metres, the samples in mm: every value finite, so never not_finite; the cause named.
+    std::vector<std::string> metres = machine_lines;
+    for (std::size_t n = 2; n < metres.size(); ++n) {
+      const std::vector<std::string> x = fields_of(metres[n]);
+      metres[n] = x[0] + "," + std::to_string(std::stod(x[1]) / 1000.0);
+    }
+    cases.push_back({"MACHINE in metres", samples, text_of(metres), bad_machine + ": module error ", false});
+  }
   cases.push_back({"a negative tool length", samples, machine_with(7, "tool_length_mm,-1"),
                    bad_machine + ":7: " + module_error(Status::kArgumentOutOfRange) + " (macro 9844)", true});
 
@@ -156,6 +183,8 @@ TEST_CASE("calibrate spindle: every bad input has its own error and stores nothi
         CHECK(r.error.compare(0, c.error.size(), c.error) == 0);
       }
       CHECK(r.error.find('\n') == std::string::npos);  // one line
+      CHECK(r.error.find("not_finite") == std::string::npos);  // the CSV says 'not a finite number' for nan, inf
+      if (c.name == "MACHINE in metres") CHECK(r.error.find("in metres") != std::string::npos);
       CHECK(read_var(client, v::kUnlock) == 0.0);      // locked
       CHECK(corrections(client, tool) == before);      // nothing stored
     }

@@ -1,4 +1,9 @@
 #include <catch2/catch.hpp>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
 
 #include "trueaxis/sim/tools/csv.hpp"
 
@@ -57,4 +62,41 @@ TEST_CASE("keeps text columns as text", "[csv]") {
   REQUIRE(r.ok);
   CHECK(r.rows[0].texts[0] == "swing_mm");
   CHECK(r.rows[0].numbers[1] == 250.5);
+}
+
+TEST_CASE("a UTF-8 byte-order mark is skipped; another separator or UTF-16 is named as such", "[csv]") {
+  const auto bom = parse_csv("f.csv", "\xEF\xBB\xBF" "a_deg,c_deg,x_mm\n1,2,3\n", kCols);
+  REQUIRE(bom.ok);
+  CHECK(bom.header_line == 1);
+  CHECK(bom.rows[0].numbers == std::vector<double>{1.0, 2.0, 3.0});
+  CHECK(parse_csv("f.csv", "# x\na_deg;c_deg;x_mm\n1;2;3\n", kCols).error ==
+        "f.csv:2: the file uses ';' as separator; trueaxis reads ','");
+  CHECK(parse_csv("f.csv", "\xEF\xBB\xBF" "a_deg\tc_deg\tx_mm\n", kCols).error ==
+        "f.csv:1: the file uses tabs as separator; trueaxis reads ','");
+  CHECK(parse_csv("f.csv", std::string("\xFF\xFE" "a\0_\0", 6), kCols).error ==
+        "f.csv:1: the file is UTF-16; trueaxis reads UTF-8 (or ASCII) text");
+  // A BOM elsewhere than the start is no BOM: the header then lacks its first column.
+  CHECK(parse_csv("f.csv", "#\n\xEF\xBB\xBF" "a_deg,c_deg,x_mm\n", kCols).error == "f.csv:2: the header has no column 'a_deg'");
+}
+
+TEST_CASE("CsvReader gives read_csv's rows one at a time, and its errors", "[csv]") {
+  char path[] = "/tmp/trueaxis-csv-XXXXXX";
+  const int fd = ::mkstemp(path);
+  REQUIRE(fd >= 0);
+  ::close(fd);
+  const std::string text = "# c\nx_mm,a_deg,c_deg\n1,2,3\n\n4,5,6\n7,8,x\n";
+  std::ofstream(path, std::ios::binary) << text;
+  trueaxis::sim::CsvReader reader(path, kCols);
+  trueaxis::sim::CsvRow row;
+  REQUIRE(reader.next(row));
+  CHECK(row.line == 3);
+  CHECK(row.numbers == std::vector<double>{2.0, 3.0, 1.0});
+  REQUIRE(reader.next(row));
+  CHECK(row.line == 5);
+  CHECK_FALSE(reader.next(row));
+  CHECK(reader.error() == std::string(path) + ":6: 'c_deg' is not a finite number: 'x'");
+  CHECK_FALSE(reader.next(row));  // it stays at the error
+  CHECK(reader.bytes_read() == text.size());
+  CHECK(reader.size_bytes() == text.size());
+  std::remove(path);
 }

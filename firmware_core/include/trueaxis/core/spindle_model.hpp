@@ -28,6 +28,17 @@
 //     equals the fit to the bin means weighted by their counts (the scatter is
 //     a constant of it), so the session costs memory per angle, not per
 //     sample, and any number of revolutions. Bins are kept sorted by angle.
+//     A sample given twice (the same phi_deg as given, not reduced, and the
+//     same centre, bit for bit) is no repeat of a measurement: it would
+//     count the same error twice and shrink the sigmas (convention 6). As
+//     the bins keep no samples, each keeps a 32-bit fingerprint of its first
+//     and of its latest sample (spindle_fingerprint), and add() refuses a
+//     sample with either (kDuplicateSample): a file or a revolution given
+//     twice at its first sample, a row given twice in a row. A repeat of a
+//     bin's other samples passes unseen (the tools check their files whole);
+//     a measured sample is refused only if its fingerprint collides, with
+//     probability 2^-31 per sample. A later revolution differs in phi
+//     (phi + 360) or in its measured centre, and is a bin's repeat.
 //  5. Fit (SpindleBuilder, fit_spindle): residuals predicted minus bin mean, 3 per
 //     bin, weighted by the bin's count; the Jacobian analytic
 //     (spindle_ball_jacobian; checked against central differences in the
@@ -52,8 +63,11 @@
 // ball), kMissingGroup (a ball with no samples: one height cannot separate e from
 // w), kRevolutionIncomplete (convention 7), kNotFinite, kArgumentOutOfRange (a
 // ball index other than 1 or 2, b_2 <= b_1, a coordinate beyond kSpindleBigMm),
-// kSessionFull (a ball's kMaxSpindleAngles-th + 1 distinct angle), and those of
-// the solver (kNotIdentifiable, kNoConvergence); a fit whose axis lies more than
+// kSessionFull (a ball's kMaxSpindleAngles-th + 1 distinct angle),
+// kDuplicateSample (convention 4), and those of
+// the solver (kNotIdentifiable, kNoConvergence: also for an iteration whose
+// model values overflow, as lengths in metres against samples in mm drive
+// the axis horizontal; finite data never give kNotFinite from the fit); a fit whose axis lies more than
 // 30 deg from -Z (kMaxSpindleTilt) is kArgumentOutOfRange.
 #pragma once
 
@@ -124,9 +138,15 @@ Vec3 spindle_ball_jacobian(const SpindleParams& p, const SpindleGeometry& g, int
 struct SpindleBin {
   double phi_deg = 0.0;  // [0, 360)
   std::uint32_t count = 0;
+  std::uint32_t first_fingerprint = 0;  // convention 4: the bin's first sample's
   Vec3 mean_mm = Vec3::Zero();
   double scatter_mm2 = 0.0;  // sum of |p - mean|^2 over the bin's samples
+  std::uint32_t last_fingerprint = 0;   // the latest sample's
 };
+
+// Convention 4: a 32-bit digest of a sample's bits as given (phi_deg before
+// any reduction, the centre); the ball is the bin's.
+std::uint32_t spindle_fingerprint(const SpindleSample& s);
 
 // Convention 4. add() checks a sample whole before it changes anything.
 class SpindleBins {

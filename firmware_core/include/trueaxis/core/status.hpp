@@ -32,6 +32,7 @@ enum class Status : std::uint16_t {
   kMissingGroup = 105,     // a group of points the method needs was not given
   kOutsideMeasuredRange = 106,  // a query outside the range a table was measured over, not clamped
   kGroupNotContiguous = 107,    // a point for a group that other groups' points have followed
+  kDuplicateSample = 108,  // a sample repeats, bit for bit, one already in the session
 
   kPointsCoincident = 200,  // the points do not span a line
   kPointsCollinear = 201,   // the points do not span a plane

@@ -20,6 +20,8 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 namespace trueaxis::core {
 
@@ -41,6 +43,19 @@ bool all_finite(const Eigen::MatrixBase<Derived>& m) {
     if (!std::isfinite(m.coeff(i))) return false;
   }
   return true;
+}
+
+// The bits of a double, and whether two doubles are the same bit for bit
+// (0.0 and -0.0 differ; a NaN equals only its own bits): how a session tells
+// a sample given twice from a measurement repeated (macros' duplicate_sample).
+inline std::uint64_t bits_of(double v) {
+  std::uint64_t b = 0;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+inline bool same_bits(double a, double b) { return bits_of(a) == bits_of(b); }
+inline bool same_bits(const Vec3& a, const Vec3& b) {
+  return same_bits(a.x(), b.x()) && same_bits(a.y(), b.y()) && same_bits(a.z(), b.z());
 }
 
 // Rotation about +X by `angle_rad` (right-hand rule), as written in docs/METHODS.md M1.

@@ -54,5 +54,9 @@ struct MacroInfo {
   const OutputInfo* outputs;
   std::size_t output_count;
 };
+// tools/stack_report.py reads the Cortex-M7's macro tables with this layout
+// (its MacroThunk rule): the handler at byte 4 of each 32-byte entry.
+static_assert(sizeof(void*) != 4 || (sizeof(MacroInfo) == 32 && offsetof(MacroInfo, run) == 4),
+              "tools/stack_report.py's MacroThunk rule states MacroInfo's layout: change both");
 
 }  // namespace trueaxis::macros

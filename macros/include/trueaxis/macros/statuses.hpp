@@ -22,6 +22,7 @@ inline constexpr core::StatusInfo kPlatformStatuses[] = {
   {core::Status::kArgumentOutOfRange, "argument_out_of_range", "A macro argument is outside its documented range."},
   {core::Status::kTooFewSamples, "too_few_samples", "The session holds fewer samples than the computation needs: add more, then compute again."},
   {core::Status::kMissingGroup, "missing_group", "A group of points the method needs (a plane, a pass or a circle) was not measured."},
+  {core::Status::kDuplicateSample, "duplicate_sample", "The sample repeats one already in the session bit for bit (a file or a row given twice?): it was not added."},
   {core::Status::kPointsCoincident, "points_coincident", "The probed points coincide: they do not span a line."},
   {core::Status::kPointsCollinear, "points_collinear", "The probed points lie on one line: they do not span a plane."},
   {core::Status::kPointsTooClose, "points_too_close", "The probed points are too close together for the probe repeatability: the face's direction would be uncertain by more than the configured limit."},

@@ -137,6 +137,10 @@ core::Result<std::size_t> PointSession::group_of(double t, double q, double d) {
 }
 
 core::Status PointSession::add(std::size_t group, const core::Vec3& p_mm) {
+  const core::Vec3* first = points_ + first_[group];
+  for (std::size_t i = 0; i < count_in_[group]; ++i) {
+    if (core::same_bits(first[i], p_mm)) return core::Status::kDuplicateSample;
+  }
   if (group != last_group_ && count_in_[group] > 0) return core::Status::kGroupNotContiguous;
   if (count_in_[group] == capacity_of(group)) return core::Status::kTooManyPoints;
   if (count_ == kSessionCapacity) return core::Status::kSessionFull;

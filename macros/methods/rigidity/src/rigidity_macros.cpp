@@ -51,6 +51,11 @@ MacroStep run_session_add(Context& ctx, State&) {
   s.p_mm = core::Vec3(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
   RigiditySession* samples = ctx.session();
   if (samples == nullptr) return done(core::Status::kSessionClosed);
+  // X first: it differs between nearly any two samples, so most comparisons stop there.
+  const auto same = [&s](const core::RigiditySample& o) {
+    return core::same_bits(s.p_mm, o.p_mm) && core::same_bits(s.c_deg, o.c_deg) && core::same_bits(s.a_deg, o.a_deg);
+  };
+  if (samples->find_if(same) != nullptr) return done(core::Status::kDuplicateSample);
   const core::Status status = samples->add(s);
   if (status != core::Status::kOk) return done(status);
   return report_session(ctx, samples->size());

@@ -9,13 +9,19 @@
 //     the module computed; it computes nothing of the method itself.
 //  2. A failure is one line for stderr: "FILE:LINE: what" for a bad sample,
 //     "module error CODE NAME: MESSAGE" for a macro the module refused (with the
-//     sample's file and line when a sample caused it), or a transport problem.
-//     The caller then writes no JSON and exits 1; with --store the module has
-//     stored nothing and is locked again: the command stores last, after the
-//     JSON is written (to a temporary file) and the report is made, and only
-//     then moves OUT.json into place.
+//     sample's file and line when a sample caused it, and what the flow knows
+//     beyond the module: the group, pose or ball concerned, the likely cause),
+//     or a transport problem. The caller then writes no JSON and exits 1; with
+//     --store the module has stored nothing and is locked again: the command
+//     stores last, after the JSON is written and the report is made (each to
+//     a temporary beside its target), and only then moves both into place.
 //  3. On success a flow also gives a summary: "METHOD: what was computed, the
 //     worst figure with its sigma", the start of the command's one stdout line.
+//  4. A samples file is read twice, one row at a time (CsvReader): first
+//     checked whole, then streamed to the module, so its length costs no
+//     memory (the gantry keeps its rows to sort them, at most the session's
+//     capacity: a longer file is refused at the first row beyond it). Work
+//     that takes more than 2 s reports its progress on stderr (Progress).
 #pragma once
 
 #include <cstddef>
@@ -63,6 +69,23 @@ struct FlowResult {
 
 // The text of a module error code, "module error 402 session_full: The session is full ...".
 std::string module_error_text(int code);
+
+// True when fail.error reports module error `status` (module_error_text).
+bool module_refused(const FlowResult& fail, int status);
+
+// Contract 4: "trueaxis-calibrate: WHAT: DONE of TOTAL UNIT" on stderr, at
+// most every 2 s and only once the work has taken 2 s.
+class Progress {
+ public:
+  Progress(std::string what, std::string unit);
+  void update(std::uint64_t done, std::uint64_t total);
+
+ private:
+  std::string what_;
+  std::string unit_;
+  std::int64_t start_ms_ = 0;
+  std::int64_t last_ms_ = 0;
+};
 
 // Runs `macro` and turns anything but done into a FlowResult error; `context`
 // (e.g. "samples.csv:12") is prefixed when not empty.

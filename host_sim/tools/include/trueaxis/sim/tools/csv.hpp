@@ -7,14 +7,22 @@
 // Contract
 //  1. read_csv(path, columns) returns the rows' values in the order of `columns`
 //     (text columns are kept as text), each with its physical line number.
-//  2. Blank lines (only spaces, tabs, CR) are skipped like comments.
+//     CsvReader gives the same rows one at a time, holding one line in
+//     memory whatever the file's length (the samples files).
+//  2. Blank lines (only spaces, tabs, CR) are skipped like comments; a UTF-8
+//     byte-order mark at the start of the file is skipped.
 //  3. A field is a number when strtod consumes all of it but surrounding spaces
 //     and the value is finite; "nan", "inf", "", "1.5x" are errors.
 //  4. Errors are one line, "FILE:LINE: what", ready for stderr (a file that
-//     cannot be read has no line: "FILE: cannot be read"): no header, a required column absent (named at the header's line), a row
-//     with too few fields, a bad number (with the column's name).
+//     cannot be read has no line: "FILE: cannot be read"): no header, a
+//     required column absent (named at the header's line; a header split by
+//     ';' or tabs is named as such: "the file uses ';' as separator; trueaxis
+//     reads ','"; a UTF-16 file likewise), a row with too few fields, a bad
+//     number (with the column's name).
 #pragma once
 
+#include <cstdint>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -42,5 +50,52 @@ CsvResult read_csv(const std::string& path, const std::vector<CsvColumn>& column
 
 // The same over text already in memory (`name` stands in for the file name).
 CsvResult parse_csv(const std::string& name, const std::string& text, const std::vector<CsvColumn>& columns);
+
+// The lines of one file, in order, turned into rows (contracts 2-4).
+class CsvLines {
+ public:
+  enum class Kind { kSkip, kHeader, kRow, kError };
+  CsvLines(std::string name, std::vector<CsvColumn> columns) : name_(std::move(name)), columns_(std::move(columns)) {}
+  // Line `raw` (without its '\n'), the next physical line: a row into `row`
+  // (kRow), or kError with error() set.
+  Kind feed(std::string raw, CsvRow& row);
+  // At the end of the file: "" when a header was seen, else the error.
+  std::string finish() const;
+  const std::string& error() const { return error_; }
+  int line() const { return line_; }
+  int header_line() const { return header_line_; }
+
+ private:
+  Kind fail(const std::string& what);
+  std::string name_;
+  std::vector<CsvColumn> columns_;
+  std::vector<int> index_;
+  std::string error_;
+  int line_ = 0;
+  int header_line_ = 0;
+};
+
+// A samples file read one row at a time (contract 1).
+class CsvReader {
+ public:
+  CsvReader(const std::string& path, const std::vector<CsvColumn>& columns);
+  // The next row; false at the end of the file or on an error (error() then
+  // says which, "" at the end). The header is read on the first call.
+  bool next(CsvRow& row);
+  const std::string& error() const { return error_; }
+  int line() const { return lines_.line(); }
+  int header_line() const { return lines_.header_line(); }
+  std::uint64_t bytes_read() const { return bytes_; }
+  std::uint64_t size_bytes() const { return size_; }
+
+ private:
+  std::ifstream file_;
+  CsvLines lines_;
+  std::string error_;
+  std::string raw_;
+  std::uint64_t bytes_ = 0;
+  std::uint64_t size_ = 0;
+  bool done_ = false;
+};
 
 }  // namespace trueaxis::sim

@@ -15,7 +15,10 @@
 //  group T = #20, Q = #17, D = #7 (gantry_map.hpp convention 3). Out: #100..#102.
 //  A group's points arrive together and in measuring order: a point for a group
 //  that another group's points have followed is refused (group_not_contiguous).
-//  Refused, nothing added: kArgumentOutOfRange (T not 0..8, Q not 1..9, Q not
+//  Refused, nothing added: kDuplicateSample (X, Y, Z equal bit for bit to a
+//  point already in the same group: a file or a row given twice; checked
+//  first, against at most the group's capacity of points),
+//  kArgumentOutOfRange (T not 0..8, Q not 1..9, Q not
 //  allowed for T: 1..4 need T = 0, 5..9 need T = 1..8; D not 1..4 for a pass;
 //  a coordinate beyond 1e5 mm), kNotFinite, kTooManyPoints (the group is at its
 //  capacity: kMaxPlanePoints, kMaxPassPoints, kMaxCirclePoints), kSessionFull.

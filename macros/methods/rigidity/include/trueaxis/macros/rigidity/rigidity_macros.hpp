@@ -9,8 +9,12 @@
 //  Out: #100 count (0), #101 capacity (512).
 // Macro 9831: add a ball position: A = #1, C = #3 (commanded, deg), X, Y, Z =
 //  #24..#26 (ball centre, mm, machine frame). Out: #100 count, #101 capacity.
-//  kSessionFull at capacity (nothing added); kSessionClosed when another
-//  method's session has replaced this one (9830 opens it again).
+//  kDuplicateSample for a sample whose A, C, X, Y and Z all equal, bit for
+//  bit, those of one already in the session (a file or a row given twice; a
+//  pose measured again differs in its measured centre); kSessionFull at
+//  capacity; nothing added either way. kSessionClosed when another method's
+//  session has replaced this one (9830 opens it again). At most 512
+//  comparisons (the session's capacity).
 // Macro 9832: build the table from the session (core RigidityBuilder, several
 //  steps): min C arc from #600, ball noise from #601. R = #18: 1 also stores the table (only while
 //  unlocked: kTableLocked; committed whole through the keyed store, then made

@@ -17,7 +17,9 @@
 //  frame). Samples at an angle already in the session (within 1e-6 deg) join
 //  its bin (spindle_model.hpp convention 4). Out: #100..#103. Refused, nothing
 //  added: kArgumentOutOfRange (T not 1 or 2), kSessionFull (a ball's 361st
-//  distinct angle, or a repeat beyond 2^24 of one).
+//  distinct angle, or a repeat beyond 2^24 of one), kDuplicateSample (S, X,
+//  Y, Z as the first or the latest sample of its bin, bit for bit: a file, a
+//  revolution or a row given twice; convention 4 says what it cannot see).
 // Macro 9842: identify the model from the session (core::SpindleBuilder, several
 //  steps): D = #7 O1 to the gauge line (mm, > 0), U = #21 and V = #22 the ball
 //  centres below the gauge line (mm, 0 <= U < V), the gap limit #800. R = #18: 1
