@@ -131,22 +131,34 @@ Result<LevelResult> level_face(const LevelInput& in, const LevelConfig& cfg) {
   }
   if (!out.chosen.reachable) return Status::kUnreachable;
 
-  // Propagate the fit's direction covariance sigma^2 diag(1/s_u^2, 1/s_v^2).
-  const auto propagate = [&](const Vec3& dir) {
-    const double du = dir.dot(u) / fit.spread_u_mm;
-    const double dv = dir.dot(v) / fit.spread_v_mm;
+  // Propagate the fit's direction covariance sigma^2 diag(1/s_u^2, 1/s_v^2),
+  // its in-plane axes written in the normal's frame.
+  const auto propagate = [&](const Vec3& dir, const Vec3& axis_u, const Vec3& axis_v) {
+    const double du = dir.dot(axis_u) / fit.spread_u_mm;
+    const double dv = dir.dot(axis_v) / fit.spread_v_mm;
     return sigma * std::sqrt(du * du + dv * dv);
   };
   const Vec3 z_tangent = Vec3::UnitZ() - n.z() * n;
   if (z_tangent.norm() > 0.0 && tilt_rad > 0.0) {
     const Vec3 d = z_tangent.normalized();
-    out.tilt_sigma_arcsec = propagate(d) * kArcsecPerRad;
-    const double c_sigma_rad = propagate(n.cross(d)) / std::sin(tilt_rad);
+    out.tilt_sigma_arcsec = propagate(d, u, v) * kArcsecPerRad;
+    const double c_sigma_rad = propagate(n.cross(d), u, v) / std::sin(tilt_rad);
     out.c_sigma_arcsec = std::min(c_sigma_rad, kPi) * kArcsecPerRad;
   } else {
     out.tilt_sigma_arcsec = direction_sigma_rad * kArcsecPerRad;
     out.c_sigma_arcsec = (sigma > 0.0 ? kPi : 0.0) * kArcsecPerRad;
   }
+
+  // The same tilt and its sigma in the machine frame, as probed (convention 8).
+  const Vec3 n_machine = orient * fit.normal;
+  const double machine_tilt_rad = std::atan2(std::hypot(n_machine.x(), n_machine.y()), n_machine.z());
+  out.machine_tilt_deg = rad_to_deg(machine_tilt_rad);
+  const Vec3 z_machine_tangent = Vec3::UnitZ() - n_machine.z() * n_machine;
+  out.machine_tilt_sigma_arcsec =
+      (z_machine_tangent.norm() > 0.0 && machine_tilt_rad > 0.0
+           ? propagate(z_machine_tangent.normalized(), fit.axis_u, fit.axis_v)
+           : direction_sigma_rad) *
+      kArcsecPerRad;
 
   if (fit.count >= 5 && sigma > 0.0) {
     const double n_pts = static_cast<double>(fit.count);

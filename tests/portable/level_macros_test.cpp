@@ -128,6 +128,43 @@ TA_TEST("macro 9810 levels random faces written into G57..G59") {
   }
 }
 
+TA_TEST("9810's #117 is the face's tilt in the machine frame where it was probed, #118 its sigma; at table zero #107, #108") {
+  ModuleRig rig;
+  put_inclined_face(rig);  // probed at the table's zero, the default probe repeatability
+  TA_CHECK_EQ(rig.run(9810), kDone);
+  TA_CHECK_EQ(rig.get(v::kLevelMachineTilt), rig.get(v::kLevelTilt));
+  TA_CHECK_EQ(rig.get(v::kLevelMachineTiltSigma), rig.get(v::kLevelTiltSigma));
+  TA_CHECK(rig.get(v::kLevelMachineTiltSigma) > 0.0);
+  t::SplitMix64 rng(0x5EED'0117);
+  for (int i = 0; i < 40; ++i) {
+    TA_CASE_INDEX(i);
+    const t::Face f = t::random_face(rng);
+    set_signs(rig, f.a_sign, f.c_sign);
+    TA_CHECK_EQ(run_9810(rig, f.points_machine, f.probe_a_deg, f.probe_c_deg, f.hint_machine), kDone);
+    // The outward normal as the probe saw it, against machine +Z: no table angle enters.
+    const Vec3& n = f.hint_machine;
+    const double want_deg = std::atan2(std::hypot(n.x(), n.y()), n.z()) * kRadToDeg;
+    TA_CHECK_NEAR(rig.get(v::kLevelMachineTilt), want_deg, 1e-10);
+    TA_CHECK_NEAR(rig.get(v::kLevelTilt), trueaxis::core::rad_to_deg(f.tilt_rad), 1e-10);
+    TA_CHECK_EQ(rig.get(v::kLevelMachineTiltSigma), 0.0);  // a perfect probe
+  }
+  // The same points in the machine frame, probed at another table pose: the
+  // machine-frame tilt and its sigma do not move (an elongated triangle, so the
+  // fit's two in-plane spreads differ and its axes matter).
+  rig.unlock();
+  rig.set(v::kProbeSigma, 0.0005);
+  rig.lock();
+  const Vec3 elongated[3] = {Vec3(0, 0, 5), Vec3(200, 0, 25), Vec3(0, 20, 7)};
+  TA_CHECK_EQ(run_9810(rig, elongated, 0.0, 0.0, Vec3::Zero()), kDone);
+  const double tilt_deg = rig.get(v::kLevelMachineTilt);
+  const double sigma_arcsec = rig.get(v::kLevelMachineTiltSigma);
+  TA_CHECK(sigma_arcsec > 0.0);
+  TA_CHECK_EQ(run_9810(rig, elongated, 30.0, 50.0, Vec3::Zero()), kDone);
+  TA_CHECK_NEAR(rig.get(v::kLevelMachineTilt), tilt_deg, 1e-12);
+  TA_CHECK_NEAR(rig.get(v::kLevelMachineTiltSigma), sigma_arcsec, 1e-9 * sigma_arcsec);
+  TA_CHECK(std::abs(rig.get(v::kLevelTilt) - tilt_deg) > 1.0);  // #107 is the tilt at table zero
+}
+
 TA_TEST("macro 9810 chooses the solution nearest the table's present position") {
   ModuleRig rig;
   put_inclined_face(rig);   // probed with the table at zero

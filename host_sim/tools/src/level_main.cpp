@@ -3,14 +3,17 @@
 //   1. probe three points of the face into G57, G58, G59 with the table where it is;
 //   2. run macro 9810 with A = #1, C = #3 = that table position;
 //   3. turn the table to the chosen solution (#101 A, #100 C);
-//   4. probe again and run 9810 with A = C = 0, so #107 is the face's residual
-//      tilt in the machine frame;
-//   5. print before / after, and the simulator's ground truth.
+//   4. probe again and run 9810 with A, C = the leveled pose, where the table is;
+//   5. print before / after: #117, the face's tilt in the machine frame at the
+//      pose it was probed in (on the ideal and the calibrated axes alike; #107
+//      is the tilt at table zero, which on calibrated axes is not the machine
+//      frame), its 1 sigma #118, and the simulator's ground truth there.
+// Before the table turned, that is the tilt where the operator left it.
 // With --axes ideal|calibrated it first sets the module's level_axes (#508: the
 // ideal axes, or the calibrated axes of the stored rigidity table), unlocking
 // and locking again; without it the module's setting stays. With --home 1 it
 // first turns the table to A = 0, C = 0.
-// Exit 0 when the true residual tilt is within 3 x #108 (the module's 1-sigma
+// Exit 0 when the true residual tilt is within 3 x #118 (the module's 1-sigma
 // uncertainty of the second measurement), 1 when it is not, 2 on bad usage,
 // 3 on a communication failure or a macro error.
 #include <cmath>
@@ -32,22 +35,27 @@ constexpr std::uint16_t kG57 = 5281;
 constexpr std::uint16_t kG58 = 5301;
 constexpr std::uint16_t kG59 = 5321;
 constexpr std::uint16_t kLevelMacro = 9810;
+constexpr std::uint16_t kResults = 100;
+constexpr std::uint16_t kResultCount = 19;  // #100..#118
 constexpr std::uint16_t kLevelAxes = 508;
 constexpr std::uint16_t kUnlock = 9004;
 constexpr double kUnlockCode = 2718.0;
 
 struct Measurement {
-  double c_deg = 0.0;        // #100
-  double a_deg = 0.0;        // #101
-  double tilt_deg = 0.0;     // #107
-  double sigma_arcsec = 0.0; // #108
-  double true_tilt_deg = 0.0;  // #12013 at the probe pose
+  double c_deg = 0.0;             // #100
+  double a_deg = 0.0;             // #101
+  double table_zero_tilt_deg = 0.0;  // #107
+  double tilt_deg = 0.0;          // #117: machine frame, at the probe pose
+  double sigma_arcsec = 0.0;      // #118
+  double true_tilt_deg = 0.0;     // #12013 at the probe pose
 };
 
 constexpr const char* kHelp =
     "usage: trueaxis-level --port PORT [--host ADDR] [--spread MM] [--axes ideal|calibrated] [--home 1]\n"
     "  probes three points of the face (an equilateral triangle of side MM, default 100,\n"
-    "  centred on the table axis), levels the table with macro 9810 and measures again.\n"
+    "  centred on the table axis), levels the table with macro 9810 and measures again;\n"
+    "  before and after: the face's tilt in the machine frame where it was probed (#117),\n"
+    "  its 1 sigma (#118) and the simulator's truth there.\n"
     "  --axes ideal|calibrated  first sets level_axes (#508), unlocking and locking again\n"
     "  --home 1                 first turns the table to A = 0, C = 0\n"
     "  --help, --version        this text; the version line\n"
@@ -80,12 +88,13 @@ bool measure(VariableClient& client, double spread_mm, double arg_a, double arg_
     }
     return fail(client, "running macro 9810");
   }
-  double results[9];  // #100..#108
-  if (!client.read(100, 9, results)) return fail(client, "reading results");
-  m.c_deg = results[0];
-  m.a_deg = results[1];
-  m.tilt_deg = results[7];
-  m.sigma_arcsec = results[8];
+  double results[kResultCount];
+  if (!client.read(kResults, kResultCount, results)) return fail(client, "reading results");
+  m.c_deg = results[100 - kResults];
+  m.a_deg = results[101 - kResults];
+  m.table_zero_tilt_deg = results[107 - kResults];
+  m.tilt_deg = results[117 - kResults];
+  m.sigma_arcsec = results[118 - kResults];
   if (!client.read_one(simvar::kTrueTilt, m.true_tilt_deg)) return fail(client, "reading ground truth");
   return true;
 }
@@ -160,18 +169,25 @@ int main(int argc, char** argv) {
   }
 
   Measurement after;
-  if (!measure(client, spread_mm, 0.0, 0.0, after)) return 3;
+  if (!measure(client, spread_mm, leveled[0], leveled[1], after)) return 3;
 
   std::printf("%-36s %16s %16s\n", "", "before", "after");
-  std::printf("%-36s %16.6f %16.6f\n", "tilt #107 (deg)", before.tilt_deg, after.tilt_deg);
-  std::printf("%-36s %16.2f %16.2f\n", "tilt #107 (arcsec)", before.tilt_deg * 3600.0, after.tilt_deg * 3600.0);
+  std::printf("%-36s %16.6f %16.6f\n", "tilt #117 (deg)", before.tilt_deg, after.tilt_deg);
+  std::printf("%-36s %16.2f %16.2f\n", "tilt #117 (arcsec)", before.tilt_deg * 3600.0, after.tilt_deg * 3600.0);
   std::printf("%-36s %16.2f %16.3f\n", "height difference over 100 mm (um)", height_um(before.tilt_deg),
               height_um(after.tilt_deg));
-  std::printf("%-36s %16.3f %16.3f\n", "uncertainty #108, 1 sigma (arcsec)", before.sigma_arcsec,
+  std::printf("%-36s %16.3f %16.3f\n", "uncertainty #118, 1 sigma (arcsec)", before.sigma_arcsec,
               after.sigma_arcsec);
   std::printf("%-36s %16.3f %16.3f\n", "true tilt #12013 (arcsec)", before.true_tilt_deg * 3600.0,
               after.true_tilt_deg * 3600.0);
-  const double limit_arcsec = 3.0 * after.sigma_arcsec;
+  std::printf("%-36s %16.6f %16.6f\n", "tilt at table zero #107 (deg)", before.table_zero_tilt_deg,
+              after.table_zero_tilt_deg);
+  const double miss_arcsec = std::fabs(after.tilt_deg - after.true_tilt_deg) * 3600.0;
+  if (after.sigma_arcsec > 0.0) {
+    std::printf("after-probe %.3f arcsec against the truth %.3f arcsec: %.2f sigma\n", after.tilt_deg * 3600.0,
+                after.true_tilt_deg * 3600.0, miss_arcsec / after.sigma_arcsec);
+  }
+  const double limit_arcsec = 3.0 * after.sigma_arcsec;  // #118
   const bool ok = after.true_tilt_deg * 3600.0 <= limit_arcsec;
   std::printf("true residual tilt %.3f arcsec %s 3 sigma = %.3f arcsec: %s\n", after.true_tilt_deg * 3600.0,
               ok ? "<=" : ">", limit_arcsec, ok ? "PASS" : "FAIL");

@@ -41,7 +41,14 @@
 //     tilt of exactly zero, where tilt is not differentiable, it is sigma / s_v, the
 //     largest 1-sigma error of the normal's direction. C's uncertainty is the
 //     propagation across it, divided by sin(tilt), capped at 180 deg.
-//  8. Outliers: with 5 or more points, the point whose standardised residual
+//  8. The face as probed: machine_tilt_deg is the angle between the outward
+//     normal in the machine frame (the fitted normal, oriented as convention 3,
+//     table wherever it stood while probing) and machine +Z: the face's tilt
+//     from horizontal at the probe pose, which no axis model enters.
+//     machine_tilt_sigma_arcsec is its 1 sigma by convention 7's rule with
+//     machine +Z in place of table +Z. With the table at zero on the ideal axes
+//     (probe_pose 0, 0) both equal tilt_deg and tilt_sigma_arcsec bit for bit.
+//  9. Outliers: with 5 or more points, the point whose standardised residual
 //     r_i / (sigma sqrt(1 - h_ii)) is largest is reported when that exceeds
 //     kOutlierLimit. With 4 points the residuals are all equally large, so a bad
 //     point shows only in the flatness.
@@ -105,6 +112,8 @@ struct LevelResult {
   std::size_t count = 0;
   std::size_t outlier_point = 0;  // 1-based; 0 when none is flagged
   double max_standardized_residual = 0.0;
+  double machine_tilt_deg = 0.0;          // convention 8: the tilt at the probe pose, machine frame
+  double machine_tilt_sigma_arcsec = 0.0;
 };
 
 [[nodiscard]] Status validate(const LevelConfig& config);

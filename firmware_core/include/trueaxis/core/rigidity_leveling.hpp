@@ -4,11 +4,13 @@
 //
 // Conventions
 //  1. Shapes, limits and choice as leveling.hpp (LevelConfig, LevelInput,
-//     LevelResult; conventions 3, 6, 7, 8 there), so a caller can swap
+//     LevelResult; conventions 3, 6, 7, 9 there), so a caller can swap
 //     level_face for level_on_table. The plane fit, the outward orientation and
 //     the diagnostics (flatness, tilt and C uncertainties, direction sigma,
 //     outliers) are level_face's, run with its travel limits opened; the axes'
-//     errors (arc-seconds) change them only to second order.
+//     errors (arc-seconds) change them only to second order. The tilt in the
+//     machine frame at the probe pose (machine_tilt_deg and its sigma,
+//     leveling.hpp convention 8) is level_face's exactly: no axis model enters it.
 //  2. The table carries the axes' senses (rigidity_compensation.hpp convention
 //     5): config.a_sign and c_sign are validated but not used.
 //  3. Table normal: q = (E_act(A0) Rz(C0))^T n_machine, from the frames at the

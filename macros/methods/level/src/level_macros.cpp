@@ -63,6 +63,8 @@ MacroStep level_and_report(Context& ctx, const core::Vec3* points, std::size_t c
   ctx.out<var::kLevelMaxResidual>(out.max_standardized_residual);
   ctx.out<var::kLevelOtherReachable>(out.other.reachable ? 1.0 : 0.0);
   ctx.out<var::kLevelAxesUsed>(calibrated ? 1.0 : 0.0);
+  ctx.out<var::kLevelMachineTilt>(out.machine_tilt_deg);
+  ctx.out<var::kLevelMachineTiltSigma>(out.machine_tilt_sigma_arcsec);
   return done(core::Status::kOk);
 }
 

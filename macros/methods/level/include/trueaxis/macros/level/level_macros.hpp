@@ -5,10 +5,14 @@
 //       machine frame, probed with the table at A = #1, C = #3 (deg); optional
 //       outward direction I, J, K (#4..#6, machine frame as probed, any length;
 //       0,0,0 = +Z). Configuration #500..#507.
-//  Out: #100..#116 (level_map.hpp kLevelOutputs). With #508 level_axes = 0 it
+//  Out: #100..#118 (level_map.hpp kLevelOutputs). With #508 level_axes = 0 it
 //       levels on the ideal axes Rx(A) Rz(C) (core::level_face); with 1 on the
 //       calibrated axes of the stored rigidity table (core::level_on_table,
-//       not-a-knot cubic blend, no clamping); #116 says which ran.
+//       not-a-knot cubic blend, no clamping); #116 says which ran. #104..#107
+//       are the face at table zero on those axes; #117, #118 the face's tilt
+//       in the machine frame where it was probed, and its 1 sigma, on either
+//       axes (leveling.hpp convention 8): what an operator's check after
+//       leveling reads, the table left at the leveled pose (A, C = it).
 //  Status: those of core::level_face or core::level_on_table; kNoTable when
 //  #508 = 1 and no rigidity table is stored, kMethodNotBuilt when the module
 //  has no rigidity method (the calibrated axes are its stored table, which

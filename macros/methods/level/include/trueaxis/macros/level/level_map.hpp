@@ -5,13 +5,16 @@
 // Conventions
 //  1. Configuration #500..#507 (block #500..#599), the point list of 9811
 //     #1001..#1096 (block #1000..#1999).
-//  2. Outputs #100..#116 of 9810, 9811 and 9814. Interface version 1 named the
-//     result variables #100..#115 after them (level_c ...); the map keeps those
-//     names (the descriptor's kNamedResults).
+//  2. Outputs #100..#118 of 9810, 9811 and 9814. Interface version 1 named the
+//     result variables #100..#116 after them (level_c ...); the map keeps those
+//     names (the descriptor's kNamedResults: the first kNamedLevelOutputs).
+//     #117, #118 (the tilt in the machine frame at the probe pose and its sigma,
+//     issue 17 item 5) came later and are named only in the macros' outputs.
 //  3. Status codes: block 1000..1099; the two it owned before the block
 //     (203, 204) keep their numbers.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "trueaxis/core/leveling.hpp"
@@ -38,6 +41,8 @@ inline constexpr std::uint16_t kLevelOutlierPoint = 113;
 inline constexpr std::uint16_t kLevelMaxResidual = 114;
 inline constexpr std::uint16_t kLevelOtherReachable = 115;
 inline constexpr std::uint16_t kLevelAxesUsed = 116;
+inline constexpr std::uint16_t kLevelMachineTilt = 117;
+inline constexpr std::uint16_t kLevelMachineTiltSigma = 118;
 
 inline constexpr std::uint16_t kLevelSessionCount = 100;     // 9812, 9813
 inline constexpr std::uint16_t kLevelSessionCapacity = 101;  // 9812, 9813
@@ -80,7 +85,7 @@ inline constexpr VarInfo kRows[] = {
   rows::data_block(var::kPointList, var::kPointListCount, "level_points", "mm", "Macro 9811: X, Y, Z of points 1..32, interleaved, machine frame."),
 };
 
-// What 9810, 9811 and 9814 put in #100..#115.
+// What 9810, 9811 and 9814 put in #100..#118.
 inline constexpr OutputInfo kLevelOutputs[] = {
   {var::kLevelC, "level_c", "deg", "Leveling: C of the chosen solution (absolute, commanded)."},
   {var::kLevelA, "level_a", "deg", "Leveling: A of the chosen solution (absolute, commanded)."},
@@ -99,7 +104,12 @@ inline constexpr OutputInfo kLevelOutputs[] = {
   {var::kLevelMaxResidual, "level_max_residual", "sigma", "Leveling: largest standardised residual (5 or more points)."},
   {var::kLevelOtherReachable, "level_other_reachable", "", "Leveling: 1 when the other solution is inside the travel limits too, else 0."},
   {var::kLevelAxesUsed, "level_axes_used", "", "Leveling: the axes it ran on, 0 ideal, 1 calibrated (level_axes, #508)."},
+  {var::kLevelMachineTilt, "level_machine_tilt", "deg", "Leveling: the face's tilt from horizontal in the machine frame, with the table where it was probed (A = #1, C = #3), on either axes: an operator's check after leveling."},
+  {var::kLevelMachineTiltSigma, "level_machine_tilt_sigma", "arcsec", "Leveling: standard uncertainty (1 sigma) of that tilt from the probe repeatability."},
 };
+// The outputs interface version 1 named the results #100..#116 after (convention 2).
+inline constexpr std::size_t kNamedLevelOutputs = 17;
+static_assert(kLevelOutputs[kNamedLevelOutputs - 1].number == var::kLevelAxesUsed, "named results end at #116");
 
 // What 9812 and 9813 put in #100, #101.
 inline constexpr OutputInfo kSessionOutputs[] = {

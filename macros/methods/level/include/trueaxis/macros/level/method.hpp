@@ -16,7 +16,7 @@ struct Method : Shape {
   static constexpr SessionInfo kSession{kSessionCapacity, "points", "X, Y, Z (#24..#26, mm, machine frame)",
                                         9812, 9813, 9814, {}};
   // Interface version 1 named the results #100..#116 after M1's outputs.
-  static constexpr List<OutputInfo> kNamedResults = list_of(kLevelOutputs);
+  static constexpr List<OutputInfo> kNamedResults{kLevelOutputs, kNamedLevelOutputs};
   using State = level::State;
   using Table = NoTable;
 };
