@@ -371,6 +371,7 @@ void Module::step() {
     for (std::size_t i = 0; i < kResultSlots; ++i) staged_[i] = values_[kResultSlot + i];
     record_.staged = false;
     call_.on_success = nullptr;
+    call_.refusal = {};
     phase_ = Phase::kRunning;
     first_step = true;
   }
@@ -420,6 +421,11 @@ void Module::finish(core::Status status) {
   holder_active_us_ = clock_.now_us();  // contract 8: idle counts from the macro's end
   at<var::kRunTime>() = static_cast<double>(holder_active_us_ - started_us_);
   at<var::kStepCount>() = static_cast<double>(steps_);
+  const Refusal refused = ok ? Refusal{} : call_.refusal;  // method_context.hpp contract 8
+  at<var::kGateItem>() = refused.item;
+  at<var::kGateValue>() = refused.value;
+  at<var::kGateLimit>() = refused.limit;
+  call_.refusal = {};
   for (const SlotRun& run : kReadWriteRuns) {
     for (std::size_t k = 0; k < run.count; ++k) values_[run.first + k] = 0.0;
   }

@@ -38,12 +38,27 @@ void Progress::update(std::uint64_t done, std::uint64_t total) {
                static_cast<unsigned long long>(total), unit_.c_str());
 }
 
+namespace {
+// What a gate refused (#9012 .. #9014, gates.hpp), "" when no gate did.
+std::string gate_text(VariableClient& client) {
+  double g[3] = {0.0, 0.0, 0.0};
+  if (!client.read(macros::var::kGateItem, 3, g) || (g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0)) return "";
+  char buf[160];
+  if (g[0] != 0.0) {
+    std::snprintf(buf, sizeof buf, "; item %g (#9012): %.6g (#9013) against the limit %.6g (#9014)", g[0], g[1], g[2]);
+  } else {
+    std::snprintf(buf, sizeof buf, "; %.6g (#9013) against the limit %.6g (#9014)", g[1], g[2]);
+  }
+  return buf;
+}
+}  // namespace
+
 bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail) {
   const MacroOutcome outcome = client.run_macro(macro, 20000);
   if (outcome.status == 2) return true;
   const std::string where = context.empty() ? "" : context + ": ";
   if (outcome.status == 3) {
-    fail.error = where + module_error_text(outcome.error) + " (macro " + std::to_string(macro) + ")";
+    fail.error = where + module_error_text(outcome.error) + " (macro " + std::to_string(macro) + gate_text(client) + ")";
   } else if (client.exception() != 0) {  // the command was refused: not the sample's doing, no line named
     fail.error = "macro " + std::to_string(macro) + " not started: " + client.failure_text();
   } else {

@@ -153,13 +153,14 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
     }
     const double apart_mm = std::sqrt(d2);
     const double machine_mm = m.value[kBall2] - m.value[kBall1];
-    if (machine_mm > 0.0 && apart_mm > 0.0 && (apart_mm / machine_mm > 10.0 || machine_mm / apart_mm > 10.0)) {
-      char why[240];
-      std::snprintf(why, sizeof why,
-                    " (the balls' centres in %s lie %.6g apart, MACHINE's ball_2_mm - ball_1_mm is %.6g: "
-                    "are the lengths of one file in metres, or in other units than mm?)",
-                    options.in_path.c_str(), apart_mm, machine_mm);
-      r.error = options.machine_path + ": " + r.error + why;
+    const bool units = machine_mm > 0.0 && apart_mm > 0.0 && (apart_mm / machine_mm > 10.0 || machine_mm / apart_mm > 10.0);
+    if (units || module_refused(r, static_cast<int>(macros::spindle::kBallSpacingImplausible))) {
+      char why[300];
+      std::snprintf(why, sizeof why, " (the balls' centres in %s lie %.6g mm apart, %s's ball_2_mm - ball_1_mm is %.6g: %s)",
+                    options.in_path.c_str(), apart_mm, options.machine_path.c_str(), machine_mm,
+                    units ? "are the lengths of one file in metres, or in other units than mm?"
+                          : "is a ball distance typed wrong?");
+      r.error += why;
       return r;
     }
     // D, U and V are MACHINE's lengths: name the file when the module refuses one.

@@ -153,6 +153,23 @@ void print_json() {
       }
     }
     if (Built::kHasTable[method]) std::printf(", \"stores_table\": true");
+    if (!Built::kGates[method].empty()) {
+      std::printf(",\n     \"gates\": [");
+      bool first_gate = true;
+      for (const m::GateInfo& g : Built::kGates[method]) {
+        std::printf("%s\n       {\"name\": \"%s\", \"error\": %d, \"thresholds\": [", first_gate ? "" : ",", g.name,
+                    static_cast<int>(g.status));
+        bool first_threshold = true;
+        for (std::uint16_t t : g.thresholds) {
+          if (t == 0) continue;
+          std::printf("%s%u", first_threshold ? "" : ", ", t);
+          first_threshold = false;
+        }
+        std::printf("], \"what\": \"%s\"}", escaped(g.what).c_str());
+        first_gate = false;
+      }
+      std::printf("]");
+    }
     std::printf("}");
     first = false;
   }
@@ -247,6 +264,20 @@ void print_markdown() {
                 block_text(b.has_config(), b.config_first, b.config_last).c_str(),
                 block_text(b.has_data(), b.data_first, b.data_last).c_str(), Built::kStatusBlocks[method].first,
                 Built::kStatusBlocks[method].last, session.c_str());
+  }
+  std::printf("\n## Gates\n\nWhat a compute macro checks before it publishes or stores a result; a refusal "
+              "leaves every result and table as it was and tells the item, the figure and its limit in #9012 .. "
+              "#9014.\n\n| method | gate | error | thresholds | what |\n|---|---|---|---|---|\n");
+  for (std::size_t method = 0; method < Built::kCount; ++method) {
+    for (const m::GateInfo& g : Built::kGates[method]) {
+      std::string thresholds;
+      for (std::uint16_t t : g.thresholds) {
+        if (t == 0) continue;
+        thresholds += (thresholds.empty() ? "#" : ", #") + std::to_string(t) + " " + var_name(t);
+      }
+      std::printf("| %s | %s | %d | %s | %s |\n", Built::kNames[method], g.name, static_cast<int>(g.status),
+                  thresholds.c_str(), g.what);
+    }
   }
   std::printf("\n## Macros\n\nEvery macro runs in steps of at most %u Cortex-M7 instructions "
               "(#9008 tells how many steps the last one took).\n",

@@ -14,6 +14,7 @@
 //       200-299  geometry (degenerate point sets, unreachable poses)
 //       300-399  configuration
 //       400-499  the macro layer and the platform (unknown macro, storage)
+//       500-599  the gates: a result refused before it is published or stored
 #pragma once
 
 #include <cstddef>
@@ -69,6 +70,9 @@ enum class Status : std::uint16_t {
   kSessionClosed = 406,     // another method's calibration session has replaced this method's
   kResultReplaced = 407,    // another method's computation has replaced this method's last one
   kMethodNotBuilt = 408,    // the method this needs is not built into this module
+
+  kFitBeyondNoise = 500,    // a fit's residuals far beyond the instrument's stated noise (a gate)
+  kChangeBeyondLimit = 501, // a new table differs from the stored one beyond the change limit, unconfirmed (a gate)
 };
 
 // A status's name (snake_case, stable) and its message (one sentence for an

@@ -17,6 +17,7 @@
 //     static StoredTable<Table>& table(State&);      where State keeps that table (only with a Table)
 //     static void provide(State&, Services&);        optional: what it offers other methods (services.hpp)
 //     static constexpr List<OutputInfo> kNamedResults;  optional: names of #100.. (interface version 1, M1 only)
+//     static constexpr List<GateInfo> kGates;        optional: its gates, for the map (gates.hpp)
 //   };
 //
 // Conventions
@@ -38,6 +39,7 @@
 #include <cstdint>
 
 #include "trueaxis/core/status.hpp"
+#include "trueaxis/macros/gates.hpp"
 #include "trueaxis/macros/list.hpp"
 #include "trueaxis/macros/method_context.hpp"
 #include "trueaxis/macros/var_info.hpp"

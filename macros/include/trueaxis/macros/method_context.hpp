@@ -35,6 +35,10 @@
 //     with kOk, after its record was committed, and leaves it alone on any
 //     other end: a method's "the last computation succeeded" (9834, 9824,
 //     9826, 9844, 9845 with R = 0) follows the macro's own outcome.
+//  8. refuse(status, item, value, limit): a gate's refusal (gates.hpp): ends
+//     the macro with `status` and has the module publish item, value and
+//     limit in #9012 .. #9014 (which read 0 after any other end). Results
+//     and tables stay as they were, as on every failure.
 //  No allocation, no exceptions.
 #pragma once
 
@@ -57,6 +61,13 @@ namespace trueaxis::macros {
 // Shapes without a session or work (contract 1).
 struct NoSession {};
 struct NoWork {};
+
+// What a gate refused (contract 8): #9012 .. #9014.
+struct Refusal {
+  double item = 0.0;
+  double value = 0.0;
+  double limit = 0.0;
+};
 
 // A record a macro staged, waiting for the macro to succeed; the bytes are the
 // module's buffer, as large as the largest record of the built methods.
@@ -83,6 +94,7 @@ struct MacroCall {
   const Services& services;
   KeyedStore& store;
   bool* on_success = nullptr;  // contract 7
+  Refusal refusal{};           // contract 8
   const double* own = nullptr;  // the running method's own slots; nullptr for an extra macro
   void* state = nullptr;        // the running method's State; nullptr for an extra macro
   bool first_step = false;
@@ -204,6 +216,12 @@ class MethodContext {
 
   // Contract 7.
   void set_on_success(bool& flag) { call_.on_success = &flag; }
+
+  // Contract 8.
+  MacroStep refuse(core::Status status, double item, double value, double limit) {
+    call_.refusal = {item, value, limit};
+    return done(status);
+  }
 
   [[nodiscard]] core::Status load_record(std::uint8_t key, std::uint8_t* out, std::size_t capacity,
                                          std::size_t& length) {

@@ -92,6 +92,20 @@ template <typename M>
 struct HasNamedResults<M, std::void_t<decltype(M::kNamedResults)>> : std::true_type {};
 
 template <typename M, typename = void>
+struct HasGates : std::false_type {};
+template <typename M>
+struct HasGates<M, std::void_t<decltype(M::kGates)>> : std::true_type {};
+
+template <typename M>
+constexpr List<GateInfo> gates_of() {
+  if constexpr (HasGates<M>::value) {
+    return M::kGates;
+  } else {
+    return {};
+  }
+}
+
+template <typename M, typename = void>
 struct HasProvide : std::false_type {};
 template <typename M>
 struct HasProvide<M, std::void_t<decltype(M::provide(std::declval<typename M::State&>(), std::declval<Services&>()))>>
@@ -127,6 +141,7 @@ struct MethodSet<MethodList<Ms...>> {
   // Each method's table record (key 0 when it stores none).
   static constexpr std::array<RecordSpec, kCount> kTableRecordOf{{detail::table_record_of<Ms>()...}};
   static constexpr std::array<List<OutputInfo>, kCount> kNamedResults{{detail::named_results_of<Ms>()...}};
+  static constexpr std::array<List<GateInfo>, kCount> kGates{{detail::gates_of<Ms>()...}};
 
   // Each method's own slots follow the platform's, in list order
   // (platform_map.hpp convention 7); kSlotBase[kCount] is the module's total.

@@ -7,13 +7,15 @@
 //                    meaning is per macro (each macro's outputs in the JSON map).
 //  3. #500 .. #999   configuration; persistent; writable only while unlocked.
 //                    Each method owns a block (its descriptor's kBlock,
-//                    method.hpp); #900 is the platform's (the unlock code),
-//                    #901 .. #999 is free for further methods.
+//                    method.hpp); #900 and #901 are the platform's (the
+//                    unlock code, the gates' confidence), #902 .. #999 is
+//                    free for further methods.
 //  4. #1000 .. #4999 macro-input data of the methods (point lists), one block
 //                    per method; volatile, cleared after every macro.
 //  5. #5221 .. #5326 work offsets G54 .. G59 (+0 X .. +5 C); persistent.
 //  6. #9000 .. #9009 the handshake; #9010 the count of wrong unlock codes,
-//     #9011 the seconds of unlock back-off left.
+//     #9011 the seconds of unlock back-off left; #9012 .. #9014 what the last
+//     macro's gate refused (gates.hpp).
 //  7. Slots: every module keeps its variables in one array, the platform's
 //     first (kPlatformSlots: the arguments, the 100 results, then
 //     kPlatformRows), then each method's own rows in the order of the method
@@ -74,6 +76,7 @@ inline constexpr std::uint16_t kWorkOffsetStride = 20;  // G(n+1) = G(n) + 20
 inline constexpr std::uint16_t kWorkOffsetAxes = 6;     // X Y Z A B C
 
 inline constexpr std::uint16_t kUnlockCodeSetting = 900;
+inline constexpr std::uint16_t kGateConfidence = 901;
 
 inline constexpr std::uint16_t kCmd = 9000;
 inline constexpr std::uint16_t kStatus = 9001;
@@ -87,6 +90,9 @@ inline constexpr std::uint16_t kStepCount = 9008;
 inline constexpr std::uint16_t kInterface = 9009;
 inline constexpr std::uint16_t kFailedUnlocks = 9010;
 inline constexpr std::uint16_t kUnlockBackoffLeft = 9011;
+inline constexpr std::uint16_t kGateItem = 9012;
+inline constexpr std::uint16_t kGateValue = 9013;
+inline constexpr std::uint16_t kGateLimit = 9014;
 }  // namespace var
 
 // #9001 values.
@@ -96,6 +102,9 @@ enum class MacroState : std::uint8_t { kIdle = 0, kBusy = 1, kDone = 2, kError =
 // integrator sets the machine's own, module.hpp contract 7).
 inline constexpr double kUnlockCode = 2718.0;
 inline constexpr double kInterfaceVersionValue = 1.0;
+// The default of #901: a fit of pure instrument noise is refused once in a
+// million (gates.hpp convention 2).
+inline constexpr double kDefaultGateConfidence = 0.999999;
 
 namespace rows {
 inline constexpr double kBig = 1e5;  // bound of coordinates (mm) and angles (deg) macros take
@@ -150,6 +159,8 @@ inline constexpr VarInfo kPlatformArgRows[] = {
 inline constexpr VarInfo kPlatformRows[] = {
   {var::kUnlockCodeSetting, 1, Access::kConfig, ValueKind::kInteger, 1.0, 9999.0, kUnlockCode, "unlock_code", "", "The code #9004 takes: set it while unlocked (persistent); it reads 0. The default 2718 is published, for commissioning only. An unlock closes by itself 300 s after the last write that succeeded, and when the connection that opened it closes."},
 
+  {var::kGateConfidence, 1, Access::kConfig, ValueKind::kReal, 0.999, 0.999999999, kDefaultGateConfidence, "gate_confidence", "", "The fit-quality gate's confidence (every method that compares its residuals with its instrument's stated noise): a fit whose weighted sum of squared residuals exceeds the chi-square quantile at this confidence is refused (fit_beyond_noise). The default 0.999999 refuses pure noise once in a million computations."},
+
   rows::offset(var::kG54 + 0, "g54_x", "mm"), rows::offset(var::kG54 + 1, "g54_y", "mm"), rows::offset(var::kG54 + 2, "g54_z", "mm"),
   rows::offset(var::kG54 + 3, "g54_a", "deg"), rows::offset(var::kG54 + 4, "g54_b", "deg"), rows::offset(var::kG54 + 5, "g54_c", "deg"),
   rows::offset(var::kG55 + 0, "g55_x", "mm"), rows::offset(var::kG55 + 1, "g55_y", "mm"), rows::offset(var::kG55 + 2, "g55_z", "mm"),
@@ -175,6 +186,9 @@ inline constexpr VarInfo kPlatformRows[] = {
   {var::kInterface, 1, Access::kInterface, ValueKind::kInteger, 0.0, 1.0, 0.0, "interface", "", "The macro interface (every write: arguments, data, #9000, work offsets, configuration, #9004) is granted to one client (TCP connection) at a time: the first that writes takes it; others' writes get exception 06 (#9007 = interface_held) until the holder writes 0 here, disconnects, or writes nothing for 30 s after its last write or macro. Write 1 to take it (refused while another holds it), 0 to give it back. Reads 0 free, 1 held by you, 2 held by another client. A lock (#9004 = 0) is taken from anyone."},
   {var::kFailedUnlocks, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "failed_unlocks", "", "Wrong codes written to #9004 since start; each makes #9004 refuse codes for a back-off (1 s, doubling up to 64 s)."},
   {var::kUnlockBackoffLeft, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 64.0, 0.0, "unlock_backoff_s", "s", "Seconds left (rounded up) before #9004 takes a code again after a wrong one; 0 when it takes one now."},
+  {var::kGateItem, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, 0.0, "gate_item", "", "When the last macro's gate refused its result (fit_beyond_noise, change_beyond_limit, a method's implausible_...): the pose, group or sub-machine it names (1-based, as that method's reports number them; 0 the whole result). 0 after any other end."},
+  {var::kGateValue, 1, Access::kReadOnly, ValueKind::kReal, -1e15, 1e15, 0.0, "gate_value", "", "The refused figure: for fit_beyond_noise the ratio of the residuals' chi-square statistic to its quantile at #901 (above 1), else the figure in the unit of its limit. 0 after any other end."},
+  {var::kGateLimit, 1, Access::kReadOnly, ValueKind::kReal, -1e15, 1e15, 0.0, "gate_limit", "", "The limit that figure exceeded (1 for fit_beyond_noise; else the configuration value, in its unit). 0 after any other end."},
 };
 // clang-format on
 
@@ -207,6 +221,6 @@ constexpr std::size_t platform_slot(std::uint16_t number) {
   return rest == kNoSlot ? kNoSlot : kArgSlots + kResultSlots + rest;
 }
 static_assert(platform_slot(var::kArgA) == 0 && platform_slot(var::kResultFirst) == kArgSlots &&
-              platform_slot(var::kUnlockBackoffLeft) == kPlatformSlots - 1 && platform_slot(10) == kNoSlot);
+              platform_slot(var::kGateLimit) == kPlatformSlots - 1 && platform_slot(10) == kNoSlot);
 
 }  // namespace trueaxis::macros

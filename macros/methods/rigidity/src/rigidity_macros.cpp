@@ -4,6 +4,7 @@
 
 #include "trueaxis/core/residual_noise.hpp"
 #include "trueaxis/macros/arguments.hpp"
+#include "trueaxis/macros/gates.hpp"
 
 namespace trueaxis::macros::rigidity {
 
@@ -30,6 +31,100 @@ bool blend_of(double q, core::Blend& blend) {
   else if (q == 3.0) blend = core::Blend::kCubicNotAKnot;
   else return false;
   return true;
+}
+
+// The reference pose's ball radius about C: the RMS distance of its samples
+// from the C axis (the circle's centre and normal); 0 when none matches.
+double reference_radius_mm(const core::RigidityTable& t, const RigiditySession& samples) {
+  const core::RigidityPose& ref = t.poses[t.reference];
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < samples.size(); ++k) {
+    const core::RigiditySample& s = samples.data()[k];
+    if (!(std::abs(s.a_deg - ref.a_deg) <= core::kPoseAToleranceDeg)) continue;
+    const core::Vec3 d = s.p_mm - ref.c_centre_mm;
+    sum += (d - d.dot(ref.c_direction) * ref.c_direction).squaredNorm();
+    ++n;
+  }
+  return n > 0 ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+}
+
+// The change gate's figure: the largest |rotvec_new - rotvec_stored(A)| over
+// the new poses (rad), the stored table read at each new pose's A, clamped.
+struct Change {
+  double rad = 0.0;
+  std::size_t pose = 0;  // 1-based; 0: no stored table
+};
+Change change_against(const State& state, const core::RigidityTable& t) {
+  Change c;
+  for (std::size_t i = 0; i < t.pose_count; ++i) {
+    const core::Result<core::Vec3> stored = compensation_rad(state, t.poses[i].a_deg, core::Blend::kLinear, true);
+    if (!stored.ok()) return {};
+    const double d = (t.poses[i].rotvec_rad - stored.value()).norm();
+    if (c.pose == 0 || d > c.rad) c = {d, i + 1};
+  }
+  return c;
+}
+
+// The gates (rigidity_macros.hpp 9832, gates.hpp), then the outputs and the store.
+MacroStep finish_build(Context& ctx, State& state, const core::RigidityTable& t, const RigiditySession& samples) {
+  bool store = false;
+  bool confirmed = false;
+  if (!flag_of(ctx.in<var::kArgR>(), store) || !flag_of(ctx.in<var::kArgM>(), confirmed)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
+  const double ball_noise = ctx.in<var::kRigidityBallNoise>();
+  FitGate fit(ctx.in<var::kGateConfidence>());
+  if (ball_noise > 0.0) {
+    for (std::size_t i = 0; i < t.pose_count; ++i) {
+      const core::RigidityPose& p = t.poses[i];
+      const double ssr = p.c_circle_rms_mm * p.c_circle_rms_mm * static_cast<double>(p.c_count);
+      fit.consider(i + 1, ssr / (ball_noise * ball_noise), core::circle_residual_dof(p.c_count));
+    }
+  }
+  if (fit.refused()) return ctx.refuse(core::Status::kFitBeyondNoise, static_cast<double>(fit.item()), fit.ratio(), 1.0);
+  const double max_a_error = ctx.in<var::kRigidityMaxAError>();
+  for (std::size_t i = 0; i < t.pose_count; ++i) {
+    const double e = t.poses[i].a_error_rad * kArcsecPerRad;
+    if (!(std::abs(e) <= max_a_error)) return ctx.refuse(kAErrorImplausible, static_cast<double>(i + 1), e, max_a_error);
+  }
+  const double min_radius = ctx.in<var::kRigidityMinCRadius>();
+  const double radius = reference_radius_mm(t, samples);
+  if (radius < min_radius) {
+    return ctx.refuse(kCRadiusImplausible, static_cast<double>(t.reference + 1), radius, min_radius);
+  }
+  const Change change = change_against(state, t);
+  const double change_arcsec = change.rad * kArcsecPerRad;
+  const double max_change = ctx.in<var::kRigidityMaxChange>();
+  if (store && change.pose != 0 && change_arcsec > max_change && !confirmed) {
+    return ctx.refuse(core::Status::kChangeBeyondLimit, static_cast<double>(change.pose), change_arcsec, max_change);
+  }
+
+  std::size_t worst = 0;
+  std::size_t worst_rms = 0;
+  for (std::size_t i = 0; i < t.pose_count; ++i) {
+    if (t.poses[i].rigidity_rad > t.poses[worst].rigidity_rad) worst = i;
+    if (t.poses[i].c_circle_rms_mm > t.poses[worst_rms].c_circle_rms_mm) worst_rms = i;
+  }
+  const core::ResidualNoise noise = circle_noise(t.poses[worst_rms], ball_noise);
+  ctx.out<var::kRigidityPoses>(static_cast<double>(t.pose_count));
+  ctx.out<var::kRigidityWorst>(t.poses[worst].rigidity_rad * kArcsecPerRad);
+  ctx.out<var::kRigidityWorstSigma>(t.poses[worst].rigidity_sigma_rad * kArcsecPerRad);
+  ctx.out3<var::kRigidityAPointX>(t.a_axis_point_mm);
+  ctx.out3<var::kRigidityADirectionX>(t.a_axis_direction);
+  ctx.out<var::kRigidityCToAOffset>(t.c_to_a_offset_mm);
+  ctx.out<var::kRigidityCToASquareness>(t.c_to_a_squareness_rad * kArcsecPerRad);
+  ctx.out<var::kRigidityWorstCircleRms>(t.poses[worst_rms].c_circle_rms_mm);
+  ctx.out<var::kRigidityWorstCircleRmsFloor>(noise.floor_mm);
+  ctx.out<var::kRigidityWorstCircleRmsSigma>(noise.sigma_mm);
+  ctx.out<var::kRigidityChange>(change_arcsec);
+  ctx.out<var::kRigidityChangePose>(static_cast<double>(change.pose));
+  ctx.out<var::kRigidityFitRatio>(fit.ratio());
+  ctx.out<var::kRigidityFitPose>(static_cast<double>(fit.item()));
+
+  ctx.set_on_success(state.built);
+  if (!store) return done(core::Status::kOk);
+  return done(ctx.stage_table(state.table, t));  // the module commits the record, then makes t live
 }
 
 }  // namespace
@@ -62,46 +157,30 @@ MacroStep run_session_add(Context& ctx, State&) {
 }
 
 MacroStep run_build(Context& ctx, State& state) {
-  bool store = false;
+  bool flag = false;
   if (ctx.first_step()) {
-    if (!flag_of(ctx.in<var::kArgR>(), store)) return done(core::Status::kArgumentOutOfRange);
+    if (!flag_of(ctx.in<var::kArgR>(), flag) || !flag_of(ctx.in<var::kArgM>(), flag)) {
+      return done(core::Status::kArgumentOutOfRange);
+    }
     const RigiditySession* samples = ctx.session();
     if (samples == nullptr) return done(core::Status::kSessionClosed);
     core::RigidityOptions options;
     options.min_c_arc_deg = ctx.in<var::kRigidityMinCArc>();
     options.max_pose_samples = kMaxPoseSamples;
     state.built = false;
-    ctx.open_work().builder.start(samples->data(), samples->size(), options);
+    Work& work = ctx.open_work();
+    work.built = false;
+    work.builder.start(samples->data(), samples->size(), options);
     return more();  // the first step only checks and starts: the builder's steps follow
   }
   Work* work = ctx.work();
-  if (work == nullptr) return done(core::Status::kResultReplaced);  // cannot happen: one macro at a time
+  const RigiditySession* samples = ctx.session();
+  if (work == nullptr || samples == nullptr) return done(core::Status::kResultReplaced);  // cannot happen: one macro at a time
+  if (work->built) return finish_build(ctx, state, work->builder.table(), *samples);
   const core::RigidityStep step = work->builder.step();
-  if (step.more) return more();
   if (step.status != core::Status::kOk) return done(step.status);
-
-  const core::RigidityTable& t = work->builder.table();
-  std::size_t worst = 0;
-  std::size_t worst_rms = 0;
-  for (std::size_t i = 0; i < t.pose_count; ++i) {
-    if (t.poses[i].rigidity_rad > t.poses[worst].rigidity_rad) worst = i;
-    if (t.poses[i].c_circle_rms_mm > t.poses[worst_rms].c_circle_rms_mm) worst_rms = i;
-  }
-  const core::ResidualNoise noise = circle_noise(t.poses[worst_rms], ctx.in<var::kRigidityBallNoise>());
-  ctx.out<var::kRigidityPoses>(static_cast<double>(t.pose_count));
-  ctx.out<var::kRigidityWorst>(t.poses[worst].rigidity_rad * kArcsecPerRad);
-  ctx.out<var::kRigidityWorstSigma>(t.poses[worst].rigidity_sigma_rad * kArcsecPerRad);
-  ctx.out3<var::kRigidityAPointX>(t.a_axis_point_mm);
-  ctx.out3<var::kRigidityADirectionX>(t.a_axis_direction);
-  ctx.out<var::kRigidityCToAOffset>(t.c_to_a_offset_mm);
-  ctx.out<var::kRigidityCToASquareness>(t.c_to_a_squareness_rad * kArcsecPerRad);
-  ctx.out<var::kRigidityWorstCircleRms>(t.poses[worst_rms].c_circle_rms_mm);
-  ctx.out<var::kRigidityWorstCircleRmsFloor>(noise.floor_mm);
-  ctx.out<var::kRigidityWorstCircleRmsSigma>(noise.sigma_mm);
-
-  ctx.set_on_success(state.built);
-  if (!flag_of(ctx.in<var::kArgR>(), store) || !store) return done(core::Status::kOk);
-  return done(ctx.stage_table(state.table, t));  // the module commits the record, then makes t live
+  work->built = !step.more;
+  return more();  // the gates run in a step of their own
 }
 
 MacroStep run_query(Context& ctx, State& state) {

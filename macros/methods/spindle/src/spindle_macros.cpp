@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "trueaxis/macros/arguments.hpp"
+#include "trueaxis/macros/gates.hpp"
 
 namespace trueaxis::macros::spindle {
 
@@ -38,6 +39,98 @@ MacroStep with_model(Context& ctx, const State& state, bool stored, Report repor
   return report(work->computed);
 }
 
+// The count-weighted mean of a ball's bin means (zero for none).
+core::Vec3 ball_mean_mm(const core::SpindleBins& bins, int ball) {
+  core::Vec3 sum = core::Vec3::Zero();
+  double n = 0.0;
+  for (std::size_t i = 0; i < bins.angles(ball); ++i) {
+    const core::SpindleBin& b = bins.bin(ball, i);
+    sum += static_cast<double>(b.count) * b.mean_mm;
+    n += static_cast<double>(b.count);
+  }
+  return n > 0.0 ? core::Vec3(sum / n) : core::Vec3::Zero();
+}
+
+// Adds up to kBinsPerStep bins' squared residuals (their scatter, and the
+// count times the squared distance of their mean from the model) to each
+// ball's sum; true when every bin is in.
+bool add_residuals(Work& work, const core::SpindleBins& bins) {
+  const core::SpindleModel& m = work.computed;
+  for (std::size_t done = 0; done < core::SpindleBuilder::kBinsPerStep; ++done) {
+    const std::size_t first = bins.angles(1);
+    if (work.cursor >= first + bins.angles(2)) return true;
+    const int ball = work.cursor < first ? 1 : 2;
+    const core::SpindleBin& b = bins.bin(ball, ball == 1 ? work.cursor : work.cursor - first);
+    const core::Vec3 predicted = core::spindle_ball_mm(m.fit.params, m.geometry, ball, core::deg_to_rad(b.phi_deg));
+    work.ssr_mm2[ball - 1] += b.scatter_mm2 + static_cast<double>(b.count) * (predicted - b.mean_mm).squaredNorm();
+    ++work.cursor;
+  }
+  return work.cursor >= bins.angles(1) + bins.angles(2);
+}
+
+// The change gate's figure: the largest |tip_new - tip_stored| at V over the
+// angles 0, 10, .. 350 deg; pose 0 (no angle) without a stored model.
+struct Change {
+  double mm = 0.0;
+  double angle_deg = 0.0;
+  bool stored = false;
+};
+Change change_against(const State& state, const core::SpindleModel& m) {
+  Change c;
+  const double tool = m.geometry.ball_mm[1];
+  for (int k = 0; k < kChangeAngles; ++k) {
+    const double phi_deg = 360.0 / kChangeAngles * k;
+    const core::Result<core::SpindleCorrection> stored = tool_tip_correction(state, phi_deg, tool);
+    if (!stored.ok()) return {};
+    const core::Result<core::SpindleCorrection> now =
+        core::spindle_correction(m.axes, m.geometry.gauge_mm, tool, core::deg_to_rad(phi_deg));
+    if (!now.ok()) return {};
+    const double d = (now.value().tip_error_mm - stored.value().tip_error_mm).norm();
+    if (!c.stored || d > c.mm) c = {d, phi_deg, true};
+  }
+  return c;
+}
+
+// The gates (spindle_macros.hpp 9842), then the outputs and the store.
+MacroStep finish_build(Context& ctx, State& state, Work& work, const core::SpindleBins& bins) {
+  bool store = false;
+  bool confirmed = false;
+  if (!flag_of(ctx.in<var::kArgR>(), store) || !flag_of(ctx.in<var::kArgM>(), confirmed)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
+  const double noise = ctx.in<var::kSpindleProbeNoise>();
+  const double form = ctx.in<var::kSpindleFormAllowance>();
+  const double variance = noise * noise + form * form / 3.0;  // per axis
+  FitGate fit(ctx.in<var::kGateConfidence>());
+  if (variance > 0.0) {
+    for (int ball = 1; ball <= 2; ++ball) {
+      const std::size_t n = bins.samples(ball);
+      fit.consider(static_cast<std::size_t>(ball), work.ssr_mm2[ball - 1] / variance, n > 2 ? 3 * n - 4 : 0);
+    }
+  }
+  if (fit.refused()) return ctx.refuse(core::Status::kFitBeyondNoise, static_cast<double>(fit.item()), fit.ratio(), 1.0);
+  const Change change = change_against(state, work.computed);
+  const double max_change = ctx.in<var::kSpindleMaxChange>();
+  if (store && change.stored && change.mm > max_change && !confirmed) {
+    return ctx.refuse(core::Status::kChangeBeyondLimit, change.angle_deg, change.mm, max_change);
+  }
+
+  const core::SpindleFit& f = work.computed.fit;
+  ctx.out<var::kSpindleEvaluations>(static_cast<double>(f.evaluations));
+  ctx.out<var::kSpindleNoiseSigma>(f.noise_sigma_mm);
+  ctx.out<var::kSpindleSynchronousRms>(f.synchronous_rms_mm);
+  ctx.out<var::kSpindleNoiseFromRepeats>(f.noise_from_repeats ? 1.0 : 0.0);
+  ctx.out<var::kSpindleSamplesUsed>(static_cast<double>(f.samples));
+  ctx.out<var::kSpindleFitRatio>(fit.ratio());
+  ctx.out<var::kSpindleFitBall>(static_cast<double>(fit.item()));
+  ctx.out<var::kSpindleChange>(change.mm);
+  ctx.out<var::kSpindleChangeAngle>(change.angle_deg);
+  ctx.out<var::kSpindleBallSpacing>(work.spacing_mm);
+  ctx.set_on_success(state.built);
+  if (!store) return done(core::Status::kOk);
+  return done(ctx.stage_table(state.table, work.computed));  // the module commits it, then makes it live
+}
+
 }  // namespace
 
 core::Result<core::SpindleCorrection> tool_tip_correction(const State& state, double phi_deg, double tool_mm) {
@@ -64,8 +157,10 @@ MacroStep run_session_add(Context& ctx, State&) {
 }
 
 MacroStep run_build(Context& ctx, State& state) {
-  bool store = false;
-  if (!flag_of(ctx.in<var::kArgR>(), store)) return done(core::Status::kArgumentOutOfRange);
+  bool flag = false;
+  if (!flag_of(ctx.in<var::kArgR>(), flag) || !flag_of(ctx.in<var::kArgM>(), flag)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
   if (ctx.first_step()) {
     const core::SpindleBins* bins = ctx.session();
     if (bins == nullptr) return done(core::Status::kSessionClosed);
@@ -76,31 +171,45 @@ MacroStep run_build(Context& ctx, State& state) {
     if (!(g.gauge_mm > 0.0) || !(g.ball_mm[0] >= 0.0) || !(g.ball_mm[1] > g.ball_mm[0])) {
       return done(core::Status::kArgumentOutOfRange);
     }
+    // The spacing gate: before the fit, which on such data would only fail to converge.
+    const double given = g.ball_mm[1] - g.ball_mm[0];
+    const double spacing = (ball_mean_mm(*bins, 2) - ball_mean_mm(*bins, 1)).norm();
+    const double max_error = ctx.in<var::kSpindleMaxSpacingError>();
+    if (bins->samples(1) > 0 && bins->samples(2) > 0 && !(std::abs(spacing - given) <= max_error)) {
+      return ctx.refuse(kBallSpacingImplausible, 0.0, spacing - given, max_error);
+    }
     state.built = false;
     Work& work = ctx.open_work();
     work.computed.geometry = g;
+    work.phase = Work::Phase::kFit;
+    work.cursor = 0;
+    work.ssr_mm2[0] = work.ssr_mm2[1] = 0.0;
+    work.spacing_mm = spacing;
     work.builder.start(*bins, g, ctx.in<var::kSpindleMaxGap>());
     return more();
   }
   Work* work = ctx.work();
-  if (work == nullptr) return done(core::Status::kResultReplaced);  // cannot happen: one macro at a time
-  const core::SpindleStep step = work->builder.step();
-  if (step.status != core::Status::kOk) return done(step.status);
-  if (step.more) return more();
-
-  // In place (core::make_spindle_model's fields): a SpindleModel temporary
-  // would be 0.9 kB on the stack of step().
-  work->computed.fit = work->builder.fit();
-  work->computed.axes = core::spindle_axes(work->computed.fit.params);
-  const core::SpindleFit& f = work->computed.fit;
-  ctx.out<var::kSpindleEvaluations>(static_cast<double>(f.evaluations));
-  ctx.out<var::kSpindleNoiseSigma>(f.noise_sigma_mm);
-  ctx.out<var::kSpindleSynchronousRms>(f.synchronous_rms_mm);
-  ctx.out<var::kSpindleNoiseFromRepeats>(f.noise_from_repeats ? 1.0 : 0.0);
-  ctx.out<var::kSpindleSamplesUsed>(static_cast<double>(f.samples));
-  ctx.set_on_success(state.built);
-  if (!store) return done(core::Status::kOk);
-  return done(ctx.stage_table(state.table, work->computed));  // the module commits it, then makes it live
+  const core::SpindleBins* bins = ctx.session();
+  if (work == nullptr || bins == nullptr) return done(core::Status::kResultReplaced);  // cannot happen: one macro at a time
+  switch (work->phase) {
+    case Work::Phase::kFit: {
+      const core::SpindleStep step = work->builder.step();
+      if (step.status != core::Status::kOk) return done(step.status);
+      if (step.more) return more();
+      // In place (core::make_spindle_model's fields): a SpindleModel temporary
+      // would be 0.9 kB on the stack of step().
+      work->computed.fit = work->builder.fit();
+      work->computed.axes = core::spindle_axes(work->computed.fit.params);
+      work->phase = Work::Phase::kResiduals;
+      return more();
+    }
+    case Work::Phase::kResiduals:
+      if (add_residuals(*work, *bins)) work->phase = Work::Phase::kGates;
+      return more();
+    case Work::Phase::kGates:
+      break;
+  }
+  return finish_build(ctx, state, *work, *bins);
 }
 
 MacroStep run_correction(Context& ctx, State& state) {

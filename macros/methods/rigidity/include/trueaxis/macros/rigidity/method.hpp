@@ -19,6 +19,15 @@ struct Method : Shape {
   static constexpr SessionInfo kSession{kSessionCapacity, "samples",
                                         "A, C (#1, #3, deg), ball centre X, Y, Z (#24..#26, mm)",
                                         9830, 9831, 9832, list_of(kLimits)};
+  static constexpr GateInfo kGateTable[] = {
+      {"fit", core::Status::kFitBeyondNoise, {var::kRigidityBallNoise, var::kGateConfidence, 0},
+       "each pose's C-circle residuals (2 n - 6 degrees of freedom) against the ball noise"},
+      {"a_error", kAErrorImplausible, {var::kRigidityMaxAError, 0, 0}, "each pose's A positioning error"},
+      {"c_radius", kCRadiusImplausible, {var::kRigidityMinCRadius, 0, 0}, "the ball's radius about C at the reference pose"},
+      {"change", core::Status::kChangeBeyondLimit, {var::kRigidityMaxChange, 0, 0},
+       "with R = 1: each pose's rotation vector against the stored table's at its A; M = 1 confirms"},
+  };
+  static constexpr List<GateInfo> kGates = list_of(kGateTable);
   using State = rigidity::State;
   using Table = RigidityTableRecord;
   static StoredTable<Table>& table(State& s) { return s.table; }

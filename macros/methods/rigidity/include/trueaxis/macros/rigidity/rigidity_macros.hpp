@@ -22,7 +22,15 @@
 //  (rigidity_map.hpp kBuildOutputs). Status: those of the builder (too_few_poses,
 //  no_reference_pose, too_few_c_positions, arc_too_short, too_many_points for
 //  a pose of more than kMaxPoseSamples (36) ...), kSessionClosed; the session
-//  is kept either way.
+//  is kept either way. The gates (gates.hpp), after the build and before
+//  anything is published or stored, in a step of their own: fit
+//  (fit_beyond_noise: a pose's C-circle residuals against #601), a_error
+//  (a_error_implausible: |A positioning error| above #602), c_radius
+//  (c_radius_implausible: the reference pose's mean ball radius from its C
+//  circle below #603), change (change_beyond_limit: with R = 1 and a stored
+//  table, a pose's rotation vector more than #604 from the stored table's at
+//  its A, unless M = #13 is 1). #114..#117 publish the change and the fit
+//  figure.
 // Macro 9833: the rotation vector at commanded A = #1 from the stored (live)
 //  table: Q = #17 blend (0 linear, 1 geodesic, 2 natural cubic spline, 3 cubic
 //  spline with not-a-knot ends: more exact near the ends of the range for a
@@ -66,6 +74,7 @@ using RigiditySession = Session<core::RigiditySample, kSessionCapacity>;
 // The build under way, and the last table built (builder.table()).
 struct Work {
   core::RigidityBuilder builder;
+  bool built = false;  // the builder has finished: the next step runs the gates
 };
 
 struct Shape {
@@ -103,8 +112,13 @@ inline constexpr InputRef kAddInputs[] = {
 };
 inline constexpr InputRef kBuildInputs[] = {
   {var::kArgR, 1, "1 stores the table (unlocked only), 0 builds it only."},
+  {var::kArgM, 1, "1 confirms a store whose change against the stored table exceeds #604."},
   {var::kRigidityMinCArc, 1, "Shortest C arc a pose may span."},
-  {var::kRigidityBallNoise, 1, "The ball instrument's noise, for the C-circle RMS's noise floor and sigma."},
+  {var::kRigidityBallNoise, 1, "The ball instrument's noise, for the C-circle RMS's noise floor and sigma, and the fit gate."},
+  {var::kRigidityMaxAError, 1, "The plausibility gate on the A positioning error."},
+  {var::kRigidityMinCRadius, 1, "The plausibility gate on the ball's C radius."},
+  {var::kRigidityMaxChange, 1, "The change gate's limit."},
+  {var::kGateConfidence, 1, "The fit gate's confidence."},
 };
 inline constexpr InputRef kQueryInputs[] = {
   {var::kArgA, 1, "Commanded A (deg)."},

@@ -21,6 +21,9 @@ namespace trueaxis::macros {
 namespace var {
 inline constexpr std::uint16_t kRigidityMinCArc = 600;
 inline constexpr std::uint16_t kRigidityBallNoise = 601;
+inline constexpr std::uint16_t kRigidityMaxAError = 602;
+inline constexpr std::uint16_t kRigidityMinCRadius = 603;
+inline constexpr std::uint16_t kRigidityMaxChange = 604;
 
 // 9830, 9831
 inline constexpr std::uint16_t kRigiditySessionCount = 100;
@@ -36,6 +39,10 @@ inline constexpr std::uint16_t kRigidityCToASquareness = 110;
 inline constexpr std::uint16_t kRigidityWorstCircleRms = 111;
 inline constexpr std::uint16_t kRigidityWorstCircleRmsFloor = 112;
 inline constexpr std::uint16_t kRigidityWorstCircleRmsSigma = 113;
+inline constexpr std::uint16_t kRigidityChange = 114;
+inline constexpr std::uint16_t kRigidityChangePose = 115;
+inline constexpr std::uint16_t kRigidityFitRatio = 116;
+inline constexpr std::uint16_t kRigidityFitPose = 117;
 // 9833
 inline constexpr std::uint16_t kRigidityRotvecX = 100;
 inline constexpr std::uint16_t kRigidityRotvecNorm = 103;
@@ -70,13 +77,32 @@ inline constexpr std::uint16_t kMaxPoseSamples = 36;
 // The default of #601: a ball-centre instrument measuring to 1 um (1 sigma per
 // axis), the simulator's (host_sim calibration_ball.hpp).
 inline constexpr double kDefaultBallNoiseMm = 0.001;
+// The plausibility gates' defaults (gates.hpp): a cradle's A positioning
+// error is arc-seconds to a few arc-minutes, A in radians gives 10^5"; the
+// ball sits tens to hundreds of mm off the C axis, in metres below 1.
+inline constexpr double kDefaultMaxAErrorArcsec = 1800.0;
+inline constexpr double kDefaultMinCRadiusMm = 5.0;
+// The change gate's default: a pose's rotation vector may move this far from
+// the stored table's at its A before a store needs M = 1 (repeat calibrations
+// of one machine differ by a few arc-seconds).
+inline constexpr double kDefaultMaxChangeArcsec = 30.0;
+
+// Its status codes (block 1100..1199).
+inline constexpr core::Status kAErrorImplausible = static_cast<core::Status>(1100);
+inline constexpr core::Status kCRadiusImplausible = static_cast<core::Status>(1101);
 
 // clang-format off
 inline constexpr VarInfo kRows[] = {
   rows::config(var::kRigidityMinCArc, 1.0, 360.0, 45.0, "rigidity_min_c_arc", "deg",
                "Rigidity: a pose whose C positions span a shorter arc is refused (arc_too_short)."),
   rows::config(var::kRigidityBallNoise, 0.0, 1.0, kDefaultBallNoiseMm, "rigidity_ball_noise", "mm",
-               "Rigidity: the ball-centre instrument's stated noise, 1 sigma per axis; the C-circle RMS's noise floor and sigma come from it (0: not stated, both 0)."),
+               "Rigidity: the ball-centre instrument's stated noise, 1 sigma per axis; the C-circle RMS's noise floor and sigma come from it, and the fit gate compares each pose's C-circle residuals with it (0: not stated, both 0 and no fit gate)."),
+  rows::config(var::kRigidityMaxAError, 1.0, 1e6, kDefaultMaxAErrorArcsec, "rigidity_max_a_error", "arcsec",
+               "Rigidity: a pose whose A positioning error exceeds this is refused (a_error_implausible: A in radians?)."),
+  rows::config(var::kRigidityMinCRadius, 0.0, 1e4, kDefaultMinCRadiusMm, "rigidity_min_c_radius", "mm",
+               "Rigidity: a build whose ball circles C at a smaller radius is refused (c_radius_implausible: ball positions in metres?); 0 switches the gate off."),
+  rows::config(var::kRigidityMaxChange, 0.0, 1e6, kDefaultMaxChangeArcsec, "rigidity_max_change", "arcsec",
+               "Rigidity: a store whose pose rotation vectors differ from the stored table's at their A by more than this is refused unless M = 1 (change_beyond_limit)."),
 };
 
 inline constexpr OutputInfo kSessionOutputs[] = {
@@ -99,6 +125,10 @@ inline constexpr OutputInfo kBuildOutputs[] = {
   {var::kRigidityWorstCircleRms, "rigidity_worst_c_circle_rms", "mm", "Largest RMS distance of a pose's ball positions from its fitted C circle."},
   {var::kRigidityWorstCircleRmsFloor, "rigidity_worst_c_circle_rms_noise_floor", "mm", "The RMS the ball noise (#601) alone would give at that pose: an RMS within 3 sigma of it is noise, not geometry."},
   {var::kRigidityWorstCircleRmsSigma, "rigidity_worst_c_circle_rms_sigma", "mm", "1-sigma uncertainty of the largest C-circle RMS, from the ball noise (#601)."},
+  {var::kRigidityChange, "rigidity_change", "arcsec", "The change against the stored table: the largest difference of a pose's rotation vector from the stored table's at its A (clamped to the stored range); 0 without a stored table."},
+  {var::kRigidityChangePose, "rigidity_change_pose", "", "The pose (1-based, in A order) of that largest change; 0 without a stored table."},
+  {var::kRigidityFitRatio, "rigidity_fit_ratio", "", "The fit gate's figure: the largest pose's C-circle chi-square statistic over its quantile at #901 (the build is refused above 1); 0 when #601 is 0."},
+  {var::kRigidityFitPose, "rigidity_fit_pose", "", "The pose (1-based) of that largest figure."},
 };
 
 inline constexpr OutputInfo kQueryOutputs[] = {
@@ -148,7 +178,9 @@ inline constexpr core::StatusInfo kStatuses[] = {
   {core::Status::kTooFewCPositions, "too_few_c_positions", "An A pose has fewer than 4 distinct C positions: measure that pose at more C angles."},
   {core::Status::kTooManyPoses, "too_many_poses", "The rigidity samples hold more A poses than the table can hold (16)."},
   {core::Status::kAAxisUndetermined, "a_axis_undetermined", "The C centres of the A poses do not determine the A axis: place the ball away from the A axis or spread the A angles wider."},
-  {core::Status::kCPhaseInconsistent, "c_phase_inconsistent", "The ball's measured positions around a C circle disagree with the commanded C angles."},
+  {core::Status::kCPhaseInconsistent, "c_phase_inconsistent", "The ball's measured positions around a C circle disagree with the commanded C angles: were the angles given in radians instead of degrees?"},
+  {kAErrorImplausible, "a_error_implausible", "An A pose's positioning error exceeds #602 (#9012 the pose, #9013 its error in arcsec): the ball turned far more or less than A was commanded. Were A and C given in radians instead of degrees? Nothing was published or stored."},
+  {kCRadiusImplausible, "c_radius_implausible", "The ball circles the C axis at a radius below #603 (#9013 the radius in mm): were the ball positions given in metres instead of millimetres? (Or the ball sits on the C axis: place it well away from it.) Nothing was published or stored."},
 };
 // clang-format on
 

@@ -18,6 +18,15 @@ struct Method : Shape {
                                         "S spindle angle (#19, deg), T ball 1 or 2 (#20), ball centre X, Y, Z "
                                         "(#24..#26, mm, analyser frame)",
                                         9840, 9841, 9842, list_of(kLimits)};
+  static constexpr GateInfo kGateTable[] = {
+      {"spacing", kBallSpacingImplausible, {var::kSpindleMaxSpacingError, 0, 0},
+       "the distance between the balls' mean centres against V - U"},
+      {"fit", core::Status::kFitBeyondNoise, {var::kSpindleProbeNoise, var::kSpindleFormAllowance, var::kGateConfidence},
+       "each ball's residuals (3 n - 4 degrees of freedom) against the probe noise and the form allowance"},
+      {"change", core::Status::kChangeBeyondLimit, {var::kSpindleMaxChange, 0, 0},
+       "with R = 1: the tool-tip error at V against the stored model's, every 10 deg; M = 1 confirms"},
+  };
+  static constexpr List<GateInfo> kGates = list_of(kGateTable);
   using State = spindle::State;
   using Table = ModelRecord;
   static StoredTable<Table>& table(State& s) { return s.table; }

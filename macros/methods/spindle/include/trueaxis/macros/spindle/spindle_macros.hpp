@@ -31,6 +31,14 @@
 //  kRevolutionIncomplete, kNotIdentifiable, kNoConvergence, kArgumentOutOfRange
 //  also for an axis more than 30 deg from -Z (core::kMaxSpindleTilt: the model
 //  stores only what it can load again). The session is kept either way.
+//  The gates (gates.hpp): spacing at the first step (ball_spacing_implausible:
+//  the balls' mean centres farther than #803 from V - U apart); after the fit,
+//  in steps of their own, fit (fit_beyond_noise: a ball's sum of squared
+//  residuals, scatter of its bins included, over #801^2 + #802^2 / 3 against
+//  the chi-square quantile of 3 n_b - 4 degrees of freedom), then change
+//  (change_beyond_limit: with R = 1 and a stored model, the tool-tip error at
+//  V more than #804 from the stored model's at an angle of 0, 10, .. 350,
+//  unless M = #13 is 1). #105..#109 publish the figures.
 // Macro 9843: correction query (docs/INTERFACE.md): S = #19 spindle angle (deg), Z =
 //  #26 tool length (mm below the gauge line, 0..1e5) -> #100 theta_e (arcsec),
 //  #101 d_e (mm), #102..#104 the tool-tip error (mm), from the stored model.
@@ -65,6 +73,12 @@ static_assert(core::kSpindleModelBytes <= ModelRecord::kRecord.capacity_bytes, "
 struct Work {
   core::SpindleBuilder builder;
   core::SpindleModel computed;
+  // The gates after the fit (gates.hpp): each ball's sum of squared residuals,
+  // kBinsPerStep bins a step.
+  enum class Phase : std::uint8_t { kFit, kResiduals, kGates } phase = Phase::kFit;
+  std::size_t cursor = 0;
+  double ssr_mm2[2] = {0.0, 0.0};
+  double spacing_mm = 0.0;
 };
 
 struct Shape {
@@ -102,10 +116,15 @@ inline constexpr InputRef kAddInputs[] = {
 };
 inline constexpr InputRef kBuildInputs[] = {
   {var::kArgD, 1, "O1 (upper bearing seat centre) to the gauge line along the spindle (mm)."},
+  {var::kArgM, 1, "1 confirms a store whose change against the stored model exceeds #804."},
   {var::kArgR, 1, "1 stores the model (unlocked only), 0 identifies only."},
   {var::kArgU, 1, "Ball 1's centre below the gauge line (mm)."},
   {var::kArgV, 1, "Ball 2's centre below the gauge line (mm), more than U."},
   {var::kSpindleMaxGap, 1, "Widest gap a ball's angles may leave."},
+  {var::kSpindleProbeNoise, 2, "The fit gate's noise and form allowance."},
+  {var::kSpindleMaxSpacingError, 1, "The ball-spacing gate."},
+  {var::kSpindleMaxChange, 1, "The change gate's limit."},
+  {var::kGateConfidence, 1, "The fit gate's confidence."},
 };
 inline constexpr InputRef kCorrectionInputs[] = {
   {var::kArgS, 1, "Spindle angle (deg)."},

@@ -26,6 +26,10 @@ namespace trueaxis::macros {
 
 namespace var {
 inline constexpr std::uint16_t kSpindleMaxGap = 800;
+inline constexpr std::uint16_t kSpindleProbeNoise = 801;
+inline constexpr std::uint16_t kSpindleFormAllowance = 802;
+inline constexpr std::uint16_t kSpindleMaxSpacingError = 803;
+inline constexpr std::uint16_t kSpindleMaxChange = 804;
 
 // 9840, 9841
 inline constexpr std::uint16_t kSpindleSessionSamples = 100;
@@ -38,6 +42,11 @@ inline constexpr std::uint16_t kSpindleNoiseSigma = 101;
 inline constexpr std::uint16_t kSpindleSynchronousRms = 102;
 inline constexpr std::uint16_t kSpindleNoiseFromRepeats = 103;
 inline constexpr std::uint16_t kSpindleSamplesUsed = 104;
+inline constexpr std::uint16_t kSpindleFitRatio = 105;
+inline constexpr std::uint16_t kSpindleFitBall = 106;
+inline constexpr std::uint16_t kSpindleChange = 107;
+inline constexpr std::uint16_t kSpindleChangeAngle = 108;
+inline constexpr std::uint16_t kSpindleBallSpacing = 109;
 // 9843, 9844
 inline constexpr std::uint16_t kSpindleThetaE = 100;
 inline constexpr std::uint16_t kSpindleDE = 101;
@@ -66,6 +75,21 @@ namespace spindle {
 
 inline constexpr MethodBlock kBlock{"spindle", 800, 899, 4000, 4999};
 
+// The gates' defaults (gates.hpp): the analyser's capacitive probes (15 nm,
+// the simulator's), what the model may leave at an angle beyond the noise (the
+// balls' form error, error motions that repeat: 50 nm balls leave ~75 nm), the
+// balls' measured spacing against V - U (metres read 1000 times short, a
+// typed ball distance by its typo), and a change of the tool tip at V.
+inline constexpr double kDefaultProbeNoiseMm = 0.000015;
+inline constexpr double kDefaultFormAllowanceMm = 0.0002;
+inline constexpr double kDefaultMaxSpacingErrorMm = 1.0;
+inline constexpr double kDefaultMaxChangeMm = 0.005;
+// The angles the change gate compares the tool tips at: every 10 deg.
+inline constexpr int kChangeAngles = 36;
+
+// Its status codes (block 1300..1399).
+inline constexpr core::Status kBallSpacingImplausible = static_cast<core::Status>(1300);
+
 // Convention 3.
 inline constexpr const char* kParameterNames[core::kSpindleParams] = {
     "o_x_mm", "o_y_mm", "o_z_mm", "a_x", "a_y", "e_x_mm", "e_y_mm", "w_x", "w_y"};
@@ -74,6 +98,14 @@ inline constexpr const char* kParameterNames[core::kSpindleParams] = {
 inline constexpr VarInfo kRows[] = {
   rows::config(var::kSpindleMaxGap, 1.0, 180.0, core::kMaxSpindleGapDeg, "spindle_max_gap", "deg",
                "Spindle: a ball whose angles leave a wider gap than this is refused (revolution_incomplete)."),
+  rows::config(var::kSpindleProbeNoise, 0.0, 1.0, kDefaultProbeNoiseMm, "spindle_probe_noise", "mm",
+               "Spindle: the analyser's stated probe noise, 1 sigma per axis, for the fit gate (0 with #802 0: no fit gate)."),
+  rows::config(var::kSpindleFormAllowance, 0.0, 1.0, kDefaultFormAllowanceMm, "spindle_form_allowance", "mm",
+               "Spindle: the RMS 3-D residual of the angle means the model may leave beyond the noise (the balls' form error, error motions that repeat), for the fit gate."),
+  rows::config(var::kSpindleMaxSpacingError, 0.0, 1e5, kDefaultMaxSpacingErrorMm, "spindle_max_spacing_error", "mm",
+               "Spindle: an identification whose balls' mean centres lie farther from V - U apart than this is refused (ball_spacing_implausible: samples in metres? a ball distance typed wrong?)."),
+  rows::config(var::kSpindleMaxChange, 0.0, 1e5, kDefaultMaxChangeMm, "spindle_max_change", "mm",
+               "Spindle: a store whose tool-tip error at ball 2's length (V) differs from the stored model's by more than this at some angle is refused unless M = 1 (change_beyond_limit)."),
 };
 
 inline constexpr OutputInfo kSessionOutputs[] = {
@@ -89,6 +121,11 @@ inline constexpr OutputInfo kBuildOutputs[] = {
   {var::kSpindleSynchronousRms, "spindle_synchronous_rms", "mm", "RMS 3-D residual of the angle means: what repeats every revolution (form error) and the model does not hold."},
   {var::kSpindleNoiseFromRepeats, "spindle_noise_from_repeats", "", "1: the noise comes from the repeats of an angle; 0: from every residual (one revolution: conservative)."},
   {var::kSpindleSamplesUsed, "spindle_samples", "", "Samples the identification used."},
+  {var::kSpindleFitRatio, "spindle_fit_ratio", "", "The fit gate's figure: the larger ball's chi-square statistic of its residuals (per axis #801^2 + #802^2 / 3) over its quantile at #901 (refused above 1)."},
+  {var::kSpindleFitBall, "spindle_fit_ball", "", "The ball (1 or 2) of that figure."},
+  {var::kSpindleChange, "spindle_change", "mm", "The change against the stored model: the largest difference of the tool-tip error at V over the angles 0, 10, .. 350 deg; 0 without a stored model."},
+  {var::kSpindleChangeAngle, "spindle_change_angle", "deg", "The spindle angle of that largest change."},
+  {var::kSpindleBallSpacing, "spindle_ball_spacing", "mm", "The distance between the balls' mean centres: V - U within #803."},
 };
 
 inline constexpr OutputInfo kCorrectionOutputs[] = {
@@ -135,6 +172,7 @@ inline constexpr OutputInfo kModelOutputs[] = {
 
 inline constexpr core::StatusInfo kStatuses[] = {
   {core::Status::kNotIdentifiable, "not_identifiable", "The data do not determine every parameter of the model: a combination of them leaves the measurements unchanged. Measure more (for the spindle: the ball at two heights, over a whole revolution)."},
+  {kBallSpacingImplausible, "ball_spacing_implausible", "The balls' mean centres are not V - U apart within #803 (#9013 the measured spacing minus V - U, mm): were the samples given in metres instead of millimetres (the spacing reads 1000 times short), or a ball distance (U, V) typed wrong? Nothing was published or stored."},
   {core::Status::kRevolutionIncomplete, "revolution_incomplete", "The spindle angles of a ball leave a gap wider than 45 degrees: measure the ball over a whole revolution."},
 };
 // clang-format on
