@@ -83,7 +83,11 @@ bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& 
     stored = stored && transport(client, client.write_one(a.number, a.value), fail);
   }
   stored = stored && transport(client, client.write_one(var::kArgR, 1.0), fail) &&
+           (!fail.accept_change || transport(client, client.write_one(var::kArgM, 1.0), fail)) &&
            run_or_fail(client, build_macro, "", fail);
+  if (!stored && module_refused(fail, static_cast<int>(core::Status::kChangeBeyondLimit))) {
+    fail.error += " (trueaxis-calibrate --accept-change stores it: check the machine first)";
+  }
   const bool locked = client.write_one(var::kUnlock, 0.0);  // lock again, whatever happened
   if (stored && !locked) fail.error = "the controller could not be locked again: " + client.failure_text();
   return stored && locked;

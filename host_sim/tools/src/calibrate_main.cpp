@@ -1,6 +1,6 @@
 // trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
 //                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
-//                   [--wait SECONDS]
+//                   [--accept-change] [--wait SECONDS]
 // The integrator's command (docs/INTERFACE.md, "The integrator's command"):
 // reads the samples, streams them to the module over Modbus (default
 // 127.0.0.1:502), runs the method's macros there and writes what the module
@@ -46,7 +46,7 @@ using trueaxis::sim::FlowResult;
 constexpr const char* kUsage =
     "usage: trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]\n"
     "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n"
-    "                          [--wait SECONDS]\n";
+    "                          [--accept-change] [--wait SECONDS]\n";
 
 int fail(const std::string& line) {
   std::fprintf(stderr, "trueaxis-calibrate: %s\n", line.c_str());
@@ -88,6 +88,9 @@ void print_help() {
               "                         unlock, store, lock again\n"
               "  --port PORT, --host ADDR  the module's Modbus TCP server (default 127.0.0.1:502)\n"
               "  --unlock-code CODE     the machine's unlock code (#900) for --store, 1..9999 (default 2718)\n"
+              "  --accept-change        with --store: store even a result that differs from the stored\n"
+              "                         calibration by more than the method's change limit (its build\n"
+              "                         macro's M = 1); check the machine first\n"
               "  --wait SECONDS         how long to wait while another client holds the controller's\n"
               "                         macro interface, 0..3600 (default 120)\n"
               "  --help, --version      this text (METHOD --help: the method's files); the version line\n"
@@ -175,6 +178,8 @@ int main(int argc, char** argv) {
       o.machine_path = argv[++i];
     } else if (arg == "--report" && has_value) {
       o.report_dir = argv[++i];
+    } else if (arg == "--accept-change") {
+      o.accept_change = true;
     } else if (arg == "--unlock-code" && has_value) {
       char* end = nullptr;
       const long code = std::strtol(argv[++i], &end, 10);
@@ -197,6 +202,7 @@ int main(int argc, char** argv) {
     }
   }
   if (o.in_path.empty() || o.json_path.empty()) return usage_error("--in and --json are required");
+  if (o.accept_change && !o.store) return usage_error("--accept-change goes with --store");
 
   trueaxis::sim::VariableClient client;
   if (!client.connect(o.host, o.port)) {
@@ -245,6 +251,7 @@ int main(int argc, char** argv) {
     summary += ", report " + o.report_dir + "/index.html";
   }
   r.unlock_code = o.unlock_code;
+  r.accept_change = o.accept_change;
   if (o.store) {
     double done_now = -1.0;
     if (!client.take_interface(o.wait_s * 1000, waiting) || !client.read_one(trueaxis::macros::var::kDoneCount, done_now)) {

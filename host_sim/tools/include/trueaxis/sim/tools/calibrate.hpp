@@ -42,6 +42,7 @@ struct CalibrateOptions {
   std::string machine_path;  // "" when absent
   std::string report_dir;    // "" when absent
   bool store = false;
+  bool accept_change = false;  // --accept-change: the store's M = 1 (gates.hpp, change)
   double unlock_code = macros::kUnlockCode;  // --unlock-code: the machine's own (#900)
   std::string host = "127.0.0.1";
   int port = 502;
@@ -65,6 +66,8 @@ struct FlowResult {
   std::vector<MacroArgument> build_arguments;
   // The code the store unlocks with (CalibrateOptions::unlock_code).
   double unlock_code = macros::kUnlockCode;
+  // The store confirms a change beyond the method's change limit (M = 1).
+  bool accept_change = false;
 };
 
 // The text of a module error code, "module error 402 session_full: The session is full ...".
