@@ -46,11 +46,12 @@ std::string measure(int port, const Workspace& w, const std::string& name, std::
 }
 
 Run calibrate(int port, const Workspace& w, const std::string& in, const std::string& json, bool store,
-              const std::string& report = "") {
+              const std::string& report = "", bool accept_change = false) {
   std::vector<std::string> argv = {TRUEAXIS_CALIBRATE_BINARY, "rigidity", "--in", in, "--json", json,
                                    "--port", std::to_string(port)};
   if (store) argv.emplace_back("--store");
   if (!report.empty()) argv.insert(argv.end(), {"--report", report});
+  if (accept_change) argv.emplace_back("--accept-change");
   return run(argv, w.file("calibrate.err"));
 }
 
@@ -467,7 +468,8 @@ TEST_CASE("calibrate rigidity: a stored table whose CRC fails is not used after 
   const std::string six = w.write("six.csv", csv_where(rows, [](const Row& r) { return r.a_deg != 90; }));
   REQUIRE(calibrate(sim.port(), w, six, w.file("six.json"), true).exit_code == 0);
   const std::vector<std::vector<double>> older = stored_table(client);
-  REQUIRE(calibrate(sim.port(), w, w.file("samples.csv"), w.file("all.json"), true).exit_code == 0);
+  // The seven poses' table differs from the six's at A = 90 beyond #604 (the six clamp there): confirmed.
+  REQUIRE(calibrate(sim.port(), w, w.file("samples.csv"), w.file("all.json"), true, "", true).exit_code == 0);
   const std::vector<std::vector<double>> newest = stored_table(client);
   REQUIRE(older[0].size() == 21);
   REQUIRE(older[0][17] == 6.0);

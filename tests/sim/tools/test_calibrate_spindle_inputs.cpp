@@ -159,7 +159,8 @@ TEST_CASE("calibrate spindle: every bad input has its own error and stores nothi
       const std::vector<std::string> x = fields_of(metres[n]);
       metres[n] = x[0] + "," + std::to_string(std::stod(x[1]) / 1000.0);
     }
-    cases.push_back({"MACHINE in metres", samples, text_of(metres), bad_machine + ": module error ", false});
+    // The spacing gate refuses it before the fit (ball_spacing_implausible), the command names the files' units.
+    cases.push_back({"MACHINE in metres", samples, text_of(metres), "module error 1300 ball_spacing_implausible", false});
   }
   cases.push_back({"a negative tool length", samples, machine_with(7, "tool_length_mm,-1"),
                    bad_machine + ":7: " + module_error(Status::kArgumentOutOfRange) + " (macro 9844)", true});
