@@ -41,7 +41,8 @@
 //     direction = m / |m|, m = (1 / K) sum_k d_k (docs/METHODS.md: "fit a line to each
 //     pass and average"). Its covariance (rad^2, rank 2, perpendicular to it):
 //         P (sum_k v_k (I - d_k d_k^T)) P / (K |m|)^2,  P = I - direction direction^T.
-//     stroke_mm, straightness_mm and rms_residual_mm are the largest over the passes.
+//     stroke_mm, straightness_mm and rms_residual_mm are the largest over the passes;
+//     residual_ssr_mm2 and point_count are summed over them (form_noise.hpp).
 //  6. Circle: circle_fit.hpp's geometric fit, normal oriented by the order of the
 //     points (increasing axis angle); with a noise model its point_sigma_mm is the
 //     RMS of the sigma_i (the points of one circle are nearly equidistant from the
@@ -111,6 +112,8 @@ struct AxisEstimate {
   double straightness_mm = 0.0;    // worst pass, twice the largest distance from its line
   double rms_residual_mm = 0.0;    // worst pass, RMS perpendicular distance
   std::size_t pass_count = 0;
+  double residual_ssr_mm2 = 0.0;   // all passes, sum of squared perpendicular distances
+  std::size_t point_count = 0;     // all passes
 };
 
 // Plane through a group (convention 3); the normal's sign is the fit's.
