@@ -74,13 +74,16 @@ template <int N, typename Sample, typename Eval>
   return Status::kOk;
 }
 
-// Convention 7: squareness (rad) of the measured directions, the signed A-to-C
-// offset along unit(a x c) and the angle between the lines as given.
+// Convention 7, cheap enough for every perturbed build (no inverse
+// trigonometry: README "Instruction bounds"): the cosines of the three
+// squareness angles and of the A-to-C angle, and the signed A-to-C offset along
+// unit(a x c). d(angle) = -d(cos) / sin: sub_into_global divides the cosines'
+// variances by sin^2 of the nominal angles.
 Vec5 figures_of(const Vec3 dirs[3], const Line3& c, const Line3& a) {
+  const Vec3 m = a.direction.cross(c.direction);
   Vec5 f;
-  for (int k = 0; k < 3; ++k) f(k) = angle_between(dirs[k], dirs[(k + 1) % 3]) - 0.5 * kPi;
-  f(3) = (a.point_mm - c.point_mm).dot(a.direction.cross(c.direction).normalized());
-  f(4) = angle_between(a.direction, c.direction);
+  f << dirs[0].dot(dirs[1]), dirs[1].dot(dirs[2]), dirs[2].dot(dirs[0]),
+      (a.point_mm - c.point_mm).dot(m) / m.norm(), a.direction.dot(c.direction);
   return f;
 }
 
@@ -266,9 +269,13 @@ CircleSummary summarise_circle(const CircleFit& fit, const Vec3& oriented_normal
   }
   out.a_c_offset_mm = nominal.a_c_offset_mm;
   out.a_c_angle_deg = nominal.a_c_angle_deg;
-  for (int k = 0; k < 3; ++k) out.squareness_sigma_arcsec(k) = kArcsecPerRad * std::sqrt(figure_var(k));
+  // figure_var holds the cosines' variances (figures_of).
+  for (int k = 0; k < 3; ++k) {
+    const double sin = dirs[k].cross(dirs[(k + 1) % 3]).norm();
+    out.squareness_sigma_arcsec(k) = kArcsecPerRad * std::sqrt(figure_var(k)) / sin;
+  }
   out.a_c_offset_sigma_mm = std::sqrt(figure_var(3));
-  out.a_c_angle_sigma_deg = std::sqrt(figure_var(4)) * 180.0 / kPi;
+  out.a_c_angle_sigma_deg = std::sqrt(figure_var(4)) / nominal.a.cross(nominal.c).norm() * 180.0 / kPi;
   out.wrist_centre_mm = apply_point(global_T_tracker, nominal.wrist_centre_mm);
   out.c_circle = summarise_circle(c_fit, nominal.c, global_T_tracker);
   out.a_circle = summarise_circle(a_fit, nominal.a, global_T_tracker);
