@@ -12,22 +12,38 @@ TITLE = "spindle tool axis (M4)"
 ARCSEC_PER_RAD = 180.0 * 3600.0 / math.pi
 
 
+STYLES = ["-", "--", ":"]  # distinct, so that equal sigmas (x and y) do not hide one another
+
+
 def with_sigma(x, series, unit, sigma_unit, sigma_scale):
     """Curves over x with their 1-sigma bands (top), and the 1-sigma itself
-    (bottom: a band far narrower than the curve is lost at the curve's scale).
-    series: [(label, values, sigmas), ...] already in `unit`."""
+    (bottom: a band far narrower than the curve is lost at the curve's scale;
+    the top panel then says so and how wide it is). series: [(label, values,
+    sigmas), ...] already in `unit`."""
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 5.0), sharex=True, gridspec_kw={"height_ratios": [2, 1]})
-    for label, y, s in series:
+    widest = 0.0
+    span = 0.0
+    for k, (label, y, s) in enumerate(series):
+        style = STYLES[k % len(STYLES)]
         top.fill_between(x, [a - b for a, b in zip(y, s)], [a + b for a, b in zip(y, s)], alpha=0.3)
-        top.plot(x, y, "-", label=label)
-        bottom.plot(x, [v * sigma_scale for v in s], "-", label=f"{label} 1-sigma")
+        top.plot(x, y, style, label=label)
+        bottom.plot(x, [v * sigma_scale for v in s], style, linewidth=2.2 - 0.6 * k, label=f"{label} 1-sigma")
+        widest = max([widest] + [2 * abs(v) for v in s])
+        span = max([span] + [abs(v) for v in y])
+    if span > 0 and widest < 0.02 * span:
+        top.text(0.01, 0.02, f"1-sigma bands narrower than the lines (at most +-{widest / 2 * sigma_scale:.3g} "
+                 f"{sigma_unit}): see below", transform=top.transAxes, fontsize=8)
     top.set_ylabel(unit)
+    # The sigma from 0 up, in plain numbers: a constant sigma is a flat line, not an offset axis at 1e-13.
+    largest = max([0.0] + [v * sigma_scale for _, _, s in series for v in s])
+    bottom.set_ylim(0.0, largest * 1.3 if largest > 0 else 1.0)
+    bottom.ticklabel_format(axis="y", style="plain", useOffset=False)
     bottom.set_ylabel(sigma_unit)
     bottom.set_xlabel("spindle angle phi (deg, M19 zero, M03 positive)")
     bottom.set_xlim(0, 360)
     for ax in (top, bottom):
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8, ncol=3)
+        ax.legend(fontsize=8, ncol=3, loc="upper right")
     return fig
 
 
@@ -126,8 +142,9 @@ def draw(data, report):
                  ["parameter", "value", "1-sigma", "3-sigma interval"], rows)
     rows = []
     for p in per:
+        tip_sigma = p.get("tool_tip_error_sigma_mm", [float("nan")] * 3)
         rows.append([fmt(p["phi_deg"], 1), f"{fmt(p['theta_e_arcsec'], 3)} +- {fmt(p.get('theta_e_sigma_arcsec', 0), 3)}",
                      f"{fmt(p['d_e_mm'] * 1000, 4)} +- {fmt(p.get('d_e_sigma_mm', 0) * 1000, 4)}"]
-                    + [fmt(v * 1000, 4) for v in p["tool_tip_error_mm"]])
-    report.table("Per spindle angle", ["phi (deg)", "theta_e (arcsec)", "d_e (um)", "tip x (um)", "tip y (um)",
-                                       "tip z (um)"], rows)
+                    + [f"{fmt(v * 1000, 4)} +- {fmt(e * 1000, 4)}" for v, e in zip(p["tool_tip_error_mm"], tip_sigma)])
+    report.table("Per spindle angle (each figure +- its 1-sigma)",
+                 ["phi (deg)", "theta_e (arcsec)", "d_e (um)", "tip x (um)", "tip y (um)", "tip z (um)"], rows)

@@ -184,7 +184,9 @@ bool Module::unlocked() const { return unlocked_ && clock_.now_us() - last_write
 
 ClientId Module::holder() const {
   if (holder_ == kNoClient || busy()) return holder_;
-  return clock_.now_us() - holder_active_us_ < kInterfaceIdleUs ? holder_ : kNoClient;
+  const std::uint64_t now = clock_.now_us();
+  // A clock behind the last activity (the contract forbids it) keeps the holder: fail closed.
+  return now < holder_active_us_ || now - holder_active_us_ < kInterfaceIdleUs ? holder_ : kNoClient;
 }
 
 void Module::disconnected(ClientId client) {
@@ -279,20 +281,23 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
   if (unlocked_ && !unlocked()) unlocked_ = false;  // idle past kUnlockIdleUs: closed for good
   // Contract 8: a lock alone is taken from anyone; any other write needs the
   // macro interface. A client that takes it closes an unlock another opened
-  // (its holder has given the interface up), before its own write is checked.
+  // (its holder has given the interface up) once its write has passed the
+  // checks, which see that unlock as closed already.
   const bool lock_alone = count == 1 && first == var::kUnlock && values[0] == 0.0;
+  bool foreign_unlock = false;
   if (!lock_alone) {
     const ClientId h = holder();
     if (h != kNoClient && h != client) return fault(AccessFault::kInterfaceHeld);
-    if (h != client && unlocked_by_ != client) unlocked_ = false;
+    foreign_unlock = h != client && unlocked_ && unlocked_by_ != client;
   }
   bool touches[2] = {false, false};  // config, work offsets
   for (std::uint16_t i = 0; i < count; ++i) {
     const auto number = static_cast<std::uint16_t>(first + i);
-    const AccessFault f = check_write(number, values[i]);
+    const Access access = access_of(number);
+    AccessFault f = check_write(number, values[i]);
+    if (f == AccessFault::kNone && foreign_unlock && access == Access::kConfig) f = AccessFault::kLocked;
     if (f == AccessFault::kBadUnlockCode) failed_unlock();
     if (f != AccessFault::kNone) return fault(f);
-    const Access access = access_of(number);
     touches[0] = touches[0] || access == Access::kConfig;
     touches[1] = touches[1] || access == Access::kPersistent;
   }
@@ -306,6 +311,7 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
     return fault(AccessFault::kStorageFailure);
   }
 
+  if (foreign_unlock) unlocked_ = false;  // closed for good; this client's own code below opens its own
   bool gives_back = false;
   for (std::uint16_t i = 0; i < count; ++i) {
     const auto number = static_cast<std::uint16_t>(first + i);

@@ -126,7 +126,7 @@ struct Reference {
       ++broadcasts;
       std::uint8_t dropped[512];
       ++core_calls;
-      (void)core.respond(frame + 1, n - 3, dropped);
+      (void)core.respond(frame + 1, n - 3, dropped, trueaxis::macros::kRtuMaster);
       return;
     }
     if (to != address) {
@@ -135,7 +135,7 @@ struct Reference {
     }
     ++served;
     ++core_calls;
-    const std::size_t pdu = core.respond(frame + 1, n - 3, reply + 1);
+    const std::size_t pdu = core.respond(frame + 1, n - 3, reply + 1, trueaxis::macros::kRtuMaster);
     FUZZ_CHECK(pdu >= 2 && pdu <= 253);
     reply[0] = address;
     const std::uint16_t crc = trueaxis::test::crc16_bitwise(reply, 1 + pdu);

@@ -49,6 +49,9 @@ class ModbusTcpServerFuzzPeer {
 
 namespace {
 
+constexpr trueaxis::macros::ClientId kFuzzClient = 7;
+
+
 using trueaxis::fuzz::FreshBench;
 using trueaxis::fuzz::Input;
 using trueaxis::fuzz::ModuleBench;
@@ -120,6 +123,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   FUZZ_CHECK(::socketpair(AF_UNIX, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0, fds) == 0);
   ModbusTcpServerFuzzPeer::Connection c;
   c.fd = fds[0];
+  c.client = kFuzzClient;  // the server numbers its connections; the reference names the same client
 
   std::vector<std::uint8_t> stream;
   std::vector<std::uint8_t> replies;
@@ -158,7 +162,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   for (const auto& [offset, length] : cut.frames) {
     const std::uint8_t* frame = &stream[offset];
     std::uint8_t pdu[trueaxis::modbus::kMaxPduBytes + 16];
-    const std::size_t pdu_bytes = reference.core.respond(frame + 7, length - 1, pdu);
+    const std::size_t pdu_bytes = reference.core.respond(frame + 7, length - 1, pdu, kFuzzClient);
     reference.simulator.after_request();
     FUZZ_CHECK(replies.size() - at >= 7 + pdu_bytes);
     const std::uint8_t* reply = &replies[at];

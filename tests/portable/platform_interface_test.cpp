@@ -154,9 +154,12 @@ TA_TEST("a lock alone is taken from anyone; an unlock closes when the interface 
     TA_REQUIRE(rig.put_as(kA, v::kUnlock, m::kUnlockCode) == F::kNone);
     TA_REQUIRE(rig.put_as(kA, v::kInterface, 0.0) == F::kNone);  // given back, still unlocked
     TA_CHECK(rig.module().unlocked());
-    TA_CHECK_EQ(rig.put_as(kB, config.number, config.changed), F::kLocked);  // B takes it: A's unlock closes
-    TA_CHECK(!rig.module().unlocked());
+    // B's configuration write sees A's unlock as closed, and its refusal changes nothing.
+    TA_CHECK_EQ(rig.put_as(kB, config.number, config.changed), F::kLocked);
+    TA_CHECK(rig.module().unlocked());
     TA_CHECK_EQ(rig.get(config.number), config.default_value);
+    TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 1.0), F::kNone);  // B takes the interface: A's unlock closes
+    TA_CHECK(!rig.module().unlocked());
     TA_REQUIRE(rig.put_as(kB, v::kInterface, 0.0) == F::kNone);
     TA_CHECK_EQ(rig.put_as(kA, config.number, config.changed), F::kLocked);  // closed for good
   }
@@ -209,4 +212,13 @@ TA_TEST("#9011 reads the seconds of unlock back-off left, rounded up, 0 when a c
   rig.clock.now += 1'000'001;
   TA_CHECK_EQ(rig.get(v::kUnlockBackoffLeft), 1.0);
   TA_CHECK_EQ(rig.put(v::kUnlock, m::kUnlockCode), F::kUnlockBackoff);
+}
+
+TA_TEST("a clock behind the holder's last activity keeps the interface held (fail closed)") {
+  Rig rig;
+  rig.clock.now = 10 * kIdle;
+  TA_REQUIRE(rig.put_as(kA, v::kArgX, 1.0) == F::kNone);
+  rig.clock.now = 0;  // a clock the contract forbids: behind
+  TA_CHECK_EQ(rig.module().holder(), kA);
+  TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 2.0), F::kInterfaceHeld);
 }

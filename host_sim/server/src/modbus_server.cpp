@@ -109,6 +109,7 @@ void ModbusTcpServer::accept_clients(Clock::time_point now) {
     Connection& c = clients_.back();
     c.fd = fd;
     c.client = next_client_++;
+    if (next_client_ < macros::kFirstTcpClient) next_client_ = macros::kFirstTcpClient;  // after 2^32 connections
     c.last_frame = now;
   }
 }

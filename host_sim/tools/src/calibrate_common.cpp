@@ -44,8 +44,8 @@ bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string&
   const std::string where = context.empty() ? "" : context + ": ";
   if (outcome.status == 3) {
     fail.error = where + module_error_text(outcome.error) + " (macro " + std::to_string(macro) + ")";
-  } else if (client.exception() != 0) {
-    fail.error = where + "macro " + std::to_string(macro) + " not started: " + client.failure_text();
+  } else if (client.exception() != 0) {  // the command was refused: not the sample's doing, no line named
+    fail.error = "macro " + std::to_string(macro) + " not started: " + client.failure_text();
   } else {
     fail.error = where + "macro " + std::to_string(macro) + " did not finish: " + client.error_text();
   }
@@ -82,6 +82,15 @@ std::string json_number(double v) {
 
 std::string json_vec3(const double* v) {
   return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
+}
+
+std::string refused_sample(VariableClient& client, const std::string& where) {
+  // Exceptions 02 and 03 are about the values written (their range, their
+  // finiteness): the line is named. Anything else (the interface held, a macro
+  // running, the transport) is not the line's doing.
+  const int exception = client.exception();
+  const std::string why = client.failure_text();
+  return exception == 2 || exception == 3 ? where + ": the module refused the sample: " + why : why;
 }
 
 }  // namespace trueaxis::sim

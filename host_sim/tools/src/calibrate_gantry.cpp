@@ -216,7 +216,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
     const double xyz[3] = {s.row->numbers[1], s.row->numbers[2], s.row->numbers[3]};
     if (!client.write_one(var::kArgT, tqd[0]) || !client.write_one(var::kArgQ, tqd[1]) ||
         !client.write_one(var::kArgD, tqd[2]) || !client.write(var::kArgX, 3, xyz)) {
-      r.error = where + ": the module refused the sample: " + client.failure_text();
+      r.error = refused_sample(client, where);
       return r;
     }
     if (!run_or_fail(client, kAdd, where, r)) {

@@ -203,15 +203,21 @@ int main(int argc, char** argv) {
     return fail("cannot connect to " + o.host + ":" + std::to_string(o.port) + ": " + client.error_text());
   }
   const std::string busy = "controller busy: another client holds the macro interface";
-  const bool taken = client.take_interface(o.wait_s * 1000, [&busy, &o] {
+  const auto waiting = [&busy, &o] {
     std::fprintf(stderr, "trueaxis-calibrate: %s, waiting (up to %d s)\n", busy.c_str(), o.wait_s);
-  });
+  };
+  const bool taken = client.take_interface(o.wait_s * 1000, waiting);
   if (!taken) {
     const std::string why = client.failure_text();
     return fail(why == busy ? busy + " (waited " + std::to_string(o.wait_s) + " s; --wait SECONDS)" : why);
   }
   FlowResult r = method->calibrate(client, o);
   if (!r.ok) return fail(r.error);
+  // The macros this run has counted: the store checks that no other client ran
+  // one since (the interface is free after 30 s without a write, and the
+  // report is made meanwhile), so that what it stores is built from this run's session.
+  double done_count = 0.0;
+  if (!client.read_one(trueaxis::macros::var::kDoneCount, done_count)) return fail(client.failure_text());
 
   // OUT.json and the report go to temporaries beside their targets first and
   // into place last, after the store: on any failure neither is there and
@@ -239,6 +245,16 @@ int main(int argc, char** argv) {
     summary += ", report " + o.report_dir + "/index.html";
   }
   r.unlock_code = o.unlock_code;
+  if (o.store) {
+    double done_now = -1.0;
+    if (!client.take_interface(o.wait_s * 1000, waiting) || !client.read_one(trueaxis::macros::var::kDoneCount, done_now)) {
+      return fail_clean(client.failure_text() + "; nothing stored");
+    }
+    if (done_now != done_count) {
+      return fail_clean("another client ran macros on the controller while the report was made (the macro interface "
+                        "is free after 30 s without a write): nothing stored; run the command again");
+    }
+  }
   if (o.store && !method->store(client, r)) return fail_clean(r.error);
   summary += o.store ? "; " + stored_text(method->name) : "; not stored";
   client.give_back_interface();  // closing gives it back too; this is at once

@@ -71,7 +71,7 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
     const double ac[3] = {row.numbers[0], 0.0, row.numbers[1]};
     const double xyz[3] = {row.numbers[2], row.numbers[3], row.numbers[4]};
     if (!client.write(var::kArgA, 3, ac) || !client.write(var::kArgX, 3, xyz)) {
-      r.error = where + ": the module refused the sample: " + client.failure_text();
+      r.error = refused_sample(client, where);
       return r;
     }
     if (!run_or_fail(client, kAdd, where, r)) {

@@ -119,7 +119,7 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
       const double st[2] = {row.numbers[0], row.numbers[1]};  // S = #19, T = #20
       const double xyz[3] = {row.numbers[2], row.numbers[3], row.numbers[4]};
       if (!client.write(var::kArgS, 2, st) || !client.write(var::kArgX, 3, xyz)) {
-        r.error = where + ": the module refused the sample: " + client.failure_text();
+        r.error = refused_sample(client, where);
         return r;
       }
       if (!run_or_fail(client, kAdd, where, r)) {

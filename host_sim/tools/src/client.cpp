@@ -122,7 +122,9 @@ int VariableClient::exception() const {
 
 std::string VariableClient::error_text() const { return modbus_strerror(error_); }
 
-// Contract 5: the refusal's cause, read from the module right after it.
+// Contract 5: the refusal's cause, read from the module right after it. #9007
+// is shared by every client, so its value is taken only when it gives the
+// exception this client got; "held" is told by #9009 (each client's own view).
 std::string VariableClient::failure_text() {
   using macros::AccessFault;
   namespace var = macros::var;
@@ -130,23 +132,29 @@ std::string VariableClient::failure_text() {
   const int exception = this->exception();
   const std::string modbus = "Modbus: " + std::string(modbus_strerror(error));
   double fault = 0.0;
-  if (exception == 0 || !read_one(var::kAccessFault, fault)) {
-    error_ = error;
+  double interface = 0.0;
+  const bool read = exception != 0 && read_one(var::kAccessFault, fault) && read_one(var::kInterface, interface);
+  error_ = error;
+  if (!read) return modbus;
+  const auto f = static_cast<AccessFault>(static_cast<int>(fault));
+  if (static_cast<int>(macros::modbus_exception(f)) != exception) {
+    if (exception == 6 && interface == 2.0) return "controller busy: another client holds the macro interface";
     return modbus;
   }
-  error_ = error;
   double backoff = 0.0;
-  switch (static_cast<AccessFault>(static_cast<int>(fault))) {
+  switch (f) {
     case AccessFault::kInterfaceHeld:
-      return "controller busy: another client holds the macro interface";
     case AccessFault::kBusy:
+      if (interface == 2.0) return "controller busy: another client holds the macro interface";
       return "controller busy: a macro is running";
     case AccessFault::kBadUnlockCode:
       read_one(var::kUnlockBackoffLeft, backoff);
+      error_ = error;
       return "wrong unlock code: the controller refused it (--unlock-code must be the machine's code, #900), "
              "and takes no code for the next " + std::to_string(static_cast<int>(backoff)) + " s";
     case AccessFault::kUnlockBackoff:
       read_one(var::kUnlockBackoffLeft, backoff);
+      error_ = error;
       return "the controller takes no unlock code for " + std::to_string(static_cast<int>(backoff)) +
              " s more: a wrong code was written moments ago (the back-off doubles with each wrong code, up to 64 s)";
     case AccessFault::kLocked:
@@ -154,10 +162,8 @@ std::string VariableClient::failure_text() {
              "unlock code (#9004)";
     default: break;
   }
-  for (const macros::AccessFaultInfo& f : macros::kAccessFaultTable) {
-    if (static_cast<double>(f.fault) == fault && static_cast<int>(macros::modbus_exception(f.fault)) == exception) {
-      return modbus + ": " + f.name + ": " + f.message;
-    }
+  for (const macros::AccessFaultInfo& info : macros::kAccessFaultTable) {
+    if (info.fault == f) return modbus + ": " + info.name + ": " + info.message;
   }
   return modbus;
 }
@@ -167,11 +173,10 @@ bool VariableClient::take_interface(int wait_ms, const std::function<void()>& wa
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(wait_ms);
   bool told = false;
   for (;;) {
-    if (write_one(kInterface, 1.0)) return true;
+    if (write_one(macros::var::kInterface, 1.0)) return true;
     const int error = error_;
-    double fault = 0.0;
-    const bool held = exception() == 6 && read_one(macros::var::kAccessFault, fault) &&
-                      static_cast<macros::AccessFault>(static_cast<int>(fault)) == macros::AccessFault::kInterfaceHeld;
+    double interface = 0.0;  // this client's own view: 2 when another holds it
+    const bool held = exception() == 6 && read_one(macros::var::kInterface, interface) && interface == 2.0;
     error_ = error;
     if (!held || std::chrono::steady_clock::now() >= deadline) return false;
     if (!told && waiting) waiting();

@@ -93,7 +93,7 @@ std::size_t ModbusRtu::end_frame(std::uint8_t* reply) {
       return 0;
     }
     ++counters_.broadcasts;
-    static_cast<void>(core_.respond(pdu, pdu_bytes, reply + 1));  // executed, never answered
+    static_cast<void>(core_.respond(pdu, pdu_bytes, reply + 1, macros::kRtuMaster));  // executed, never answered
     return 0;
   }
   if (to != address_) {
@@ -102,7 +102,7 @@ std::size_t ModbusRtu::end_frame(std::uint8_t* reply) {
   }
   ++counters_.served;
   reply[0] = address_;
-  const std::size_t reply_pdu = core_.respond(pdu, pdu_bytes, reply + 1);
+  const std::size_t reply_pdu = core_.respond(pdu, pdu_bytes, reply + 1, macros::kRtuMaster);
   const std::uint16_t reply_crc = crc16_modbus(reply, 1 + reply_pdu);
   reply[1 + reply_pdu] = static_cast<std::uint8_t>(reply_crc);
   reply[2 + reply_pdu] = static_cast<std::uint8_t>(reply_crc >> 8);

@@ -28,13 +28,15 @@ enum class Access : std::uint8_t {
   kInterface,   // #9009: 1 takes the macro interface, 0 gives it back; reads 0 free, 1 yours, 2 held
 };
 
-// Who sent a request: the transport names its client (a TCP connection); the
-// controller itself, an RTU master (a serial line has one) and anything that
-// names none are kLocalClient. The module grants the macro interface to one
+// Who sent a request: the transport names its client (a TCP connection, the
+// RTU line's one master); the controller itself and anything that names none
+// are kLocalClient. The module grants the macro interface to one
 // client at a time (module.hpp contract 8).
 using ClientId = std::uint32_t;
 inline constexpr ClientId kNoClient = 0;
 inline constexpr ClientId kLocalClient = 1;
+inline constexpr ClientId kRtuMaster = 2;        // a serial line's one master (modbus_rtu.hpp)
+inline constexpr ClientId kFirstTcpClient = 3;   // TCP connections are numbered from here
 
 enum class ValueKind : std::uint8_t { kReal, kInteger, kSign };
 
@@ -112,7 +114,7 @@ inline constexpr AccessFaultInfo kAccessFaultTable[] = {
     {AccessFault::kInterfaceHeld, "interface_held",
      "Another client holds the macro interface (arguments, sessions, commands, configuration, work offsets): "
      "it is granted to one client at a time, until that client gives it back (#9009 = 0), disconnects or "
-     "writes nothing for 30 s after its last macro; reads stay open."},
+     "writes nothing for 30 s after its last write or its last macro's end; reads stay open."},
 };
 
 struct VarInfo {

@@ -34,8 +34,8 @@
 //     a signal can never be lost between test and wait.
 //  7. No allocation per request: buffers are sized when a client connects.
 //  8. Access control (module.hpp contracts 7 and 8): each connection is its
-//     own client (a ClientId the server numbers from 2 up; never reused while
-//     the server runs), named in every request it sends to the core. When a
+//     own client (a ClientId the server numbers from kFirstTcpClient up; never
+//     reused while the server runs), named in every request it sends to the core. When a
 //     connection closes (the client's close, a refused frame, a time-out), the
 //     server tells the module (Module::disconnected): the macro interface it
 //     held is free, the unlock it opened closes. Other connections closing
@@ -115,7 +115,7 @@ class ModbusTcpServer {
   int listen_fd_ = -1;
   int port_ = 0;
   Clock::time_point accept_paused_until_{};  // contract 5: out of descriptors until then
-  macros::ClientId next_client_ = macros::kLocalClient + 1;  // contract 8
+  macros::ClientId next_client_ = macros::kFirstTcpClient;  // contract 8
   std::vector<Connection> clients_;
   std::vector<pollfd> polled_;
 };

@@ -91,6 +91,10 @@ class Progress {
 // (e.g. "samples.csv:12") is prefixed when not empty.
 bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail);
 
+// The refusal of a sample's write: "FILE:LINE: the module refused the sample:
+// WHY" when its values were refused (exception 02 or 03), else WHY alone.
+std::string refused_sample(VariableClient& client, const std::string& where);
+
 // `ok` as it is; when false, fail.error names the transport problem ("Modbus: ...").
 bool transport(VariableClient& client, bool ok, FlowResult& fail);
 

@@ -73,13 +73,11 @@ class VariableClient {
 
   // Contract 6.
   bool take_interface(int wait_ms, const std::function<void()>& waiting);
-  bool give_back_interface() { return write_one(kInterface, 0.0); }
+  bool give_back_interface() { return write_one(9009, 0.0); }  // module.hpp contract 8
 
  private:
   bool open(modbus_t* ctx, int response_timeout_ms);
   void drain();
-
-  static constexpr std::uint16_t kInterface = 9009;  // module.hpp contract 8
 
   modbus_t* ctx_ = nullptr;
   int error_ = 0;
