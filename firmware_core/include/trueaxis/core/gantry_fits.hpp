@@ -19,6 +19,12 @@
 //     unflatness and axis straightness then count as noise. The real tracker's
 //     error is larger along the line of sight than across it (or the reverse);
 //     the isotropic model is what the interface asks for, not a claim about it.
+//     additive = true takes the MPE's own form instead,
+//         sigma_i = a + b * |p_i - tracker|,
+//     as a tracker's data sheet states it and the simulator's tracker draws
+//     its noise across the line of sight (host_sim laser_tracker.hpp item 3):
+//     the module's noise floors and form errors use it (gantry_frames.hpp
+//     convention 8; #701, #702).
 //  3. Plane (PlaneEstimate): fit_accumulator.hpp's streaming fit, then a second
 //     pass over the points. With (x_i, y_i) the point's coordinates along
 //     (axis_u, axis_v) from the centroid and h the height along the normal, the
@@ -84,10 +90,12 @@ struct PointNoise {
   double distance_sigma_mm = 0.0;   // a
   double range_sigma_per_mm = 0.0;  // b, mm of sigma per mm of range
   Vec3 tracker_mm = Vec3::Zero();   // the tracker's position, in the points' frame
+  bool additive = false;            // a + b r, not hypot(a, b r) (convention 2)
 
   bool modelled() const { return distance_sigma_mm > 0.0 || range_sigma_per_mm > 0.0; }
   double sigma_mm(const Vec3& p_mm) const {
-    return std::hypot(distance_sigma_mm, range_sigma_per_mm * (p_mm - tracker_mm).norm());
+    const double range_term = range_sigma_per_mm * (p_mm - tracker_mm).norm();
+    return additive ? distance_sigma_mm + range_term : std::hypot(distance_sigma_mm, range_term);
   }
 };
 
