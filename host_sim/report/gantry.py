@@ -36,13 +36,20 @@ def pm(v, s, scale, digits):
     return f"{fmt(v * scale, digits)} +- {fmt(s * scale, digits)}"
 
 
-def grouped_bars(ax, labels, series, ylabel, sigmas=None):
+def errors(values, scale=1.0):
+    """Error bars of sigmas (not known: none), or None where none is known
+    (matplotlib refuses error bars that are all NaN)."""
+    e = [known(v) * scale for v in values]
+    return None if all(math.isnan(v) for v in e) else e
+
+
+def grouped_bars(ax, labels, series, ylabel, sigmas=None, sigma_scale=1.0):
     """Bars of several series side by side per label; series: [(name, values), ...],
-    sigmas: their 1-sigma per series (error bars), or None. The legend stands
+    sigmas: their 1-sigma per series (error bars, times sigma_scale), or None. The legend stands
     outside the axes (right of them), so it never covers a bar."""
     width = 0.8 / max(len(series), 1)
     for k, (name, values) in enumerate(series):
-        yerr = None if sigmas is None else [known(v) for v in sigmas[k]]
+        yerr = None if sigmas is None else errors(sigmas[k], sigma_scale)
         ax.bar([i + (k - (len(series) - 1) / 2) * width for i in range(len(labels))], values, width, label=name,
                yerr=yerr, capsize=3 if yerr is not None else 0, error_kw={"elinewidth": 0.9})
     ax.set_xticks(range(len(labels)))
@@ -113,12 +120,12 @@ def draw(data, report):
 
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(8, 3.2))
     ax1.bar(labels, [s["a_c_offset_mm"] * 1000 for s in subs],
-            yerr=[known(s.get("a_c_offset_sigma_mm")) * 1000 for s in subs], capsize=3)
+            yerr=errors([s.get("a_c_offset_sigma_mm") for s in subs], 1000), capsize=3)
     ax1.set_ylabel("um")
     ax1.set_title("A-to-C offset", fontsize=10)
     ax1.grid(True, axis="y", alpha=0.3)
     ax2.bar(labels, [(s["a_c_angle_deg"] - 90.0) * 3600.0 for s in subs],
-            yerr=[known(s.get("a_c_angle_sigma_deg")) * 3600.0 for s in subs], capsize=3)
+            yerr=errors([s.get("a_c_angle_sigma_deg") for s in subs], 3600.0), capsize=3)
     ax2.axhline(0.0, color="black", linewidth=0.6)
     ax2.set_ylabel("arcsec")
     ax2.set_title("A-to-C angle minus 90 deg", fontsize=10)
@@ -146,7 +153,7 @@ def draw(data, report):
     ax1.set_title("flatness, straightness (peak-to-valley)", fontsize=10)
     grouped_bars(ax2, names, [("form error", [known(glob.get("bed_form_error_mm")) * 1000,
                                               known(glob.get("gantry_form_error_mm")) * 1000])], "um",
-                 [[glob.get("bed_form_error_sigma_mm"), glob.get("gantry_form_error_sigma_mm")]])
+                 [[glob.get("bed_form_error_sigma_mm"), glob.get("gantry_form_error_sigma_mm")]], 1000.0)
     ax2.set_title("noise-corrected form error (RMS, +-1 sigma)", fontsize=10)
     report.figure(fig, "The machine's own figures: bed flatness (the spread of the pads' distances from their fitted "
                        "plane) and gantry straightness (twice the largest distance of a gantry pass from its fitted "
