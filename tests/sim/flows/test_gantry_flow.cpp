@@ -190,4 +190,23 @@ TEST_CASE("9825 and the direct call agree with the truth within the stated uncer
     }
   }
   WARN("9825 against the truth: worst error " << worst_sigmas << " sigma");
+
+  // The stored frames (layout 2) report the figures issue 17 added as the computation did.
+  const auto figures = [&](double macro, std::uint16_t first, std::uint16_t last, double stored) {
+    rig.set(v::kArgR, stored);
+    REQUIRE(rig.run(macro) == kDone);
+    std::vector<double> out;
+    for (std::uint16_t n = first; n <= last; ++n) out.push_back(rig.get(n));
+    return out;
+  };
+  const std::vector<double> global = figures(9824, v::kGlobalBedFlatnessFloor, v::kGlobalGantryFormErrorSigma, 0.0);
+  CHECK(figures(9824, v::kGlobalBedFlatnessFloor, v::kGlobalGantryFormErrorSigma, 1.0) == global);
+  CHECK(global[0] > 0.0);
+  for (const t::TrueSub& s : f.truth.subs) {
+    rig.set(v::kArgT, s.id);
+    const std::vector<double> sub = figures(9826, v::kSubSquarenessSigmaXY, v::kSubACAngleSigma, 0.0);
+    rig.set(v::kArgT, s.id);
+    CHECK(figures(9826, v::kSubSquarenessSigmaXY, v::kSubACAngleSigma, 1.0) == sub);
+    CHECK(*std::min_element(sub.begin(), sub.end()) > 0.0);
+  }
 }
