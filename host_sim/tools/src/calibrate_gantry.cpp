@@ -273,7 +273,9 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
     double s[32];
     if (!transport(client, client.write_one(var::kArgR, 0.0), r) ||  // R = 0: the frames just computed
         !transport(client, client.write_one(var::kArgT, n), r) || !run_or_fail(client, kSub, "", r) ||
-        !transport(client, client.read(var::kSubOriginX, 32, s), r)) {
+        // Two reads: 32 variables are 128 registers, over Modbus's 125 per request.
+        !transport(client, client.read(var::kSubOriginX, 27, s), r) ||
+        !transport(client, client.read(var::kSubSquarenessSigmaXY, 5, s + 27), r)) {
       return r;
     }
     ++count;

@@ -67,6 +67,34 @@ TEST_CASE("calibrate gantry: the frames of the virtual gantry, within 3 sigma of
   CHECK(glob["bed_form_error_mm"].number <= 3.0 * glob["bed_form_error_sigma_mm"].number);
   REQUIRE(out["sub_machines"].items.size() == 4);
   const std::vector<std::vector<double>> converted = conversions(client);
+  // The added keys are the module's outputs, each in its place (9824, 9826 from
+  // the frames just stored, which hold this computation whole).
+  const auto outputs = [&](std::uint16_t macro, int sub, std::uint16_t first, std::uint16_t count) {
+    REQUIRE(client.write_one(v::kArgR, 1.0));
+    REQUIRE(client.write_one(v::kArgT, sub));
+    REQUIRE(client.run_macro(macro).status == 2);
+    std::vector<double> got(count);
+    REQUIRE(client.read(first, count, got.data()));
+    return got;
+  };
+  const std::vector<double> floors = outputs(9824, 1, v::kGlobalBedFlatnessFloor, 6);
+  const char* global_keys[6] = {"bed_flatness_noise_floor_mm", "gantry_straightness_noise_floor_mm",
+                                "bed_form_error_mm", "bed_form_error_sigma_mm", "gantry_form_error_mm",
+                                "gantry_form_error_sigma_mm"};
+  for (std::size_t k = 0; k < 6; ++k) CHECK(glob[global_keys[k]].number == Approx(floors[k]).epsilon(1e-14));
+  for (int n = 1; n <= 4; ++n) {
+    CAPTURE(n);
+    const Json& s = sub_of(out, n);
+    const std::vector<double> sigmas = outputs(9826, n, v::kSubSquarenessSigmaXY, 5);
+    const std::vector<double> angles = outputs(9826, n, v::kSubAngleSigmaX, 3);
+    CHECK(s["squareness_sigma_arcsec"]["xy"].number == Approx(sigmas[0]).epsilon(1e-14));
+    CHECK(s["squareness_sigma_arcsec"]["yz"].number == Approx(sigmas[1]).epsilon(1e-14));
+    CHECK(s["squareness_sigma_arcsec"]["zx"].number == Approx(sigmas[2]).epsilon(1e-14));
+    CHECK(s["a_c_offset_sigma_mm"].number == Approx(sigmas[3]).epsilon(1e-14));
+    CHECK(s["a_c_angle_sigma_deg"].number == Approx(sigmas[4]).epsilon(1e-14));
+    for (std::size_t k = 0; k < 3; ++k) CHECK(s["angle_sigma_arcsec"].numbers()[k] == Approx(angles[k]).epsilon(1e-14));
+  }
+  REQUIRE(client.give_back_interface());
   for (int n = 1; n <= 4; ++n) {
     CAPTURE(n);
     const Json& s = sub_of(out, n);
