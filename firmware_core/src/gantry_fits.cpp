@@ -153,6 +153,8 @@ Result<AxisEstimate> fit_axis_passes(const PointSpan* passes, std::size_t pass_c
     axis.stroke_mm = std::max(axis.stroke_mm, p.stroke_mm);
     axis.straightness_mm = std::max(axis.straightness_mm, p.straightness_mm);
     axis.rms_residual_mm = std::max(axis.rms_residual_mm, p.rms_residual_mm);
+    axis.residual_ssr_mm2 += static_cast<double>(passes[k].count) * p.rms_residual_mm * p.rms_residual_mm;
+    axis.point_count += passes[k].count;
   }
   // |sum| = K |m| >= |first| > 0: every d_k has a positive component along d_1.
   const double norm = sum.norm();

@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "trueaxis/core/form_noise.hpp"
 #include "trueaxis/core/so3.hpp"
 
 namespace trueaxis::core {
@@ -33,28 +34,108 @@ void summarise(const Mat6& cov, FrameUncertainty& u) {
 template <int N>
 using Eigensolver = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>>;
 
-// Adds sum_k g_k g_k^T over the eigenvectors of a fit's covariance (convention 5);
-// eval(delta, frame) recomputes the frame with the fit's parameters moved by
+// A sub-machine's frame with its diagnostics (convention 7).
+struct SubSample {
+  Rigid3 frame;
+  Vec5 figures = Vec5::Zero();
+};
+
+const Rigid3& frame_of(const Rigid3& f) { return f; }
+const Rigid3& frame_of(const SubSample& s) { return s.frame; }
+void add_figures(const Rigid3&, const Rigid3&, Vec5&) {}
+void add_figures(const SubSample& plus, const SubSample& minus, Vec5& var) {
+  const Vec5 g = 0.5 * (plus.figures - minus.figures);
+  var += g.cwiseProduct(g);
+}
+
+// Adds sum_k g_k g_k^T over the eigenvectors of a fit's covariance (convention 5),
+// and for a SubSample its figures' g_k^2 to `figure_var` (convention 7);
+// eval(delta, sample) recomputes the frame with the fit's parameters moved by
 // delta. `es`: scratch.
-template <int N, typename Eval>
+template <int N, typename Sample, typename Eval>
 [[gnu::noinline]] Status add_sensitivity(const Eigen::Matrix<double, N, N>& cov, const Rigid3& nominal, Eval eval,
-                                         Mat6& acc, Eigensolver<N>& es) {
+                                         Mat6& acc, Vec5& figure_var, Eigensolver<N>& es) {
   es.compute(cov);
   if (es.info() != Eigen::Success) return Status::kNotFinite;
   for (int k = 0; k < N; ++k) {
     const double lambda = es.eigenvalues()(k);
     if (!(lambda > 0.0)) continue;
     const Eigen::Matrix<double, N, 1> step = std::sqrt(lambda) * es.eigenvectors().col(k);
-    Rigid3 plus;
-    Rigid3 minus;
+    Sample plus;
+    Sample minus;
     Status status = eval(step, plus);
     if (status != Status::kOk) return status;
     status = eval(Eigen::Matrix<double, N, 1>(-step), minus);
     if (status != Status::kOk) return status;
-    const Vec6 g = 0.5 * (frame_delta(nominal, plus) - frame_delta(nominal, minus));
+    const Vec6 g = 0.5 * (frame_delta(nominal, frame_of(plus)) - frame_delta(nominal, frame_of(minus)));
     acc += g * g.transpose();
+    add_figures(plus, minus, figure_var);
   }
   return Status::kOk;
+}
+
+// Convention 7, cheap enough for every perturbed build (no inverse
+// trigonometry: README "Instruction bounds"): the cosines of the three
+// squareness angles and of the A-to-C angle, and the signed A-to-C offset along
+// unit(a x c). d(angle) = -d(cos) / sin: sub_into_global divides the cosines'
+// variances by sin^2 of the nominal angles.
+Vec5 figures_of(const Vec3 dirs[3], const Line3& c, const Line3& a) {
+  const Vec3 m = a.direction.cross(c.direction);
+  Vec5 f;
+  f << dirs[0].dot(dirs[1]), dirs[1].dot(dirs[2]), dirs[2].dot(dirs[0]),
+      (a.point_mm - c.point_mm).dot(m) / m.norm(), a.direction.dot(c.direction);
+  return f;
+}
+
+// The RMS of the stated sigma_i over groups of points and (mean sigma_i^4)^(1/4)
+// (convention 8, form_noise.hpp item 5).
+struct NoiseMoments {
+  double rms_mm = 0.0;
+  double quartic_mm = 0.0;
+};
+
+NoiseMoments noise_moments(const PointNoise& noise, const PointSpan* groups, std::size_t group_count) {
+  NoiseMoments m;
+  if (!noise.modelled()) return m;
+  double sum2 = 0.0;
+  double sum4 = 0.0;
+  std::size_t n = 0;
+  for (std::size_t g = 0; g < group_count; ++g) {
+    for (std::size_t i = 0; i < groups[g].count; ++i) {
+      const double s = noise.sigma_mm(groups[g].points_mm[i]);
+      sum2 += s * s;
+      sum4 += s * s * s * s;
+    }
+    n += groups[g].count;
+  }
+  if (n == 0) return m;
+  m.rms_mm = std::sqrt(sum2 / static_cast<double>(n));
+  m.quartic_mm = std::sqrt(std::sqrt(sum4 / static_cast<double>(n)));
+  return m;
+}
+
+// Convention 8, into `out`.
+[[gnu::noinline]] void form_figures(const GantryInput& in, const GantryOptions& opt, const PlaneEstimate& bed,
+                                    const AxisEstimate& gantry, GlobalFrame& out) {
+  const PointNoise& noise = opt.instrument.modelled() ? opt.instrument : opt.noise;
+  const NoiseMoments bed_noise = noise_moments(noise, &in.bed, 1);
+  const NoiseMoments gantry_noise = noise_moments(noise, in.gantry_passes, in.gantry_pass_count);
+  const double s_bed = bed_noise.rms_mm;
+  const double s_gantry = gantry_noise.rms_mm;
+  const std::size_t bed_dof = plane_residual_dof(bed.count);
+  std::size_t gantry_dof = 0;
+  for (std::size_t k = 0; k < in.gantry_pass_count; ++k) gantry_dof += line_residual_dof(in.gantry_passes[k].count);
+  const std::size_t gantry_count = gantry.point_count;
+  out.bed_flatness_noise_floor_mm = flatness_noise_floor_mm(bed.count, bed_dof, s_bed);
+  out.gantry_straightness_noise_floor_mm = straightness_noise_floor_mm(gantry_count, gantry_dof, s_gantry);
+  const FormError bed_form = form_error(bed.rms_residual_mm, bed.count, bed_dof, s_bed, bed_noise.quartic_mm);
+  const double gantry_rms =
+      gantry_count > 0 ? std::sqrt(gantry.residual_ssr_mm2 / static_cast<double>(gantry_count)) : 0.0;
+  const FormError gantry_form = form_error(gantry_rms, gantry_count, gantry_dof, s_gantry, gantry_noise.quartic_mm);
+  out.bed_form_error_mm = bed_form.form_mm;
+  out.bed_form_error_sigma_mm = bed_form.sigma_mm;
+  out.gantry_form_error_mm = gantry_form.form_mm;
+  out.gantry_form_error_sigma_mm = gantry_form.sigma_mm;
 }
 
 template <typename T>
@@ -64,8 +145,9 @@ Status take(const Result<T>& r, T& out) {
 }
 
 Status check_options(const GantryOptions& o) {
-  const Status status = check_noise(o.noise);
+  Status status = check_noise(o.noise);
   if (status != Status::kOk) return status;
+  if ((status = check_noise(o.instrument)) != Status::kOk) return status;
   if (std::isnan(o.min_arc_deg) || std::isnan(o.min_ac_sin)) return Status::kNotFinite;
   if (!(o.min_arc_deg >= 0.0 && o.min_arc_deg < 360.0) || !(o.min_ac_sin > 0.0 && o.min_ac_sin <= 1.0)) {
     return Status::kArgumentOutOfRange;
@@ -111,10 +193,22 @@ Status check_ids(const GantryInput& in) {
   const auto gantry_eval = [&](const Vec3& d, Rigid3& f) {
     return take(global_frame_from(p_bed, p_1, p_2, (gantry.direction + d).normalized()), f);
   };
-  if ((status = add_sensitivity(bed.covariance, nominal, bed_eval, cov, es)) != Status::kOk) return status;
-  if ((status = add_sensitivity(side_1.covariance, nominal, side_1_eval, cov, es)) != Status::kOk) return status;
-  if ((status = add_sensitivity(side_2.covariance, nominal, side_2_eval, cov, es)) != Status::kOk) return status;
-  if ((status = add_sensitivity(gantry.covariance, nominal, gantry_eval, cov, es)) != Status::kOk) return status;
+  Vec5 unused = Vec5::Zero();
+  if ((status = add_sensitivity<3, Rigid3>(bed.covariance, nominal, bed_eval, cov, unused, es)) != Status::kOk) {
+    return status;
+  }
+  if ((status = add_sensitivity<3, Rigid3>(side_1.covariance, nominal, side_1_eval, cov, unused, es)) !=
+      Status::kOk) {
+    return status;
+  }
+  if ((status = add_sensitivity<3, Rigid3>(side_2.covariance, nominal, side_2_eval, cov, unused, es)) !=
+      Status::kOk) {
+    return status;
+  }
+  if ((status = add_sensitivity<3, Rigid3>(gantry.covariance, nominal, gantry_eval, cov, unused, es)) !=
+      Status::kOk) {
+    return status;
+  }
 
   out.tracker_T_global = nominal;
   out.bed_flatness_mm = bed.flatness_mm;
@@ -149,7 +243,7 @@ CircleSummary summarise_circle(const CircleFit& fit, const Vec3& oriented_normal
 [[gnu::noinline]] void sub_into_global(const SubMachineInput& in, const GlobalFrame& global,
                                        const AxisEstimate axes[3], const Vec3 dirs[3], Axis master,
                                        const SubGeometry& nominal, const CircleFit& c_fit, const CircleFit& a_fit,
-                                       const Mat6& own, SubMachineFrame& out) {
+                                       const Mat6& own, const Vec5& figure_var, SubMachineFrame& out) {
   const Rigid3 global_T_tracker = inverse(global.tracker_T_global);
   const Rigid3 global_T_sub = compose(global_T_tracker, nominal.tracker_T_sub);
   const Mat3 r_g_t = global_T_tracker.R;
@@ -175,6 +269,13 @@ CircleSummary summarise_circle(const CircleFit& fit, const Vec3& oriented_normal
   }
   out.a_c_offset_mm = nominal.a_c_offset_mm;
   out.a_c_angle_deg = nominal.a_c_angle_deg;
+  // figure_var holds the cosines' variances (figures_of).
+  for (int k = 0; k < 3; ++k) {
+    const double sin = dirs[k].cross(dirs[(k + 1) % 3]).norm();
+    out.squareness_sigma_arcsec(k) = kArcsecPerRad * std::sqrt(figure_var(k)) / sin;
+  }
+  out.a_c_offset_sigma_mm = std::sqrt(figure_var(3));
+  out.a_c_angle_sigma_deg = std::sqrt(figure_var(4)) / nominal.a.cross(nominal.c).norm() * 180.0 / kPi;
   out.wrist_centre_mm = apply_point(global_T_tracker, nominal.wrist_centre_mm);
   out.c_circle = summarise_circle(c_fit, nominal.c, global_T_tracker);
   out.a_circle = summarise_circle(a_fit, nominal.a, global_T_tracker);
@@ -184,6 +285,7 @@ CircleSummary summarise_circle(const CircleFit& fit, const Vec3& oriented_normal
 // The builder's scratch for sub_from_fits.
 struct SubScratch {
   Mat6& own;
+  Vec5& figure_var;
   Eigensolver<3>& es3;
   Eigensolver<6>& es6;
 };
@@ -207,35 +309,45 @@ struct SubScratch {
 
   Mat6& own = scratch.own;  // tracker-frame origin, rotation about the sub-machine's axes
   own.setZero();
+  Vec5& figure_var = scratch.figure_var;
+  figure_var.setZero();
   for (int k = 0; k < 3; ++k) {
-    const auto eval = [&](const Vec3& d, Rigid3& f) {
+    const auto eval = [&](const Vec3& d, SubSample& f) {
       Vec3 moved[3] = {dirs[0], dirs[1], dirs[2]};
       moved[k] = (dirs[k] + d).normalized();
       SubGeometry g;
       const Status s = build(moved, c_line, a_line, g);
-      f = g.tracker_T_sub;
+      f.frame = g.tracker_T_sub;
+      f.figures = figures_of(moved, c_line, a_line);
       return s;
     };
-    status = add_sensitivity(axes[k].covariance, nominal.tracker_T_sub, eval, own, scratch.es3);
+    status = add_sensitivity<3, SubSample>(axes[k].covariance, nominal.tracker_T_sub, eval, own, figure_var,
+                                           scratch.es3);
     if (status != Status::kOk) return status;
   }
-  const auto c_eval = [&](const Vec6& d, Rigid3& f) {
+  const auto c_eval = [&](const Vec6& d, SubSample& f) {
     SubGeometry g;
-    const Status s = build(dirs, perturbed_circle_axis(c_fit, d), a_line, g);
-    f = g.tracker_T_sub;
+    const Line3 c = perturbed_circle_axis(c_fit, d);
+    const Status s = build(dirs, c, a_line, g);
+    f.frame = g.tracker_T_sub;
+    f.figures = figures_of(dirs, c, a_line);
     return s;
   };
-  const auto a_eval = [&](const Vec6& d, Rigid3& f) {
+  const auto a_eval = [&](const Vec6& d, SubSample& f) {
     SubGeometry g;
-    const Status s = build(dirs, c_line, perturbed_circle_axis(a_fit, d), g);
-    f = g.tracker_T_sub;
+    const Line3 a = perturbed_circle_axis(a_fit, d);
+    const Status s = build(dirs, c_line, a, g);
+    f.frame = g.tracker_T_sub;
+    f.figures = figures_of(dirs, c_line, a);
     return s;
   };
-  status = add_sensitivity(c_fit.covariance, nominal.tracker_T_sub, c_eval, own, scratch.es6);
+  status = add_sensitivity<6, SubSample>(c_fit.covariance, nominal.tracker_T_sub, c_eval, own, figure_var,
+                                         scratch.es6);
   if (status != Status::kOk) return status;
-  status = add_sensitivity(a_fit.covariance, nominal.tracker_T_sub, a_eval, own, scratch.es6);
+  status = add_sensitivity<6, SubSample>(a_fit.covariance, nominal.tracker_T_sub, a_eval, own, figure_var,
+                                         scratch.es6);
   if (status != Status::kOk) return status;
-  sub_into_global(in, global, axes, dirs, master, nominal, c_fit, a_fit, own, out);
+  sub_into_global(in, global, axes, dirs, master, nominal, c_fit, a_fit, own, figure_var, out);
   return Status::kOk;
 }
 
@@ -310,6 +422,7 @@ GantryStep GantryBuilder::step() {
     case Phase::kGlobal:
       status = global_from_fits(bed_, side_1_, side_2_, gantry_, out_->global, own_, eigen3_);
       if (status != Status::kOk) return fail(status);
+      form_figures(in, options_, bed_, gantry_, out_->global);
       phase_ = Phase::kAxisX;
       return {Status::kOk, true};
     case Phase::kAxisX:
@@ -338,7 +451,7 @@ GantryStep GantryBuilder::step() {
     case Phase::kSub:
       failed_id_ = sub.id;
       status = sub_from_fits(sub, options_, out_->global, axes_, c_fit_, a_fit_, out_->sub_machines[sub_],
-                             {own_, eigen3_, eigen6_});
+                             {own_, figure_var_, eigen3_, eigen6_});
       if (status != Status::kOk) return fail(status);
       failed_id_ = 0;
       if (++sub_ < in.sub_machine_count) {

@@ -129,8 +129,9 @@ TEST_CASE("GantryBuilder fails where compute_gantry_frames fails, naming the sub
 namespace {
 
 core::GantryTable table_of(const Fixture& f, core::GantryFrames& frames) {
-  REQUIRE(core::compute_gantry_frames(t::make_input(f.truth, f.samples), core::GantryOptions{}, frames) ==
-          Status::kOk);
+  core::GantryOptions options;  // with the tracker's noise: every layout-2 figure non-zero
+  options.instrument = {t::kTracker.a_mm, t::kTracker.b_per_mm, Vec3::Zero()};
+  REQUIRE(core::compute_gantry_frames(t::make_input(f.truth, f.samples), options, frames) == Status::kOk);
   core::GantryTable table;
   core::merge_frames(table, frames);
   return table;
@@ -147,6 +148,18 @@ constexpr std::size_t kGlobal = core::kGantryHeaderBytes;
 std::size_t sub_offset(std::size_t id) {
   return core::kGantryHeaderBytes + core::kGantryGlobalBytes + (id - 1) * core::kGantrySubBytes;
 }
+constexpr std::size_t kGlobalFigures = core::kGantryTableBytesV1;
+std::size_t sub_figure_offset(std::size_t id) {
+  return core::kGantryTableBytesV1 + core::kGantryGlobalFigureBytes + (id - 1) * core::kGantrySubFigureBytes;
+}
+
+// The record a layout-1 encoder wrote for the same table: layout 2's first
+// 1880 bytes with version 1 (gantry_table.hpp: layout 1's fields, field for field).
+std::vector<std::uint8_t> layout_1(const std::vector<std::uint8_t>& layout_2) {
+  std::vector<std::uint8_t> bytes(layout_2.begin(), layout_2.begin() + core::kGantryTableBytesV1);
+  core::put_u16(bytes.data(), 1);
+  return bytes;
+}
 
 }  // namespace
 
@@ -154,7 +167,8 @@ TEST_CASE("the stored frames round-trip bit for bit", "[gantry][table]") {
   const Fixture f;
   auto frames = std::make_unique<core::GantryFrames>();
   const core::GantryTable table = table_of(f, *frames);
-  CHECK(core::kGantryTableBytes == 1880);
+  CHECK(core::kGantryTableBytesV1 == 1880);
+  CHECK(core::kGantryTableBytes == 2248);
   CHECK(table.count() == 4);
   const std::vector<std::uint8_t> bytes = encoded(table);
   core::GantryTable decoded;
@@ -169,8 +183,28 @@ TEST_CASE("the stored frames round-trip bit for bit", "[gantry][table]") {
     CHECK(same_bits(decoded.sub_machines[i].sub_T_global, table.sub_machines[i].sub_T_global));
     CHECK(decoded.sub_machines[i].master_axis == table.sub_machines[i].master_axis);
     CHECK(decoded.sub_machines[i].c_circle_rms_mm == table.sub_machines[i].c_circle_rms_mm);
+    CHECK(same_bits(decoded.sub_machines[i].squareness_sigma_arcsec, table.sub_machines[i].squareness_sigma_arcsec));
+    CHECK(decoded.sub_machines[i].a_c_offset_sigma_mm == table.sub_machines[i].a_c_offset_sigma_mm);
+    CHECK(decoded.sub_machines[i].a_c_angle_sigma_deg == table.sub_machines[i].a_c_angle_sigma_deg);
+    CHECK(table.sub_machines[i].squareness_sigma_arcsec.minCoeff() > 0.0);
+    CHECK(table.sub_machines[i].a_c_offset_sigma_mm > 0.0);
+    CHECK(table.sub_machines[i].a_c_angle_sigma_deg > 0.0);
   }
   CHECK(same_bits(decoded.global.tracker_T_global, table.global.tracker_T_global));
+  const core::StoredGlobal& g = decoded.global;
+  const core::StoredGlobal& want = table.global;
+  CHECK(g.bed_flatness_noise_floor_mm == want.bed_flatness_noise_floor_mm);
+  CHECK(g.gantry_straightness_noise_floor_mm == want.gantry_straightness_noise_floor_mm);
+  CHECK(g.bed_form_error_mm == want.bed_form_error_mm);
+  CHECK(g.bed_form_error_sigma_mm == want.bed_form_error_sigma_mm);
+  CHECK(g.gantry_form_error_mm == want.gantry_form_error_mm);
+  CHECK(g.gantry_form_error_sigma_mm == want.gantry_form_error_sigma_mm);
+  CHECK(want.bed_flatness_noise_floor_mm > 0.0);
+  CHECK(want.gantry_straightness_noise_floor_mm > 0.0);
+  CHECK(want.bed_form_error_sigma_mm > 0.0);
+  CHECK(want.gantry_form_error_sigma_mm > 0.0);
+  CHECK(core::get_f64(bytes.data() + kGlobalFigures) == want.bed_flatness_noise_floor_mm);
+  CHECK(core::get_f64(bytes.data() + kGlobalFigures + 8 * 5) == want.gantry_form_error_sigma_mm);
   CHECK(encode_gantry_table(core::GantryTable{}, std::vector<std::uint8_t>(2000).data(), 2000) == 0);  // nothing present
   CHECK(encode_gantry_table(table, std::vector<std::uint8_t>(2000).data(), core::kGantryTableBytes - 1) == 0);
 }
@@ -186,7 +220,26 @@ TEST_CASE("a malformed gantry record is refused whole, the destination untouched
   const std::size_t first = sub_offset(table.sub_machines[0].present ? 1 : 2);
 
   SECTION("one byte short") { size -= 1; }
-  SECTION("layout version 2") { core::put_u16(bad.data(), 2); }
+  SECTION("layout version 3") { core::put_u16(bad.data(), 3); }
+  SECTION("layout version 1 at layout 2's size") { core::put_u16(bad.data(), 1); }
+  SECTION("layout version 2 at layout 1's size") { size = core::kGantryTableBytesV1; }
+  SECTION("a layout-1 record one byte longer") {
+    bad = layout_1(good);
+    bad.push_back(0);
+    size = bad.size();
+  }
+  SECTION("a NaN in the global figures") { core::put_f64(bad.data() + kGlobalFigures + 8 * 3, nan); }
+  SECTION("a negative form error") { core::put_f64(bad.data() + kGlobalFigures + 8 * 2, -1e-9); }
+  SECTION("a noise floor of -2 (only -1, not stored, may be negative)") {
+    core::put_f64(bad.data() + kGlobalFigures, -2.0);
+  }
+  SECTION("a NaN in a sub-machine's figures") {
+    core::put_f64(bad.data() + sub_figure_offset(table.sub_machines[0].present ? 1 : 2) + 8 * 4, nan);
+  }
+  SECTION("a negative squareness sigma") {
+    core::put_f64(bad.data() + sub_figure_offset(table.sub_machines[0].present ? 1 : 2) + 8, -0.5);
+  }
+  SECTION("bytes in an absent sub-machine's figures") { bad[sub_figure_offset(8) + 3] = 1; }
   SECTION("no sub-machine present") { core::put_u16(bad.data() + 2, 0); }
   SECTION("a ninth sub-machine") { core::put_u16(bad.data() + 2, static_cast<std::uint16_t>(0x100 | table.id_mask())); }
   SECTION("a reserved header byte") { bad[5] = 1; }
@@ -215,6 +268,42 @@ TEST_CASE("a malformed gantry record is refused whole, the destination untouched
   CHECK(core::decode_gantry_table(bad.data(), size, out) == Status::kTableInvalid);
   CHECK(out.global.bed_flatness_mm == 42.0);
   CHECK(out.count() == 0);
+}
+
+TEST_CASE("a layout-1 record (stored before the figures' sigmas) reads with those figures not stored",
+          "[gantry][table]") {
+  const Fixture f;
+  auto frames = std::make_unique<core::GantryFrames>();
+  const core::GantryTable table = table_of(f, *frames);
+  const std::vector<std::uint8_t> old = layout_1(encoded(table));
+  core::GantryTable decoded;
+  REQUIRE(core::decode_gantry_table(old.data(), old.size(), decoded) == Status::kOk);
+  CHECK(decoded.id_mask() == table.id_mask());
+  CHECK(same_bits(decoded.global.tracker_T_global, table.global.tracker_T_global));
+  CHECK(decoded.global.bed_flatness_mm == table.global.bed_flatness_mm);
+  CHECK(decoded.global.bed_flatness_noise_floor_mm == core::kFigureNotStored);
+  CHECK(decoded.global.gantry_straightness_noise_floor_mm == core::kFigureNotStored);
+  CHECK(decoded.global.bed_form_error_mm == core::kFigureNotStored);
+  CHECK(decoded.global.bed_form_error_sigma_mm == core::kFigureNotStored);
+  CHECK(decoded.global.gantry_form_error_mm == core::kFigureNotStored);
+  CHECK(decoded.global.gantry_form_error_sigma_mm == core::kFigureNotStored);
+  for (std::size_t i = 0; i < core::kMaxSubMachines; ++i) {
+    INFO("sub-machine " << i + 1);
+    REQUIRE(decoded.sub_machines[i].present == table.sub_machines[i].present);
+    if (!table.sub_machines[i].present) continue;
+    CHECK(same_bits(decoded.sub_machines[i].global_T_sub, table.sub_machines[i].global_T_sub));
+    CHECK(same_bits(decoded.sub_machines[i].squareness_arcsec, table.sub_machines[i].squareness_arcsec));
+    CHECK(decoded.sub_machines[i].a_c_offset_mm == table.sub_machines[i].a_c_offset_mm);
+    CHECK(decoded.sub_machines[i].squareness_sigma_arcsec == Vec3::Constant(core::kFigureNotStored));
+    CHECK(decoded.sub_machines[i].a_c_offset_sigma_mm == core::kFigureNotStored);
+    CHECK(decoded.sub_machines[i].a_c_angle_sigma_deg == core::kFigureNotStored);
+  }
+  // Stored again (a merge keeps it), layout 2 carries "not stored" on.
+  const std::vector<std::uint8_t> again = encoded(decoded);
+  core::GantryTable round;
+  REQUIRE(core::decode_gantry_table(again.data(), again.size(), round) == Status::kOk);
+  CHECK(encoded(round) == again);
+  CHECK(round.global.bed_form_error_sigma_mm == core::kFigureNotStored);
 }
 
 TEST_CASE("the boundaries the decoder accepts", "[gantry][table]") {

@@ -249,6 +249,23 @@ TEST_CASE("a store written by 5f22699 loads with every record intact", "[store][
     d.check();
   }
 
+  SECTION("the gantry figures its layout-1 record lacks read -1, not stored (never a sigma of 0)") {
+    // The frames stored before issue 17's sigmas (gantry_table.hpp convention 4).
+    REQUIRE(s.put(v::kArgR, 1.0) == F::kNone);
+    REQUIRE(s.rig.run(9824) == trueaxis::test::kDone);
+    for (std::uint16_t n = v::kGlobalBedFlatnessFloor; n <= v::kGlobalGantryFormErrorSigma; ++n) {
+      CAPTURE(n);
+      CHECK(s.get(n) == -1.0);
+    }
+    REQUIRE(s.put(v::kArgT, 1.0) == F::kNone);
+    REQUIRE(s.put(v::kArgR, 1.0) == F::kNone);
+    REQUIRE(s.rig.run(9826) == trueaxis::test::kDone);
+    for (std::uint16_t n = v::kSubSquarenessSigmaXY; n <= v::kSubACAngleSigma; ++n) {
+      CAPTURE(n);
+      CHECK(s.get(n) == -1.0);
+    }
+  }
+
   SECTION("a configuration and a work offset saved afterwards keep every other record loadable, and the unlock code") {
     // The first saves of the new code rewrite the config and work-offset
     // records in their slots; the tables beside them must stay readable, and

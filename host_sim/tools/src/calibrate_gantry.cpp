@@ -256,10 +256,10 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
     return r;
   }
   double build[4];
-  double global[20];
+  double global[26];
   if (!transport(client, client.read(var::kGantryBuilt, 4, build), r) ||
       !transport(client, client.write_one(var::kArgR, 0.0), r) || !run_or_fail(client, kGlobal, "", r) ||
-      !transport(client, client.read(var::kGlobalOriginX, 20, global), r)) {
+      !transport(client, client.read(var::kGlobalOriginX, 26, global), r)) {
     return r;
   }
   const int mask = static_cast<int>(global[19]);
@@ -270,10 +270,12 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
   double worst_sigma_mm = -1.0;
   for (int n = 1; n <= 8; ++n) {
     if ((mask & (1 << (n - 1))) == 0) continue;
-    double s[27];
+    double s[32];
     if (!transport(client, client.write_one(var::kArgR, 0.0), r) ||  // R = 0: the frames just computed
         !transport(client, client.write_one(var::kArgT, n), r) || !run_or_fail(client, kSub, "", r) ||
-        !transport(client, client.read(var::kSubOriginX, 27, s), r)) {
+        // Two reads: 32 variables are 128 registers, over Modbus's 125 per request.
+        !transport(client, client.read(var::kSubOriginX, 27, s), r) ||
+        !transport(client, client.read(var::kSubSquarenessSigmaXY, 5, s + 27), r)) {
       return r;
     }
     ++count;
@@ -298,7 +300,10 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
             ", \"master_axis\": \"" + master[static_cast<int>(s[13]) % 3] + "\",\n      \"squareness_arcsec\": { \"xy\": " +
             json_number(s[14]) + ", \"yz\": " + json_number(s[15]) + ", \"zx\": " + json_number(s[16]) +
             " },\n      \"a_c_offset_mm\": " + json_number(s[17]) + ", \"a_c_angle_deg\": " + json_number(s[18]) +
-            ",\n      \"global_T_sub\": " + t + " }";
+            ",\n      \"global_T_sub\": " + t + ",\n      \"squareness_sigma_arcsec\": { \"xy\": " +
+            json_number(s[27]) + ", \"yz\": " + json_number(s[28]) + ", \"zx\": " + json_number(s[29]) +
+            " },\n      \"a_c_offset_sigma_mm\": " + json_number(s[30]) + ", \"a_c_angle_sigma_deg\": " +
+            json_number(s[31]) + ", \"angle_sigma_arcsec\": " + json_vec3(s + 19) + " }";
     extras += extras.empty() ? "\n" : ",\n";
     extras += "    { \"id\": " + std::to_string(n) + ", \"angle_sigma_arcsec\": " + json_vec3(s + 19) +
               ", \"straightness_mm\": " + json_vec3(s + 22) + ", \"c_circle_rms_mm\": " + json_number(s[25]) +
@@ -306,7 +311,11 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
   }
   r.json = "{\n  \"method\": \"gantry\",\n  \"global\": { \"origin_mm\": " + json_vec3(global) + ",\n    " +
            json_axes(global + 3, global + 6, global + 9) + ",\n    \"bed_flatness_mm\": " + json_number(global[12]) +
-           ", \"gantry_straightness_mm\": " + json_number(global[13]) + " },\n  \"sub_machines\": [" + subs +
+           ", \"gantry_straightness_mm\": " + json_number(global[13]) + ",\n    \"bed_flatness_noise_floor_mm\": " +
+           json_number(global[20]) + ", \"gantry_straightness_noise_floor_mm\": " + json_number(global[21]) +
+           ",\n    \"bed_form_error_mm\": " + json_number(global[22]) + ", \"bed_form_error_sigma_mm\": " +
+           json_number(global[23]) + ",\n    \"gantry_form_error_mm\": " + json_number(global[24]) +
+           ", \"gantry_form_error_sigma_mm\": " + json_number(global[25]) + " },\n  \"sub_machines\": [" + subs +
            "\n  ]\n}\n";
   // What the module computed beyond docs/INTERFACE.md's OUT.json, for the report only.
   // A key of its own ("sub_machine_figures"): the report merges this file into

@@ -120,14 +120,25 @@ TEST_CASE("9823 through the registers gives the core's frames bit for bit", "[ga
   CHECK(rig.get(v::kGantryBuilt) == 4.0);
 
   auto whole = std::make_unique<core::GantryFrames>();
-  REQUIRE(core::compute_gantry_frames(t::make_input(f.truth, f.samples), core::GantryOptions{}, *whole) ==
-          Status::kOk);
+  core::GantryOptions options;  // the module's: #701, #702 at their defaults
+  options.instrument = {g::kDefaultTrackerNoiseMm, g::kDefaultTrackerNoisePerMMm / 1000.0, Vec3::Zero(), true};
+  CHECK(rig.get(v::kGantryTrackerNoise) == g::kDefaultTrackerNoiseMm);
+  CHECK(rig.get(v::kGantryTrackerNoisePerM) == g::kDefaultTrackerNoisePerMMm);
+  REQUIRE(core::compute_gantry_frames(t::make_input(f.truth, f.samples), options, *whole) == Status::kOk);
   rig.set(v::kArgR, 0.0);
   REQUIRE(rig.run(9824) == kDone);
   CHECK(rig.get3(v::kGlobalOriginX) == whole->global.tracker_T_global.t);
   CHECK(rig.get3(v::kGlobalZX) == Vec3(whole->global.tracker_T_global.R.col(2)));
   CHECK(rig.get(v::kGlobalIdMask) == 15.0);
   CHECK(rig.get(v::kGlobalOriginSigma) == whole->global.uncertainty.origin_sigma_mm);
+  CHECK(rig.get(v::kGlobalBedFlatnessFloor) == whole->global.bed_flatness_noise_floor_mm);
+  CHECK(rig.get(v::kGlobalGantryStraightnessFloor) == whole->global.gantry_straightness_noise_floor_mm);
+  CHECK(rig.get(v::kGlobalBedFormError) == whole->global.bed_form_error_mm);
+  CHECK(rig.get(v::kGlobalBedFormErrorSigma) == whole->global.bed_form_error_sigma_mm);
+  CHECK(rig.get(v::kGlobalGantryFormError) == whole->global.gantry_form_error_mm);
+  CHECK(rig.get(v::kGlobalGantryFormErrorSigma) == whole->global.gantry_form_error_sigma_mm);
+  CHECK(whole->global.bed_flatness_noise_floor_mm > 0.0);
+  CHECK(whole->global.gantry_form_error_sigma_mm > 0.0);
   for (std::size_t i = 0; i < 4; ++i) {
     const core::SubMachineFrame& w = whole->sub_machines[i];
     INFO("sub-machine " << w.id);
@@ -141,6 +152,10 @@ TEST_CASE("9823 through the registers gives the core's frames bit for bit", "[ga
     CHECK(rig.get3(v::kSubSquarenessXY) == w.squareness_arcsec);
     CHECK(rig.get(v::kSubACOffset) == w.a_c_offset_mm);
     CHECK(rig.get(v::kSubACircleRms) == w.a_circle.rms_distance_mm);
+    CHECK(rig.get3(v::kSubSquarenessSigmaXY) == w.squareness_sigma_arcsec);
+    CHECK(rig.get(v::kSubACOffsetSigma) == w.a_c_offset_sigma_mm);
+    CHECK(rig.get(v::kSubACAngleSigma) == w.a_c_angle_sigma_deg);
+    CHECK(w.squareness_sigma_arcsec.minCoeff() > 0.0);
   }
 }
 
@@ -175,4 +190,23 @@ TEST_CASE("9825 and the direct call agree with the truth within the stated uncer
     }
   }
   WARN("9825 against the truth: worst error " << worst_sigmas << " sigma");
+
+  // The stored frames (layout 2) report the figures issue 17 added as the computation did.
+  const auto figures = [&](double macro, std::uint16_t first, std::uint16_t last, double stored) {
+    rig.set(v::kArgR, stored);
+    REQUIRE(rig.run(macro) == kDone);
+    std::vector<double> out;
+    for (std::uint16_t n = first; n <= last; ++n) out.push_back(rig.get(n));
+    return out;
+  };
+  const std::vector<double> global = figures(9824, v::kGlobalBedFlatnessFloor, v::kGlobalGantryFormErrorSigma, 0.0);
+  CHECK(figures(9824, v::kGlobalBedFlatnessFloor, v::kGlobalGantryFormErrorSigma, 1.0) == global);
+  CHECK(global[0] > 0.0);
+  for (const t::TrueSub& s : f.truth.subs) {
+    rig.set(v::kArgT, s.id);
+    const std::vector<double> sub = figures(9826, v::kSubSquarenessSigmaXY, v::kSubACAngleSigma, 0.0);
+    rig.set(v::kArgT, s.id);
+    CHECK(figures(9826, v::kSubSquarenessSigmaXY, v::kSubACAngleSigma, 1.0) == sub);
+    CHECK(*std::min_element(sub.begin(), sub.end()) > 0.0);
+  }
 }

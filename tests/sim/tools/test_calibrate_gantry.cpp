@@ -13,6 +13,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdio>
 #include <string>
@@ -49,8 +50,51 @@ TEST_CASE("calibrate gantry: the frames of the virtual gantry, within 3 sigma of
   for (const char* key : {"origin_mm", "x", "y", "z"}) CHECK(out["global"][key].numbers().size() == 3);
   CHECK(out["global"]["bed_flatness_mm"].kind == Json::kNumber);
   CHECK(out["global"]["gantry_straightness_mm"].kind == Json::kNumber);
+  // issue 17 item 6 (docs/INTERFACE.md "Additions"): the noise floors near the
+  // peak-to-valley figures, the virtual bed flat (form error 0 within 3 sigma).
+  const Json& glob = out["global"];
+  for (const char* key : {"bed_flatness_noise_floor_mm", "gantry_straightness_noise_floor_mm", "bed_form_error_mm",
+                          "bed_form_error_sigma_mm", "gantry_form_error_mm", "gantry_form_error_sigma_mm"}) {
+    CAPTURE(key);
+    CHECK(glob[key].kind == Json::kNumber);
+    CHECK(glob[key].number >= 0.0);
+  }
+  CHECK(glob["bed_flatness_noise_floor_mm"].number > 0.5 * glob["bed_flatness_mm"].number);
+  CHECK(glob["bed_flatness_noise_floor_mm"].number < 2.0 * glob["bed_flatness_mm"].number);
+  CHECK(glob["gantry_straightness_noise_floor_mm"].number > 0.5 * glob["gantry_straightness_mm"].number);
+  CHECK(glob["bed_form_error_sigma_mm"].number > 0.0);
+  CHECK(glob["gantry_form_error_sigma_mm"].number > 0.0);
+  CHECK(glob["bed_form_error_mm"].number <= 3.0 * glob["bed_form_error_sigma_mm"].number);
   REQUIRE(out["sub_machines"].items.size() == 4);
   const std::vector<std::vector<double>> converted = conversions(client);
+  // The added keys are the module's outputs, each in its place (9824, 9826 from
+  // the frames just stored, which hold this computation whole).
+  const auto outputs = [&](std::uint16_t macro, int sub, std::uint16_t first, std::uint16_t count) {
+    REQUIRE(client.write_one(v::kArgR, 1.0));
+    REQUIRE(client.write_one(v::kArgT, sub));
+    REQUIRE(client.run_macro(macro).status == 2);
+    std::vector<double> got(count);
+    REQUIRE(client.read(first, count, got.data()));
+    return got;
+  };
+  const std::vector<double> floors = outputs(9824, 1, v::kGlobalBedFlatnessFloor, 6);
+  const char* global_keys[6] = {"bed_flatness_noise_floor_mm", "gantry_straightness_noise_floor_mm",
+                                "bed_form_error_mm", "bed_form_error_sigma_mm", "gantry_form_error_mm",
+                                "gantry_form_error_sigma_mm"};
+  for (std::size_t k = 0; k < 6; ++k) CHECK(glob[global_keys[k]].number == Approx(floors[k]).epsilon(1e-14));
+  for (int n = 1; n <= 4; ++n) {
+    CAPTURE(n);
+    const Json& s = sub_of(out, n);
+    const std::vector<double> sigmas = outputs(9826, n, v::kSubSquarenessSigmaXY, 5);
+    const std::vector<double> angles = outputs(9826, n, v::kSubAngleSigmaX, 3);
+    CHECK(s["squareness_sigma_arcsec"]["xy"].number == Approx(sigmas[0]).epsilon(1e-14));
+    CHECK(s["squareness_sigma_arcsec"]["yz"].number == Approx(sigmas[1]).epsilon(1e-14));
+    CHECK(s["squareness_sigma_arcsec"]["zx"].number == Approx(sigmas[2]).epsilon(1e-14));
+    CHECK(s["a_c_offset_sigma_mm"].number == Approx(sigmas[3]).epsilon(1e-14));
+    CHECK(s["a_c_angle_sigma_deg"].number == Approx(sigmas[4]).epsilon(1e-14));
+    for (std::size_t k = 0; k < 3; ++k) CHECK(s["angle_sigma_arcsec"].numbers()[k] == Approx(angles[k]).epsilon(1e-14));
+  }
+  REQUIRE(client.give_back_interface());
   for (int n = 1; n <= 4; ++n) {
     CAPTURE(n);
     const Json& s = sub_of(out, n);
@@ -59,6 +103,20 @@ TEST_CASE("calibrate gantry: the frames of the virtual gantry, within 3 sigma of
     for (const char* pair : {"xy", "yz", "zx"}) CHECK(s["squareness_arcsec"][pair].kind == Json::kNumber);
     CHECK(s["a_c_offset_mm"].kind == Json::kNumber);
     CHECK(s["a_c_angle_deg"].number == Approx(90.0).margin(0.1));
+    // Their 1-sigma (docs/INTERFACE.md "Additions"), and the truth within 3 of them.
+    for (const char* pair : {"xy", "yz", "zx"}) {
+      CAPTURE(pair);
+      const double sigma = s["squareness_sigma_arcsec"][pair].number;
+      CHECK(sigma > 0.01);
+      CHECK(sigma < 30.0);
+      CHECK(std::abs(s["squareness_arcsec"][pair].number - t["squareness_arcsec"][pair].number) < 3.0 * sigma);
+    }
+    CHECK(s["a_c_offset_sigma_mm"].number > 0.0);
+    CHECK(std::abs(s["a_c_offset_mm"].number - t["a_c_offset_mm"].number) < 3.0 * s["a_c_offset_sigma_mm"].number);
+    CHECK(s["a_c_angle_sigma_deg"].number > 0.0);
+    CHECK(std::abs(s["a_c_angle_deg"].number - t["a_c_angle_deg"].number) < 3.0 * s["a_c_angle_sigma_deg"].number);
+    REQUIRE(s["angle_sigma_arcsec"].numbers().size() == 3);
+    for (const double a : s["angle_sigma_arcsec"].numbers()) CHECK(a > 0.0);
     // The origin within 3 sigma of the truth (the sigma from the data's scatter).
     const double sigma = s["origin_sigma_mm"].number;
     CHECK(sigma > 0.001);
@@ -91,6 +149,13 @@ TEST_CASE("calibrate gantry: the frames of the virtual gantry, within 3 sigma of
   // The report's extra figures are not OUT.json's.
   CHECK(r.json.find("\"straightness_mm\"") == std::string::npos);
   CHECK(r.report_extras.find("sub_machine_figures") != std::string::npos);
+  // Nothing renamed: every key of docs/INTERFACE.md's OUT.json is still there (above), once.
+  for (const char* key : {"\"bed_flatness_mm\"", "\"bed_form_error_mm\"", "\"a_c_offset_mm\""}) {
+    CAPTURE(key);
+    const std::size_t first = r.json.find(key);
+    CHECK(first != std::string::npos);
+    if (std::string(key) != "\"a_c_offset_mm\"") CHECK(r.json.find(key, first + 1) == std::string::npos);
+  }
 
   SECTION("any CSV order: groups interleaved, each group's own order kept, gives the same OUT.json") {
     std::vector<Row> rows = rows_of(m.samples);

@@ -19,6 +19,12 @@
 //     unflatness and axis straightness then count as noise. The real tracker's
 //     error is larger along the line of sight than across it (or the reverse);
 //     the isotropic model is what the interface asks for, not a claim about it.
+//     additive = true takes the MPE's own form instead,
+//         sigma_i = a + b * |p_i - tracker|,
+//     as a tracker's data sheet states it and the simulator's tracker draws
+//     its noise across the line of sight (host_sim laser_tracker.hpp item 3):
+//     the module's noise floors and form errors use it (gantry_frames.hpp
+//     convention 8; #701, #702).
 //  3. Plane (PlaneEstimate): fit_accumulator.hpp's streaming fit, then a second
 //     pass over the points. With (x_i, y_i) the point's coordinates along
 //     (axis_u, axis_v) from the centroid and h the height along the normal, the
@@ -41,7 +47,8 @@
 //     direction = m / |m|, m = (1 / K) sum_k d_k (docs/METHODS.md: "fit a line to each
 //     pass and average"). Its covariance (rad^2, rank 2, perpendicular to it):
 //         P (sum_k v_k (I - d_k d_k^T)) P / (K |m|)^2,  P = I - direction direction^T.
-//     stroke_mm, straightness_mm and rms_residual_mm are the largest over the passes.
+//     stroke_mm, straightness_mm and rms_residual_mm are the largest over the passes;
+//     residual_ssr_mm2 and point_count are summed over them (form_noise.hpp).
 //  6. Circle: circle_fit.hpp's geometric fit, normal oriented by the order of the
 //     points (increasing axis angle); with a noise model its point_sigma_mm is the
 //     RMS of the sigma_i (the points of one circle are nearly equidistant from the
@@ -83,10 +90,12 @@ struct PointNoise {
   double distance_sigma_mm = 0.0;   // a
   double range_sigma_per_mm = 0.0;  // b, mm of sigma per mm of range
   Vec3 tracker_mm = Vec3::Zero();   // the tracker's position, in the points' frame
+  bool additive = false;            // a + b r, not hypot(a, b r) (convention 2)
 
   bool modelled() const { return distance_sigma_mm > 0.0 || range_sigma_per_mm > 0.0; }
   double sigma_mm(const Vec3& p_mm) const {
-    return std::hypot(distance_sigma_mm, range_sigma_per_mm * (p_mm - tracker_mm).norm());
+    const double range_term = range_sigma_per_mm * (p_mm - tracker_mm).norm();
+    return additive ? distance_sigma_mm + range_term : std::hypot(distance_sigma_mm, range_term);
   }
 };
 
@@ -111,6 +120,8 @@ struct AxisEstimate {
   double straightness_mm = 0.0;    // worst pass, twice the largest distance from its line
   double rms_residual_mm = 0.0;    // worst pass, RMS perpendicular distance
   std::size_t pass_count = 0;
+  double residual_ssr_mm2 = 0.0;   // all passes, sum of squared perpendicular distances
+  std::size_t point_count = 0;     // all passes
 };
 
 // Plane through a group (convention 3); the normal's sign is the fit's.

@@ -60,6 +60,22 @@
 //  6. Capacities are compile-time: kMaxSubMachines, kMaxPasses, kMaxGroupPoints,
 //     kMaxCirclePoints. Memory: GantryInput holds only spans; the computation
 //     keeps one sub-machine's fits at a time, no heap.
+//  7. The diagnostics' 1-sigma (SubMachineFrame *_sigma_*), from the same
+//     central differences as convention 5 (the same fits' covariances, the
+//     same steps; the global frame does not enter: they are angles and
+//     distances between measured lines): squareness from the three axes'
+//     directions, the A-to-C angle and offset from the two circles' centres and
+//     normals. The offset is differentiated signed, along the nominal unit(a x
+//     c) (its length has no derivative at 0); so its sigma is that of the
+//     signed offset, honest at and near 0 where the length is folded.
+//  8. Noise floors and form errors (GlobalFrame, form_noise.hpp) from the
+//     stated noise options.instrument (options.noise when that is all zero):
+//     s = the RMS of sigma_i (and q of form_noise.hpp item 5) over the bed's
+//     points (over the gantry passes'
+//     points), count and dof those of the bed's plane (count - 3) and of the
+//     gantry's passes together (sum 2 n_k - 4), the RMS from the bed fit's
+//     residuals (the passes' pooled residuals). With neither noise modelled
+//     the floors and sigmas are 0 and the form error is the RMS itself.
 //
 // Status codes (compute_gantry_frames, first failure wins, sub-machines in input
 // order): those of gantry_fits.hpp for every group; kMissingGroup (no
@@ -114,9 +130,11 @@ struct GantryOptions {
   PointNoise noise;  // gantry_fits.hpp item 2; all zero: each fit's own residuals
   double min_arc_deg = kDefaultMinArcDeg;
   double min_ac_sin = kMinLineSin;
+  PointNoise instrument;  // convention 8: the tracker's stated noise; all zero: `noise`
 };
 
 using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Vec5 = Eigen::Matrix<double, 5, 1>;  // squareness xy, yz, zx [rad], A-to-C offset [mm], angle [rad]
 
 // Convention 5.
 struct FrameUncertainty {
@@ -140,6 +158,12 @@ struct GlobalFrame {
   double gantry_straightness_mm = 0.0;
   double side_1_flatness_mm = 0.0;
   double side_2_flatness_mm = 0.0;
+  double bed_flatness_noise_floor_mm = 0.0;         // convention 8
+  double gantry_straightness_noise_floor_mm = 0.0;
+  double bed_form_error_mm = 0.0;                   // noise-corrected RMS
+  double bed_form_error_sigma_mm = 0.0;
+  double gantry_form_error_mm = 0.0;
+  double gantry_form_error_sigma_mm = 0.0;
   FrameUncertainty uncertainty;  // origin in the tracker frame, rotation about the global axes
 };
 
@@ -151,6 +175,9 @@ struct SubMachineFrame {
   Vec3 squareness_arcsec = Vec3::Zero();  // (xy, yz, zx), convention 4
   double a_c_offset_mm = 0.0;
   double a_c_angle_deg = 0.0;
+  Vec3 squareness_sigma_arcsec = Vec3::Zero();  // convention 7
+  double a_c_offset_sigma_mm = 0.0;
+  double a_c_angle_sigma_deg = 0.0;
   Vec3 wrist_centre_mm = Vec3::Zero();  // T, global frame
   double stroke_mm[3] = {0.0, 0.0, 0.0};
   double straightness_mm[3] = {0.0, 0.0, 0.0};
@@ -239,6 +266,7 @@ class GantryBuilder {
   Eigen::SelfAdjointEigenSolver<Mat3> eigen3_;  // a fit's covariance (convention 5)
   Eigen::SelfAdjointEigenSolver<Mat6> eigen6_;
   Mat6 own_ = Mat6::Zero();  // a sub-machine's covariance before the global frame's
+  Vec5 figure_var_ = Vec5::Zero();  // its diagnostics' variances (convention 7)
 };
 
 // A point in the global frame written in sub-machine `frame`'s coordinates.

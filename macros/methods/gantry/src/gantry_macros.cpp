@@ -63,6 +63,12 @@ MacroStep report_global(Context& ctx, const core::StoredGlobal& g, std::size_t c
   ctx.out3<var::kGlobalAngleSigmaX>(g.angle_sigma_arcsec);
   ctx.out<var::kGlobalSubMachines>(static_cast<double>(count));
   ctx.out<var::kGlobalIdMask>(static_cast<double>(mask));
+  ctx.out<var::kGlobalBedFlatnessFloor>(g.bed_flatness_noise_floor_mm);
+  ctx.out<var::kGlobalGantryStraightnessFloor>(g.gantry_straightness_noise_floor_mm);
+  ctx.out<var::kGlobalBedFormError>(g.bed_form_error_mm);
+  ctx.out<var::kGlobalBedFormErrorSigma>(g.bed_form_error_sigma_mm);
+  ctx.out<var::kGlobalGantryFormError>(g.gantry_form_error_mm);
+  ctx.out<var::kGlobalGantryFormErrorSigma>(g.gantry_form_error_sigma_mm);
   return done(core::Status::kOk);
 }
 
@@ -80,6 +86,9 @@ MacroStep report_sub(Context& ctx, const core::StoredSubMachine& s) {
   ctx.out3<var::kSubStraightnessX>(s.straightness_mm);
   ctx.out<var::kSubCCircleRms>(s.c_circle_rms_mm);
   ctx.out<var::kSubACircleRms>(s.a_circle_rms_mm);
+  ctx.out3<var::kSubSquarenessSigmaXY>(s.squareness_sigma_arcsec);
+  ctx.out<var::kSubACOffsetSigma>(s.a_c_offset_sigma_mm);
+  ctx.out<var::kSubACAngleSigma>(s.a_c_angle_sigma_deg);
   return done(core::Status::kOk);
 }
 
@@ -226,6 +235,10 @@ MacroStep run_build(Context& ctx, State& state) {
     }
     core::GantryOptions options;
     options.min_arc_deg = ctx.in<var::kGantryMinArc>();
+    // The tracker's stated noise (#701, #702) in its data sheet's form a + b r,
+    // the tracker at the points' origin.
+    options.instrument = {ctx.in<var::kGantryTrackerNoise>(), ctx.in<var::kGantryTrackerNoisePerM>() / 1000.0,
+                          core::Vec3::Zero(), true};
     work.builder.start(work.input, options, work.frames);
     return more();
   }

@@ -29,7 +29,10 @@
 // Macro 9823: compute the frames of every sub-machine in the session (any
 //  point or 9822), in id order (core::GantryBuilder, one fit per step), with the
 //  arc limit #700 and each fit's own residuals as its noise (docs/INTERFACE.md:
-//  sigmas from the data's scatter). R = #18: 1 also stores them (only while
+//  sigmas from the data's scatter); the noise floors and form errors of the bed
+//  and the gantry from the tracker's stated noise, sigma = #701 + #702 per metre
+//  of distance (core GantryOptions::instrument, additive, the tracker at the
+//  points' origin). R = #18: 1 also stores them (only while
 //  unlocked: kTableLocked): the computed sub-machines replace theirs in the
 //  stored frames, the others stay, committed whole through the keyed store and
 //  then made live; 0 computes only (9824, 9826 with R = 0 report it). Out:
@@ -38,7 +41,9 @@
 //  or with a 9822 but no points, is kMissingGroup (give 9822 only for the
 //  sub-machines measured). The session is kept either way.
 // Macro 9824: the global frame and the set of sub-machines: R = #18 0 of the
-//  last computation since start, 1 of the stored frames. Out: #100..#119.
+//  last computation since start, 1 of the stored frames. Out: #100..#125
+//  (#120..#125 the noise floors and form errors: -1 from a table stored before
+//  them, gantry_table.hpp convention 4).
 // Macro 9825: point conversion (docs/INTERFACE.md): T = #20 sub-machine, X, Y, Z =
 //  #24..#26 a point in the global frame -> #100..#102 the point in that
 //  sub-machine's frame, from the stored frames. kArgumentOutOfRange for T not
@@ -46,7 +51,8 @@
 //  kTableDamaged / kTableInvalid when the stored record failed its CRC or did
 //  not decode at start, kNotFinite.
 // Macro 9826: one sub-machine's frame and figures: T = #20, R = #18 as 9824.
-//  Out: #100..#126 (kSubOutputs). kNoTable when that sub-machine is not in the
+//  Out: #100..#131 (kSubOutputs; #127..#131 the squareness, A-to-C offset and
+//  angle sigmas, -1 from a table stored before them). kNoTable when that sub-machine is not in the
 //  chosen set.
 #pragma once
 
@@ -162,6 +168,7 @@ inline constexpr InputRef kParameterInputs[] = {
 inline constexpr InputRef kBuildInputs[] = {
   {var::kArgR, 1, "1 stores the frames (unlocked only), 0 computes only."},
   {var::kGantryMinArc, 1, "Shortest arc a C or A circle may span."},
+  {var::kGantryTrackerNoise, 2, "The tracker's stated noise: constant part and part per metre (1 sigma per axis)."},
 };
 inline constexpr InputRef kGlobalInputs[] = {
   {var::kArgR, 1, "0 the last computation, 1 the stored frames."},

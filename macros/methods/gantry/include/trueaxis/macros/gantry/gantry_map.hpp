@@ -27,6 +27,8 @@ namespace trueaxis::macros {
 
 namespace var {
 inline constexpr std::uint16_t kGantryMinArc = 700;
+inline constexpr std::uint16_t kGantryTrackerNoise = 701;
+inline constexpr std::uint16_t kGantryTrackerNoisePerM = 702;
 
 // 9820, 9821, 9822
 inline constexpr std::uint16_t kGantrySessionCount = 100;
@@ -48,6 +50,12 @@ inline constexpr std::uint16_t kGlobalOriginSigma = 114;
 inline constexpr std::uint16_t kGlobalAngleSigmaX = 115;
 inline constexpr std::uint16_t kGlobalSubMachines = 118;
 inline constexpr std::uint16_t kGlobalIdMask = 119;
+inline constexpr std::uint16_t kGlobalBedFlatnessFloor = 120;
+inline constexpr std::uint16_t kGlobalGantryStraightnessFloor = 121;
+inline constexpr std::uint16_t kGlobalBedFormError = 122;
+inline constexpr std::uint16_t kGlobalBedFormErrorSigma = 123;
+inline constexpr std::uint16_t kGlobalGantryFormError = 124;
+inline constexpr std::uint16_t kGlobalGantryFormErrorSigma = 125;
 // 9825
 inline constexpr std::uint16_t kGantryPointX = 100;
 // 9826
@@ -64,6 +72,9 @@ inline constexpr std::uint16_t kSubAngleSigmaX = 119;
 inline constexpr std::uint16_t kSubStraightnessX = 122;
 inline constexpr std::uint16_t kSubCCircleRms = 125;
 inline constexpr std::uint16_t kSubACircleRms = 126;
+inline constexpr std::uint16_t kSubSquarenessSigmaXY = 127;
+inline constexpr std::uint16_t kSubACOffsetSigma = 130;
+inline constexpr std::uint16_t kSubACAngleSigma = 131;
 }  // namespace var
 
 namespace gantry {
@@ -91,11 +102,21 @@ inline constexpr std::uint16_t kMaxPlanePoints = 128;   // bed, side_1, side_2
 inline constexpr std::uint16_t kMaxPassPoints = 64;     // one pass of the gantry or of an axis
 inline constexpr std::uint16_t kMaxCirclePoints = 30;   // a C or an A circle
 inline constexpr std::uint16_t kMaxPasses = 4;          // passes of one axis (of the gantry)
+// The defaults of #701 and #702: an AT960-class tracker's MPE +-(15 um + 6 um/m)
+// read as 2 sigma, the simulator's transverse noise (host_sim laser_tracker.hpp
+// convention 3, across the line of sight); a point's sigma is a + b r
+// (core::PointNoise::additive), r its distance from the tracker.
+inline constexpr double kDefaultTrackerNoiseMm = 0.0075;
+inline constexpr double kDefaultTrackerNoisePerMMm = 0.003;
 
 // clang-format off
 inline constexpr VarInfo kRows[] = {
   rows::config(var::kGantryMinArc, 1.0, 360.0, 30.0, "gantry_min_arc", "deg",
                "Gantry: a C or A circle whose points span a shorter arc is refused (arc_too_short)."),
+  rows::config(var::kGantryTrackerNoise, 0.0, 1.0, kDefaultTrackerNoiseMm, "gantry_tracker_noise", "mm",
+               "Gantry: the tracker's stated noise, 1 sigma per axis, its constant part a (a point's sigma is a + b r, r its distance from the tracker in m; an AT960's MPE +-(15 um + 6 um/m) read as 2 sigma); the bed's and the gantry's noise floors and form errors come from it (#701 and #702 both 0: not stated, each fit's own residuals instead)."),
+  rows::config(var::kGantryTrackerNoisePerM, 0.0, 1.0, kDefaultTrackerNoisePerMMm, "gantry_tracker_noise_per_m", "mm/m",
+               "Gantry: the tracker's stated noise, its part b per metre of distance from the tracker (1 sigma per axis; the tracker at the origin of the points' frame)."),
 };
 
 inline constexpr OutputInfo kSessionOutputs[] = {
@@ -132,6 +153,12 @@ inline constexpr OutputInfo kGlobalOutputs[] = {
   {var::kGlobalAngleSigmaX + 2, "global_angle_sigma_z", "arcsec", "... about its Z axis."},
   {var::kGlobalSubMachines, "global_sub_machines", "", "Sub-machines in that set of frames."},
   {var::kGlobalIdMask, "global_id_mask", "", "Their ids as a bit mask: bit N-1 set for sub-machine N."},
+  {var::kGlobalBedFlatnessFloor, "global_bed_flatness_noise_floor", "mm", "The bed flatness (peak-to-valley) the tracker's noise (#701, #702) alone would give at the bed's point count: a flatness near it is noise, not form. -1: not stored (a table stored before it)."},
+  {var::kGlobalGantryStraightnessFloor, "global_gantry_straightness_noise_floor", "mm", "The gantry straightness the tracker's noise alone would give at the passes' point counts. -1: not stored."},
+  {var::kGlobalBedFormError, "global_bed_form_error", "mm", "The bed's noise-corrected form error: RMS of its points' distances from their plane with the tracker's noise taken out (0 on a flat bed within 3 sigma). -1: not stored."},
+  {var::kGlobalBedFormErrorSigma, "global_bed_form_error_sigma", "mm", "1-sigma uncertainty of the bed's form error. -1: not stored."},
+  {var::kGlobalGantryFormError, "global_gantry_form_error", "mm", "The gantry's noise-corrected form error: RMS distance of the passes' points from their lines, the tracker's noise taken out (0 on a straight gantry within 3 sigma). -1: not stored."},
+  {var::kGlobalGantryFormErrorSigma, "global_gantry_form_error_sigma", "mm", "1-sigma uncertainty of the gantry's form error. -1: not stored."},
 };
 
 inline constexpr OutputInfo kPointOutputs[] = {
@@ -168,6 +195,11 @@ inline constexpr OutputInfo kSubOutputs[] = {
   {var::kSubStraightnessX + 2, "sub_straightness_z", "mm", "... of the z axis."},
   {var::kSubCCircleRms, "sub_c_circle_rms", "mm", "RMS distance of the C circle's points from their fitted circle."},
   {var::kSubACircleRms, "sub_a_circle_rms", "mm", "RMS distance of the A circle's points from their fitted circle."},
+  {var::kSubSquarenessSigmaXY, "sub_squareness_sigma_xy", "arcsec", "1-sigma uncertainty of the xy squareness, from the passes' fits. -1: not stored (a table stored before it)."},
+  {var::kSubSquarenessSigmaXY + 1, "sub_squareness_sigma_yz", "arcsec", "1-sigma uncertainty of the yz squareness. -1: not stored."},
+  {var::kSubSquarenessSigmaXY + 2, "sub_squareness_sigma_zx", "arcsec", "1-sigma uncertainty of the zx squareness. -1: not stored."},
+  {var::kSubACOffsetSigma, "sub_a_c_offset_sigma", "mm", "1-sigma uncertainty of the A-to-C offset (of the signed offset, so honest at an offset near 0), from the circles' fits. -1: not stored."},
+  {var::kSubACAngleSigma, "sub_a_c_angle_sigma", "deg", "1-sigma uncertainty of the A-to-C angle, from the circles' fits. -1: not stored."},
 };
 
 inline constexpr core::StatusInfo kStatuses[] = {
