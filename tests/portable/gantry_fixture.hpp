@@ -37,6 +37,7 @@ struct Variation {
   int x_passes = 1;         // of sub-machine 1
   int reversed_x = 0;       // of sub-machine 1's x passes, measured backwards
   bool parameters_1 = true;  // 9822 for sub-machine 1
+  double turn_deg = 0.0;     // sub-machine 1's points turned about the vertical through W_1: its axes turn by it
 };
 
 // 9821 for one point: its #9001.
@@ -94,6 +95,12 @@ inline void stream_machine(ModuleRig& rig, const Variation& v = {}, Where where 
 inline void stream_sub(ModuleRig& rig, int id, const Variation& v = {}, Where where = TA_HERE) {
   const core::Vec3 w = wrist(id);
   const bool first = id == 1;
+  const double turn = first ? core::deg_to_rad(v.turn_deg) : 0.0;
+  const auto turned = [&](const core::Vec3& p) {
+    const core::Vec3 d = p - w;
+    return core::Vec3(w.x() + std::cos(turn) * d.x() - std::sin(turn) * d.y(),
+                      w.y() + std::sin(turn) * d.x() + std::cos(turn) * d.y(), p.z());
+  };
   const double strokes[3] = {800.0, 600.0, 300.0};  // x longest: the master axis
   const int kinds[3] = {kXPass, kYPass, kZPass};
   for (int axis = 0; axis < 3; ++axis) {
@@ -103,14 +110,14 @@ inline void stream_sub(ModuleRig& rig, int id, const Variation& v = {}, Where wh
       for (int i = 0; i < 4; ++i) {
         const double s = -0.5 * strokes[axis] + strokes[axis] * (backwards ? 3 - i : i) / 3.0;
         const core::Vec3 offset = 10.0 * (k - 1) * core::Vec3::Unit((axis + 1) % 3);
-        detail::must(rig, add(rig, id, kinds[axis], k, w + s * core::Vec3::Unit(axis) + offset), where);
+        detail::must(rig, add(rig, id, kinds[axis], k, turned(w + s * core::Vec3::Unit(axis) + offset)), where);
       }
     }
   }
   const int c_points = first ? v.c_points : 6;
   for (int i = 0; i < c_points; ++i) {  // C: 0..300 deg about the vertical through W
     const double th = core::deg_to_rad(60.0 * i);
-    detail::must(rig, add(rig, id, kCCircle, 0, w + core::Vec3(120 * std::cos(th), 120 * std::sin(th), -200)),
+    detail::must(rig, add(rig, id, kCCircle, 0, turned(w + core::Vec3(120 * std::cos(th), 120 * std::sin(th), -200))),
                  where);
   }
   const int a_points = first ? v.a_points : 6;
@@ -119,7 +126,7 @@ inline void stream_sub(ModuleRig& rig, int id, const Variation& v = {}, Where wh
     const core::Vec3 p = first && v.a_about_c
                              ? w + core::Vec3(100 * std::cos(th), 100 * std::sin(th), -100)
                              : w + core::Vec3(50, 200 * std::sin(th), -200 * std::cos(th));
-    detail::must(rig, add(rig, id, kACircle, 0, p), where);
+    detail::must(rig, add(rig, id, kACircle, 0, turned(p)), where);
   }
   if (!first || v.parameters_1) detail::must(rig, parameters(rig, id, kSwingMm, core::Vec3(0, 0, -1)), where);
 }

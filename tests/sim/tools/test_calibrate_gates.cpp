@@ -14,9 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "calibrate_gantry_support.hpp"
 #include "calibrate_spindle_support.hpp"
 #include "calibrate_support.hpp"
 #include "sim_fixture.hpp"
+#include "trueaxis/macros/gantry/gantry_map.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/macros/rigidity/rigidity_map.hpp"
 #include "trueaxis/macros/spindle/spindle_map.hpp"
@@ -195,4 +197,23 @@ TEST_CASE("calibrate spindle: samples in metres, MACHINE in metres, ball 2 typed
     CHECK(read_var(sim.client(), v::kUnlock) == 0.0);
   }
   CHECK(calibrate("spindle", sim.port(), w, f.samples, f.machine).exit_code == 0);  // and the right files pass
+}
+
+TEST_CASE("calibrate gantry: points in metres are refused by the bed-span gate, nothing stored", "[calibrate][gates]") {
+  SimFixture sim;
+  Workspace w("trueaxis-calibrate-gates");
+  const Measured measured = trueaxis::test::measure(small_plan(), 5);
+  w.write("machine.csv", measured.machine);
+  w.write("points.csv", measured.samples);
+  w.write("points_m.csv", rewrite(measured.samples, {"x_mm", "y_mm", "z_mm"}, [](double mm) { return mm / 1000.0; }));
+  check_refused(calibrate("gantry", sim.port(), w, w.file("points_m.csv"), w.file("machine.csv")), w,
+                {"bed_span_implausible", "metres", "against the limit 100 (#9014)"});
+  // Nothing stored: 9825 has no frames to convert with.
+  REQUIRE(sim.client().write_one(v::kArgT, 1.0));
+  const trueaxis::sim::MacroOutcome o = sim.client().run_macro(9825);
+  REQUIRE(sim.client().give_back_interface());
+  CHECK(o.status == 3);
+  CHECK(o.error == static_cast<int>(trueaxis::core::Status::kNoTable));
+  CHECK(read_var(sim.client(), v::kUnlock) == 0.0);
+  CHECK(calibrate("gantry", sim.port(), w, w.file("points.csv"), w.file("machine.csv")).exit_code == 0);
 }

@@ -110,6 +110,46 @@ MacroStep with_frames(Context& ctx, const State& state, bool stored, Report repo
   return report(static_cast<const core::GantryTable&>(work->merged));
 }
 
+// The bed-span gate's figure: the largest distance of a bed point from the first.
+double bed_span_mm(const core::PointSpan& bed) {
+  double span = 0.0;
+  for (std::size_t i = 1; i < bed.count; ++i) span = std::fmax(span, (bed.points_mm[i] - bed.points_mm[0]).norm());
+  return span;
+}
+
+// The change gate's figures: the largest move of a sub-machine's origin and
+// turn of its axes from the stored frames of the same id (global frame); the
+// turn from |R - R_stored|_F = 2 sqrt(2) sin(angle / 2).
+struct Change {
+  double origin_mm = 0.0;
+  double origin_id = 0.0;
+  double angle_arcsec = 0.0;
+  double angle_id = 0.0;
+};
+Change change_against(const State& state, const core::GantryFrames& f) {
+  Change c;
+  state.table.read([&](const core::GantryTable& t) {
+    for (std::size_t i = 0; i < f.sub_machine_count; ++i) {
+      const core::SubMachineFrame& now = f.sub_machines[i];
+      if (now.id < 1 || now.id > static_cast<int>(core::kMaxSubMachines)) continue;
+      const core::StoredSubMachine& was = t.sub_machines[now.id - 1];
+      if (!was.present) continue;
+      const double moved = (now.global_T_sub.t - was.global_T_sub.t).norm();
+      const double chord = (now.global_T_sub.R - was.global_T_sub.R).norm() / (2.0 * std::sqrt(2.0));
+      const double turned = 2.0 * std::asin(std::fmin(1.0, chord)) * core::kArcsecPerRad;
+      if (c.origin_id == 0.0 || moved > c.origin_mm) {
+        c.origin_mm = moved;
+        c.origin_id = now.id;
+      }
+      if (c.angle_id == 0.0 || turned > c.angle_arcsec) {
+        c.angle_arcsec = turned;
+        c.angle_id = now.id;
+      }
+    }
+  });
+  return c;
+}
+
 }  // namespace
 
 void PointSession::clear() {
@@ -221,13 +261,21 @@ MacroStep run_parameters(Context& ctx, State&) {
 
 MacroStep run_build(Context& ctx, State& state) {
   bool store = false;
-  if (!flag_of(ctx.in<var::kArgR>(), store)) return done(core::Status::kArgumentOutOfRange);
+  bool confirmed = false;
+  if (!flag_of(ctx.in<var::kArgR>(), store) || !flag_of(ctx.in<var::kArgM>(), confirmed)) {
+    return done(core::Status::kArgumentOutOfRange);
+  }
   if (ctx.first_step()) {
     const PointSession* session = ctx.session();
     if (session == nullptr) return done(core::Status::kSessionClosed);
     state.built = false;
     Work& work = ctx.open_work();
     gather(*session, work.input);
+    // The bed-span gate, before the computation (gates.hpp).
+    const double span = bed_span_mm(work.input.bed);
+    const double min_span = ctx.in<var::kGantryMinBedSpan>();
+    if (work.input.bed.count > 0 && span < min_span) return ctx.refuse(kBedSpanImplausible, 0.0, span, min_span);
+    work.bed_span_mm = span;
     for (std::size_t i = 0; i < work.input.sub_machine_count; ++i) {
       if (!session->parameters(static_cast<std::size_t>(work.input.sub_machines[i].id)).given) {
         return done(core::Status::kMissingGroup);
@@ -262,6 +310,23 @@ MacroStep run_build(Context& ctx, State& state) {
   ctx.out<var::kGantryWorstOriginSigma>(worst);
   ctx.out<var::kGantryBuildFlatness>(f.global.bed_flatness_mm);
   ctx.out<var::kGantryBuildStraightness>(f.global.gantry_straightness_mm);
+  // The change gate against the stored frames (gates.hpp).
+  const Change change = change_against(state, f);
+  const double max_origin = ctx.in<var::kGantryMaxOriginChange>();
+  const double max_angle = ctx.in<var::kGantryMaxAngleChange>();
+  if (store && !confirmed) {
+    if (change.origin_mm > max_origin) {
+      return ctx.refuse(core::Status::kChangeBeyondLimit, change.origin_id, change.origin_mm, max_origin);
+    }
+    if (change.angle_arcsec > max_angle) {
+      return ctx.refuse(core::Status::kChangeBeyondLimit, change.angle_id, change.angle_arcsec, max_angle);
+    }
+  }
+  ctx.out<var::kGantryOriginChange>(change.origin_mm);
+  ctx.out<var::kGantryOriginChangeId>(change.origin_id);
+  ctx.out<var::kGantryAngleChange>(change.angle_arcsec);
+  ctx.out<var::kGantryAngleChangeId>(change.angle_id);
+  ctx.out<var::kGantryBedSpan>(work->bed_span_mm);
   ctx.set_on_success(state.built);
   if (!store) return done(core::Status::kOk);
   // The stored frames (if any) with this computation merged in (gantry_table.hpp).

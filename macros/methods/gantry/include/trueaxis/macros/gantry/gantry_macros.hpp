@@ -124,6 +124,7 @@ struct Work {
   core::GantryFrames frames;
   bool computed = false;        // 9823: the builder has finished; outputs and storing follow
   core::GantryTable merged;     // the stored frames with the computation merged in (R = 1), or a report's table
+  double bed_span_mm = 0.0;     // the bed-span gate's figure (9823 #108)
 };
 
 struct Shape {
@@ -166,9 +167,11 @@ inline constexpr InputRef kParameterInputs[] = {
   {var::kArgT, 1, "Sub-machine N, 1..8."},
 };
 inline constexpr InputRef kBuildInputs[] = {
+  {var::kArgM, 1, "1 confirms a store whose change against the stored frames exceeds #704 or #705."},
   {var::kArgR, 1, "1 stores the frames (unlocked only), 0 computes only."},
   {var::kGantryMinArc, 1, "Shortest arc a C or A circle may span."},
   {var::kGantryTrackerNoise, 2, "The tracker's stated noise: constant part and part per metre (1 sigma per axis)."},
+  {var::kGantryMinBedSpan, 3, "The gates: the bed's span, the largest origin move and axes' turn a store takes without M = 1."},
 };
 inline constexpr InputRef kGlobalInputs[] = {
   {var::kArgR, 1, "0 the last computation, 1 the stored frames."},

@@ -29,6 +29,9 @@ namespace var {
 inline constexpr std::uint16_t kGantryMinArc = 700;
 inline constexpr std::uint16_t kGantryTrackerNoise = 701;
 inline constexpr std::uint16_t kGantryTrackerNoisePerM = 702;
+inline constexpr std::uint16_t kGantryMinBedSpan = 703;
+inline constexpr std::uint16_t kGantryMaxOriginChange = 704;
+inline constexpr std::uint16_t kGantryMaxAngleChange = 705;
 
 // 9820, 9821, 9822
 inline constexpr std::uint16_t kGantrySessionCount = 100;
@@ -39,6 +42,11 @@ inline constexpr std::uint16_t kGantryBuilt = 100;
 inline constexpr std::uint16_t kGantryWorstOriginSigma = 101;
 inline constexpr std::uint16_t kGantryBuildFlatness = 102;
 inline constexpr std::uint16_t kGantryBuildStraightness = 103;
+inline constexpr std::uint16_t kGantryOriginChange = 104;
+inline constexpr std::uint16_t kGantryOriginChangeId = 105;
+inline constexpr std::uint16_t kGantryAngleChange = 106;
+inline constexpr std::uint16_t kGantryAngleChangeId = 107;
+inline constexpr std::uint16_t kGantryBedSpan = 108;
 // 9824
 inline constexpr std::uint16_t kGlobalOriginX = 100;
 inline constexpr std::uint16_t kGlobalXX = 103;
@@ -108,6 +116,15 @@ inline constexpr std::uint16_t kMaxPasses = 4;          // passes of one axis (o
 // (core::PointNoise::additive), r its distance from the tracker.
 inline constexpr double kDefaultTrackerNoiseMm = 0.0075;
 inline constexpr double kDefaultTrackerNoisePerMMm = 0.003;
+// The gates' defaults (gates.hpp): a gantry bed spans metres (in metres its
+// points span a few units); a sub-machine's origin and axes measured again move
+// by their noise (origin sigma ~20 um, angles ~10"), far less than these.
+inline constexpr double kDefaultMinBedSpanMm = 100.0;
+inline constexpr double kDefaultMaxOriginChangeMm = 0.25;
+inline constexpr double kDefaultMaxAngleChangeArcsec = 120.0;
+
+// Its status codes (block 1200..1299).
+inline constexpr core::Status kBedSpanImplausible = static_cast<core::Status>(1200);
 
 // clang-format off
 inline constexpr VarInfo kRows[] = {
@@ -117,6 +134,12 @@ inline constexpr VarInfo kRows[] = {
                "Gantry: the tracker's stated noise, 1 sigma per axis, its constant part a (a point's sigma is a + b r, r its distance from the tracker in m; an AT960's MPE +-(15 um + 6 um/m) read as 2 sigma); the bed's and the gantry's noise floors and form errors come from it (#701 and #702 both 0: not stated, each fit's own residuals instead)."),
   rows::config(var::kGantryTrackerNoisePerM, 0.0, 1.0, kDefaultTrackerNoisePerMMm, "gantry_tracker_noise_per_m", "mm/m",
                "Gantry: the tracker's stated noise, its part b per metre of distance from the tracker (1 sigma per axis; the tracker at the origin of the points' frame)."),
+  rows::config(var::kGantryMinBedSpan, 0.0, 1e5, kDefaultMinBedSpanMm, "gantry_min_bed_span", "mm",
+               "Gantry: a computation whose bed points span less than this (the largest distance from the first) is refused (bed_span_implausible: points in metres?); 0 switches the gate off."),
+  rows::config(var::kGantryMaxOriginChange, 0.0, 1e5, kDefaultMaxOriginChangeMm, "gantry_max_origin_change", "mm",
+               "Gantry: a store that moves a stored sub-machine's origin (global frame) by more than this is refused unless M = 1 (change_beyond_limit)."),
+  rows::config(var::kGantryMaxAngleChange, 0.0, 1e6, kDefaultMaxAngleChangeArcsec, "gantry_max_angle_change", "arcsec",
+               "Gantry: a store that turns a stored sub-machine's axes by more than this is refused unless M = 1 (change_beyond_limit)."),
 };
 
 inline constexpr OutputInfo kSessionOutputs[] = {
@@ -130,6 +153,11 @@ inline constexpr OutputInfo kBuildOutputs[] = {
   {var::kGantryWorstOriginSigma, "gantry_worst_origin_sigma", "mm", "Largest origin_sigma_mm of a computed sub-machine."},
   {var::kGantryBuildFlatness, "gantry_bed_flatness", "mm", "Bed flatness: peak-to-valley of the pads' distances from their plane."},
   {var::kGantryBuildStraightness, "gantry_straightness", "mm", "Gantry straightness: twice the largest distance of a pass from its line, worst pass."},
+  {var::kGantryOriginChange, "gantry_origin_change", "mm", "The change against the stored frames: the largest move of a sub-machine's origin (global frame) from its stored one; 0 when none of them is stored."},
+  {var::kGantryOriginChangeId, "gantry_origin_change_sub_machine", "", "The sub-machine of that largest move (0: none stored)."},
+  {var::kGantryAngleChange, "gantry_angle_change", "arcsec", "The largest turn of a sub-machine's axes from its stored ones; 0 when none is stored."},
+  {var::kGantryAngleChangeId, "gantry_angle_change_sub_machine", "", "The sub-machine of that largest turn (0: none stored)."},
+  {var::kGantryBedSpan, "gantry_bed_span", "mm", "The bed points' span (the largest distance from the first): #703 at least."},
 };
 
 inline constexpr OutputInfo kGlobalOutputs[] = {
@@ -209,6 +237,7 @@ inline constexpr core::StatusInfo kStatuses[] = {
   {core::Status::kAxisOppositeGantry, "axis_opposite_gantry", "A sub-machine's X axis points against the gantry's positive X: check the order in which its passes were measured."},
   {core::Status::kPassesDisagree, "passes_disagree", "The passes of one axis run in opposite directions: every pass must be measured moving the axis in its positive direction."},
   {core::Status::kToolDirectionAmbiguous, "tool_direction_ambiguous", "The nominal tool direction is perpendicular to the measured C axis: it cannot say which way the C axis points towards the tool tip."},
+  {kBedSpanImplausible, "bed_span_implausible", "The bed points span less than #703 (#9013 their span in mm): were the points given in metres instead of millimetres? Nothing was published or stored."},
   {core::Status::kBedNotLevel, "bed_not_level", "The bed plane's normal is far from the measurement's +Z: the tracker data must be levelled (+Z up)."},
 };
 // clang-format on

@@ -25,6 +25,12 @@ struct Method : Shape {
   static constexpr SessionInfo kSession{kSessionCapacity, "points",
                                         "group T, Q, D (#20, #17, #7), point X, Y, Z (#24..#26, mm, tracker frame)",
                                         9820, 9821, 9823, list_of(kLimits)};
+  static constexpr GateInfo kGateTable[] = {
+      {"bed_span", kBedSpanImplausible, {var::kGantryMinBedSpan, 0, 0}, "the bed points' span (points in metres?)"},
+      {"change", core::Status::kChangeBeyondLimit, {var::kGantryMaxOriginChange, var::kGantryMaxAngleChange, 0},
+       "with R = 1: each stored sub-machine's origin move and axes' turn; M = 1 confirms"},
+  };
+  static constexpr List<GateInfo> kGates = list_of(kGateTable);
   using State = gantry::State;
   using Table = FramesRecord;
   static StoredTable<Table>& table(State& s) { return s.table; }

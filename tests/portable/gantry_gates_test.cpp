@@ -1,0 +1,154 @@
+// M2's gates through the module (gantry_macros.hpp 9823, gates.hpp): the bed's
+// span (points in metres) before the computation, and the change of each
+// stored sub-machine's origin and axes with its confirmation M = 1; each at
+// its exact boundary, each refusal leaving the results and the stored frames
+// as they were, #9012 .. #9014 naming it.
+#include <cmath>
+#include <cstdint>
+
+#include "gantry_fixture.hpp"
+#include "module_rig.hpp"
+#include "portable_test.hpp"
+#include "trueaxis/macros/module.hpp"
+
+namespace {
+
+namespace m = trueaxis::macros;
+namespace v = trueaxis::macros::var;
+namespace t = trueaxis::test;
+namespace gf = trueaxis::test::gantry;
+using t::kDone;
+using t::kError;
+using t::ModuleRig;
+using trueaxis::core::Status;
+using trueaxis::core::Vec3;
+
+void configure(ModuleRig& rig, std::uint16_t n, double value) {
+  TA_REQUIRE(rig.unlock());
+  TA_REQUIRE(rig.put(n, value) == m::AccessFault::kNone);
+  TA_REQUIRE(rig.lock());
+}
+
+struct Refused {
+  Status code;
+  double item, value, limit;
+};
+// 9823 that must fail: its code and #9012 .. #9014; results and 9825's answer for sub-machine 1 as they were.
+Refused refused_build(ModuleRig& rig, bool store, double confirm = 0.0) {
+  const Vec3 p(800.0, 600.0, 1500.0);
+  const double before_status = gf::convert(rig, 1, p);
+  const Vec3 before_point = rig.get3(v::kGantryPointX);
+  rig.snapshot();
+  const ModuleRig::Results before = rig.results();
+  rig.set(v::kArgM, confirm);
+  Refused r{Status::kOk, 0.0, 0.0, 0.0};
+  if (gf::build(rig, store) != kError) {
+    TA_CHECK(!"the build was expected to be refused");
+    return r;
+  }
+  r = {rig.code(), rig.get(v::kGateItem), rig.get(v::kGateValue), rig.get(v::kGateLimit)};
+  TA_CHECK(rig.unchanged());
+  TA_CHECK(rig.results() == before);
+  TA_CHECK_EQ(gf::convert(rig, 1, p), before_status);
+  if (before_status == kDone) TA_CHECK((rig.get3(v::kGantryPointX) - before_point).norm() == 0.0);
+  return r;
+}
+
+// The fixture's bed span, computed here: the largest distance of a bed point from the first.
+double bed_span() {
+  double span = 0.0;
+  const Vec3 first(100.0, 200.0, 0.0);
+  for (int i = 0; i < 8; ++i) {
+    const double x = i % 2 == 0 ? 100.0 + 50.0 * i : 5000.0 - 40.0 * i;
+    const double y = i < 4 ? 200.0 + 30.0 * i : 2500.0 - 20.0 * i;
+    span = std::fmax(span, (Vec3(x, y, 0.0) - first).norm());
+  }
+  return span;
+}
+
+}  // namespace
+
+TA_TEST("9823 refuses a bed spanning less than #703 with bed_span_implausible, at the exact boundary") {
+  ModuleRig rig;
+  gf::stream(rig);
+  const double span = bed_span();
+  configure(rig, v::kGantryMinBedSpan, span * (1.0 - 1e-9));
+  TA_REQUIRE(gf::build(rig, false) == kDone);
+  TA_CHECK_NEAR(rig.get(v::kGantryBedSpan), span, 1e-9);
+  configure(rig, v::kGantryMinBedSpan, span * (1.0 + 1e-9));
+  const Refused r = refused_build(rig, true);
+  TA_CHECK_EQ(r.code, m::gantry::kBedSpanImplausible);
+  TA_CHECK_NEAR(r.value, span, 1e-9);
+  TA_CHECK_EQ(r.limit, span * (1.0 + 1e-9));
+  TA_CHECK_EQ(gf::convert(rig, 1, Vec3::Zero()), kError);  // nothing stored
+  TA_CHECK_EQ(rig.code(), Status::kNoTable);
+}
+
+TA_TEST("the change gate: a sub-machine's origin moved beyond #704 needs M = 1, at the exact boundary") {
+  ModuleRig rig;
+  gf::stored(rig);  // sub-machines 1 and 2, swing 300
+  TA_CHECK_EQ(rig.get(v::kGantryOriginChange), 0.0);  // the first store: nothing to compare with
+  TA_CHECK_EQ(rig.get(v::kGantryOriginChangeId), 0.0);
+  // Sub-machine 2 with a swing 0.3 mm longer: its origin 0.3 mm lower.
+  const auto restream = [&rig] {
+    TA_REQUIRE(rig.done(9820));
+    gf::stream_machine(rig);
+    gf::stream_sub(rig, 1);
+    gf::stream_sub(rig, 2);
+    TA_REQUIRE(gf::parameters(rig, 2, gf::kSwingMm + 0.3, Vec3(0, 0, -1)) == kDone);
+  };
+  restream();
+  TA_REQUIRE(gf::build(rig, false) == kDone);  // R = 0: never refused, the change published
+  TA_CHECK_NEAR(rig.get(v::kGantryOriginChange), 0.3, 1e-9);
+  TA_CHECK_EQ(rig.get(v::kGantryOriginChangeId), 2.0);
+  TA_CHECK_NEAR(rig.get(v::kGantryAngleChange), 0.0, 1e-6);
+  restream();
+  const Refused r = refused_build(rig, true);
+  TA_CHECK_EQ(r.code, Status::kChangeBeyondLimit);
+  TA_CHECK_EQ(r.item, 2.0);
+  TA_CHECK_NEAR(r.value, 0.3, 1e-9);
+  TA_CHECK_EQ(r.limit, m::gantry::kDefaultMaxOriginChangeMm);
+  configure(rig, v::kGantryMaxOriginChange, r.value * (1.0 - 1e-9));
+  restream();
+  TA_CHECK_EQ(refused_build(rig, true).code, Status::kChangeBeyondLimit);
+  configure(rig, v::kGantryMaxOriginChange, r.value * (1.0 + 1e-9));
+  restream();
+  TA_CHECK_EQ(gf::build(rig, true), kDone);
+  TA_REQUIRE(gf::convert(rig, 2, Vec3(800.0, 600.0, 1500.0)) == kDone);
+  TA_CHECK(std::abs(rig.get3(v::kGantryPointX).z() - (1500.0 - gf::origin(2).z() + 0.3)) < 1e-9);
+}
+
+TA_TEST("the change gate: a sub-machine's axes turned beyond #705 need M = 1, at the exact boundary") {
+  ModuleRig rig;
+  gf::stored(rig);
+  gf::Variation turned;
+  turned.turn_deg = 0.01;  // sub-machine 1's axes turned 36" about the vertical
+  const auto restream = [&rig, &turned] {
+    TA_REQUIRE(rig.done(9820));
+    gf::stream_machine(rig);
+    gf::stream_sub(rig, 1, turned);
+    gf::stream_sub(rig, 2);
+  };
+  restream();
+  TA_REQUIRE(gf::build(rig, false) == kDone);
+  const double angle = rig.get(v::kGantryAngleChange);
+  TA_CHECK_NEAR(angle, 36.0, 1e-6);
+  TA_CHECK_EQ(rig.get(v::kGantryAngleChangeId), 1.0);
+  configure(rig, v::kGantryMaxAngleChange, angle * (1.0 - 1e-9));
+  restream();
+  const Refused r = refused_build(rig, true);
+  TA_CHECK_EQ(r.code, Status::kChangeBeyondLimit);
+  TA_CHECK_EQ(r.item, 1.0);
+  TA_CHECK_NEAR(r.value, angle, 1e-9);
+  restream();
+  rig.set(v::kArgM, 2.0);
+  TA_CHECK_EQ(gf::build(rig, true), kError);  // M is 0 or 1
+  TA_CHECK_EQ(rig.code(), Status::kArgumentOutOfRange);
+  restream();
+  rig.set(v::kArgM, 1.0);
+  TA_CHECK_EQ(gf::build(rig, true), kDone);  // confirmed
+  TA_CHECK_EQ(rig.get(v::kGateItem), 0.0);
+  configure(rig, v::kGantryMaxAngleChange, angle * (1.0 + 1e-9));
+  gf::stream(rig);  // back by 36": inside the limit now
+  TA_CHECK_EQ(gf::build(rig, true), kDone);
+}
