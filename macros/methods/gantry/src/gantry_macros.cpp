@@ -136,7 +136,8 @@ Change change_against(const State& state, const core::GantryFrames& f) {
       if (!was.present) continue;
       const double moved = (now.global_T_sub.t - was.global_T_sub.t).norm();
       const double chord = (now.global_T_sub.R - was.global_T_sub.R).norm() / (2.0 * std::sqrt(2.0));
-      const double turned = 2.0 * std::asin(std::fmin(1.0, chord)) * core::kArcsecPerRad;
+      const double half = std::fmin(1.0, chord);  // sin(angle / 2); atan2 keeps to the firmware's libm
+      const double turned = 2.0 * std::atan2(half, std::sqrt(1.0 - half * half)) * core::kArcsecPerRad;
       if (c.origin_id == 0.0 || moved > c.origin_mm) {
         c.origin_mm = moved;
         c.origin_id = now.id;
