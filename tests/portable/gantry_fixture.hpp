@@ -38,6 +38,7 @@ struct Variation {
   int reversed_x = 0;       // of sub-machine 1's x passes, measured backwards
   bool parameters_1 = true;  // 9822 for sub-machine 1
   double turn_deg = 0.0;     // sub-machine 1's points turned about the vertical through W_1: its axes turn by it
+  double c_bump_mm = 0.0;    // sub-machine 1's first C point moved out from the C axis by this
 };
 
 // 9821 for one point: its #9001.
@@ -117,7 +118,8 @@ inline void stream_sub(ModuleRig& rig, int id, const Variation& v = {}, Where wh
   const int c_points = first ? v.c_points : 6;
   for (int i = 0; i < c_points; ++i) {  // C: 0..300 deg about the vertical through W
     const double th = core::deg_to_rad(60.0 * i);
-    detail::must(rig, add(rig, id, kCCircle, 0, turned(w + core::Vec3(120 * std::cos(th), 120 * std::sin(th), -200))),
+    const double radius = 120.0 + (first && i == 0 ? v.c_bump_mm : 0.0);
+    detail::must(rig, add(rig, id, kCCircle, 0, turned(w + core::Vec3(radius * std::cos(th), radius * std::sin(th), -200))),
                  where);
   }
   const int a_points = first ? v.a_points : 6;

@@ -9,6 +9,7 @@
 #include "gantry_fixture.hpp"
 #include "module_rig.hpp"
 #include "portable_test.hpp"
+#include "trueaxis/core/chi_square.hpp"
 #include "trueaxis/macros/module.hpp"
 
 namespace {
@@ -151,4 +152,39 @@ TA_TEST("the change gate: a sub-machine's axes turned beyond #705 need M = 1, at
   configure(rig, v::kGantryMaxAngleChange, angle * (1.0 + 1e-9));
   gf::stream(rig);  // back by 36": inside the limit now
   TA_CHECK_EQ(gf::build(rig, true), kDone);
+}
+
+TA_TEST("the fit gate: a sub-machine's C circle against the tracker's noise at #901's quantile, at the exact boundary") {
+  ModuleRig rig;
+  gf::Variation bumped;
+  bumped.c_bump_mm = 0.05;  // one C point of sub-machine 1 50 um off its circle
+  TA_REQUIRE(rig.done(9820));
+  gf::stream_machine(rig);
+  gf::stream_sub(rig, 1, bumped);
+  gf::stream_sub(rig, 2);
+  configure(rig, v::kGantryTrackerNoisePerM, 0.0);  // a constant noise #701 alone: the boundary in closed form
+  TA_REQUIRE(gf::build(rig, false) == kDone);
+  const double ratio = rig.get(v::kGantryFitRatio);
+  TA_CHECK_EQ(rig.get(v::kGantryFitSubMachine), 1.0);
+  rig.set(v::kArgT, 1.0);
+  rig.set(v::kArgR, 0.0);
+  TA_REQUIRE(rig.run(9826) == kDone);
+  const double rms = rig.get(v::kSubCCircleRms);
+  TA_CHECK(rms > 0.01);
+  // The statistic 6 rms^2 / a^2 with 2 * 6 - 6 degrees of freedom: ratio 1 at a = sqrt(6 rms^2 / q).
+  const double z = trueaxis::core::normal_upper_quantile(1.0 - m::kDefaultGateConfidence);
+  const double q = trueaxis::core::chi_square_quantile_z(6, z);
+  const double a = m::gantry::kDefaultTrackerNoiseMm;
+  TA_CHECK_NEAR(ratio, 6.0 * rms * rms / (a * a) / q, 1e-9 * ratio);
+  const double boundary = std::sqrt(6.0 * rms * rms / q);
+  configure(rig, v::kGantryTrackerNoise, boundary * (1.0 + 1e-6));
+  TA_CHECK_EQ(gf::build(rig, false), kDone);
+  configure(rig, v::kGantryTrackerNoise, boundary * (1.0 - 1e-6));
+  const Refused r = refused_build(rig, true);
+  TA_CHECK_EQ(r.code, Status::kFitBeyondNoise);
+  TA_CHECK_EQ(r.item, 1.0);
+  TA_CHECK(r.value > 1.0 && r.value < 1.0 + 1e-5);
+  configure(rig, v::kGantryTrackerNoise, 0.0);  // no stated noise: no fit gate
+  TA_CHECK_EQ(gf::build(rig, false), kDone);
+  TA_CHECK_EQ(rig.get(v::kGantryFitRatio), 0.0);
 }

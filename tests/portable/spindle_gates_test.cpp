@@ -35,6 +35,7 @@ struct Stream {
   double noise_mm = 0.0;
   double scale = 1.0;
   Vec3 e_extra = Vec3::Zero();  // added to the tool line's offset e: another spindle
+  int revolutions = 1;          // each a new draw of the noise at the same angles (phi + 360 k)
 };
 Vec3 sample(const Stream& s, int k, double phi, t::SplitMix64& noise) {
   const double b = sf::kBallMm[k - 1];
@@ -46,10 +47,12 @@ Vec3 sample(const Stream& s, int k, double phi, t::SplitMix64& noise) {
 void stream(ModuleRig& rig, const Stream& s) {
   TA_REQUIRE(rig.done(9840));
   t::SplitMix64 noise(99);
-  for (int k = 1; k <= 2; ++k) {
-    for (int i = 0; i < sf::kAngles; ++i) {
-      const double phi = 360.0 / sf::kAngles * i;
-      TA_REQUIRE(sf::add(rig, phi, k, sample(s, k, phi, noise)) == kDone);
+  for (int rev = 0; rev < s.revolutions; ++rev) {
+    for (int k = 1; k <= 2; ++k) {
+      for (int i = 0; i < sf::kAngles; ++i) {
+        const double phi = 360.0 / sf::kAngles * i;
+        TA_REQUIRE(sf::add(rig, phi + 360.0 * rev, k, sample(s, k, phi, noise)) == kDone);
+      }
     }
   }
 }
@@ -139,6 +142,7 @@ TA_TEST("the fit gate: each ball's residuals against #801 and #802 at #901's qua
   ModuleRig rig;
   Stream noisy;
   noisy.noise_mm = 0.0001;  // uniform +-100 nm: 58 nm per axis
+  noisy.revolutions = 2;    // repeats: each bin's scatter is part of the residuals
   stream(rig, noisy);
   configure(rig, v::kSpindleFormAllowance, 0.0);
   configure(rig, v::kSpindleProbeNoise, 0.001);  // 1 um: far inside
@@ -156,15 +160,17 @@ TA_TEST("the fit gate: each ball's residuals against #801 and #802 at #901's qua
   const trueaxis::core::SpindleGeometry g{sf::kGaugeMm, {sf::kBallMm[0], sf::kBallMm[1]}};
   t::SplitMix64 noise(99);
   double ssr[2] = {0.0, 0.0};
-  for (int k = 1; k <= 2; ++k) {
-    for (int i = 0; i < sf::kAngles; ++i) {
-      const double phi = 360.0 / sf::kAngles * i;
-      const Vec3 s = sample(noisy, k, phi, noise);
-      ssr[k - 1] += (trueaxis::core::spindle_ball_mm(p, g, k, trueaxis::core::deg_to_rad(phi)) - s).squaredNorm();
+  for (int rev = 0; rev < noisy.revolutions; ++rev) {
+    for (int k = 1; k <= 2; ++k) {
+      for (int i = 0; i < sf::kAngles; ++i) {
+        const double phi = 360.0 / sf::kAngles * i;
+        const Vec3 s = sample(noisy, k, phi, noise);
+        ssr[k - 1] += (trueaxis::core::spindle_ball_mm(p, g, k, trueaxis::core::deg_to_rad(phi)) - s).squaredNorm();
+      }
     }
   }
   const double z = trueaxis::core::normal_upper_quantile(1.0 - m::kDefaultGateConfidence);
-  const double q = trueaxis::core::chi_square_quantile_z(3 * sf::kAngles - 4, z);
+  const double q = trueaxis::core::chi_square_quantile_z(static_cast<std::size_t>(3 * sf::kAngles * noisy.revolutions - 4), z);
   const int worse = ssr[1] > ssr[0] ? 2 : 1;
   const double variance = 0.001 * 0.001;
   TA_CHECK_NEAR(ratio, ssr[worse - 1] / variance / q, 1e-9 * ratio);

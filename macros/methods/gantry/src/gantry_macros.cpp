@@ -2,7 +2,9 @@
 
 #include <cmath>
 
+#include "trueaxis/core/residual_noise.hpp"
 #include "trueaxis/macros/arguments.hpp"
+#include "trueaxis/macros/gates.hpp"
 
 namespace trueaxis::macros::gantry {
 
@@ -108,6 +110,24 @@ MacroStep with_frames(Context& ctx, const State& state, bool stored, Report repo
   reset(work->merged);
   core::merge_frames(work->merged, work->frames);
   return report(static_cast<const core::GantryTable&>(work->merged));
+}
+
+// The fit gate on one circle (gates.hpp): n rms^2 over the mean of the
+// tracker's variance (a + b r)^2 at its points (r their distance from the
+// tracker, the origin of the points' frame), 2 n - 6 degrees of freedom.
+void consider_circle(FitGate& fit, int id, const core::CircleSummary& circle, const core::PointSpan& points, double a,
+                     double b_per_mm) {
+  if (points.count < 4) return;
+  double variance = 0.0;
+  for (std::size_t i = 0; i < points.count; ++i) {
+    const double s = a + b_per_mm * points.points_mm[i].norm();
+    variance += s * s;
+  }
+  variance /= static_cast<double>(points.count);
+  if (!(variance > 0.0)) return;
+  const double n = static_cast<double>(points.count);
+  fit.consider(static_cast<std::size_t>(id), n * circle.rms_distance_mm * circle.rms_distance_mm / variance,
+               core::circle_residual_dof(points.count));
 }
 
 // The bed-span gate's figure: the largest distance of a bed point from the first.
@@ -311,6 +331,16 @@ MacroStep run_build(Context& ctx, State& state) {
   ctx.out<var::kGantryWorstOriginSigma>(worst);
   ctx.out<var::kGantryBuildFlatness>(f.global.bed_flatness_mm);
   ctx.out<var::kGantryBuildStraightness>(f.global.gantry_straightness_mm);
+  // The fit gate on every sub-machine's C and A circles (gates.hpp).
+  FitGate fit(ctx.in<var::kGateConfidence>());
+  const double noise_a = ctx.in<var::kGantryTrackerNoise>();
+  const double noise_b = ctx.in<var::kGantryTrackerNoisePerM>() / 1000.0;
+  for (std::size_t i = 0; i < f.sub_machine_count; ++i) {
+    const core::SubMachineInput& in = work->input.sub_machines[i];
+    consider_circle(fit, f.sub_machines[i].id, f.sub_machines[i].c_circle, in.c_circle, noise_a, noise_b);
+    consider_circle(fit, f.sub_machines[i].id, f.sub_machines[i].a_circle, in.a_circle, noise_a, noise_b);
+  }
+  if (fit.refused()) return ctx.refuse(core::Status::kFitBeyondNoise, static_cast<double>(fit.item()), fit.ratio(), 1.0);
   // The change gate against the stored frames (gates.hpp).
   const Change change = change_against(state, f);
   const double max_origin = ctx.in<var::kGantryMaxOriginChange>();
@@ -328,6 +358,8 @@ MacroStep run_build(Context& ctx, State& state) {
   ctx.out<var::kGantryAngleChange>(change.angle_arcsec);
   ctx.out<var::kGantryAngleChangeId>(change.angle_id);
   ctx.out<var::kGantryBedSpan>(work->bed_span_mm);
+  ctx.out<var::kGantryFitRatio>(fit.ratio());
+  ctx.out<var::kGantryFitSubMachine>(static_cast<double>(fit.item()));
   ctx.set_on_success(state.built);
   if (!store) return done(core::Status::kOk);
   // The stored frames (if any) with this computation merged in (gantry_table.hpp).

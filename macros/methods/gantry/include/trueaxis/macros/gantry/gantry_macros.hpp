@@ -172,6 +172,7 @@ inline constexpr InputRef kBuildInputs[] = {
   {var::kGantryMinArc, 1, "Shortest arc a C or A circle may span."},
   {var::kGantryTrackerNoise, 2, "The tracker's stated noise: constant part and part per metre (1 sigma per axis)."},
   {var::kGantryMinBedSpan, 3, "The gates: the bed's span, the largest origin move and axes' turn a store takes without M = 1."},
+  {var::kGateConfidence, 1, "The fit gate's confidence."},
 };
 inline constexpr InputRef kGlobalInputs[] = {
   {var::kArgR, 1, "0 the last computation, 1 the stored frames."},

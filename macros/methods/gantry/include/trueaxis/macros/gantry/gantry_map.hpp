@@ -47,6 +47,8 @@ inline constexpr std::uint16_t kGantryOriginChangeId = 105;
 inline constexpr std::uint16_t kGantryAngleChange = 106;
 inline constexpr std::uint16_t kGantryAngleChangeId = 107;
 inline constexpr std::uint16_t kGantryBedSpan = 108;
+inline constexpr std::uint16_t kGantryFitRatio = 109;
+inline constexpr std::uint16_t kGantryFitSubMachine = 110;
 // 9824
 inline constexpr std::uint16_t kGlobalOriginX = 100;
 inline constexpr std::uint16_t kGlobalXX = 103;
@@ -158,6 +160,8 @@ inline constexpr OutputInfo kBuildOutputs[] = {
   {var::kGantryAngleChange, "gantry_angle_change", "arcsec", "The largest turn of a sub-machine's axes from its stored ones; 0 when none is stored."},
   {var::kGantryAngleChangeId, "gantry_angle_change_sub_machine", "", "The sub-machine of that largest turn (0: none stored)."},
   {var::kGantryBedSpan, "gantry_bed_span", "mm", "The bed points' span (the largest distance from the first): #703 at least."},
+  {var::kGantryFitRatio, "gantry_fit_ratio", "", "The fit gate's figure: the largest chi-square statistic of a sub-machine's C or A circle (the tracker's noise #701 + #702 r at its points) over its quantile at #901 (refused above 1); 0 when #701 and #702 are 0."},
+  {var::kGantryFitSubMachine, "gantry_fit_sub_machine", "", "The sub-machine of that largest figure."},
 };
 
 inline constexpr OutputInfo kGlobalOutputs[] = {

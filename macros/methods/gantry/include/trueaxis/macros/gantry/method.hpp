@@ -27,6 +27,8 @@ struct Method : Shape {
                                         9820, 9821, 9823, list_of(kLimits)};
   static constexpr GateInfo kGateTable[] = {
       {"bed_span", kBedSpanImplausible, {var::kGantryMinBedSpan, 0, 0}, "the bed points' span (points in metres?)"},
+      {"fit", core::Status::kFitBeyondNoise, {var::kGantryTrackerNoise, var::kGantryTrackerNoisePerM, var::kGateConfidence},
+       "each sub-machine's C and A circle residuals (2 n - 6 degrees of freedom) against the tracker's noise a + b r"},
       {"change", core::Status::kChangeBeyondLimit, {var::kGantryMaxOriginChange, var::kGantryMaxAngleChange, 0},
        "with R = 1: each stored sub-machine's origin move and axes' turn; M = 1 confirms"},
   };
