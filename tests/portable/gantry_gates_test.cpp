@@ -7,6 +7,7 @@
 #include <cstdint>
 
 #include "gantry_fixture.hpp"
+#include "gate_rig.hpp"
 #include "module_rig.hpp"
 #include "portable_test.hpp"
 #include "trueaxis/core/chi_square.hpp"
@@ -24,35 +25,20 @@ using t::ModuleRig;
 using trueaxis::core::Status;
 using trueaxis::core::Vec3;
 
-void configure(ModuleRig& rig, std::uint16_t n, double value) {
-  TA_REQUIRE(rig.unlock());
-  TA_REQUIRE(rig.put(n, value) == m::AccessFault::kNone);
-  TA_REQUIRE(rig.lock());
-}
 
-struct Refused {
-  Status code;
-  double item, value, limit;
-};
-// 9823 that must fail: its code and #9012 .. #9014; results and 9825's answer for sub-machine 1 as they were.
-Refused refused_build(ModuleRig& rig, bool store, double confirm = 0.0) {
-  const Vec3 p(800.0, 600.0, 1500.0);
-  const double before_status = gf::convert(rig, 1, p);
-  const Vec3 before_point = rig.get3(v::kGantryPointX);
-  rig.snapshot();
-  const ModuleRig::Results before = rig.results();
-  rig.set(v::kArgM, confirm);
-  Refused r{Status::kOk, 0.0, 0.0, 0.0};
-  if (gf::build(rig, store) != kError) {
-    TA_CHECK(!"the build was expected to be refused");
-    return r;
-  }
-  r = {rig.code(), rig.get(v::kGateItem), rig.get(v::kGateValue), rig.get(v::kGateLimit)};
-  TA_CHECK(rig.unchanged());
-  TA_CHECK(rig.results() == before);
-  TA_CHECK_EQ(gf::convert(rig, 1, p), before_status);
-  if (before_status == kDone) TA_CHECK((rig.get3(v::kGantryPointX) - before_point).norm() == 0.0);
-  return r;
+// 9823 that a gate must refuse: its code and #9012 .. #9014; the results and
+// 9825's answer for sub-machine 1 as they were.
+t::Answer stored_answer(ModuleRig& rig) {
+  const double status = gf::convert(rig, 1, Vec3(800.0, 600.0, 1500.0));
+  return {status, rig.get3(v::kGantryPointX)};
+}
+t::Refused refused_build(ModuleRig& rig, bool store, double confirm = 0.0) {
+  return t::refused(rig,
+                    [&](ModuleRig& r) {
+                      r.set(v::kArgM, confirm);
+                      return gf::build(r, store);
+                    },
+                    stored_answer);
 }
 
 // The fixture's bed span, computed here: the largest distance of a bed point from the first.
@@ -73,11 +59,11 @@ TA_TEST("9823 refuses a bed spanning less than #703 with bed_span_implausible, a
   ModuleRig rig;
   gf::stream(rig);
   const double span = bed_span();
-  configure(rig, v::kGantryMinBedSpan, span * (1.0 - 1e-9));
+  t::configure(rig, v::kGantryMinBedSpan, span * (1.0 - 1e-9));
   TA_REQUIRE(gf::build(rig, false) == kDone);
   TA_CHECK_NEAR(rig.get(v::kGantryBedSpan), span, 1e-9);
-  configure(rig, v::kGantryMinBedSpan, span * (1.0 + 1e-9));
-  const Refused r = refused_build(rig, true);
+  t::configure(rig, v::kGantryMinBedSpan, span * (1.0 + 1e-9));
+  const t::Refused r = refused_build(rig, true);
   TA_CHECK_EQ(r.code, m::gantry::kBedSpanImplausible);
   TA_CHECK_NEAR(r.value, span, 1e-9);
   TA_CHECK_EQ(r.limit, span * (1.0 + 1e-9));
@@ -104,15 +90,15 @@ TA_TEST("the change gate: a sub-machine's origin moved beyond #704 needs M = 1, 
   TA_CHECK_EQ(rig.get(v::kGantryOriginChangeId), 2.0);
   TA_CHECK_NEAR(rig.get(v::kGantryAngleChange), 0.0, 1e-6);
   restream();
-  const Refused r = refused_build(rig, true);
+  const t::Refused r = refused_build(rig, true);
   TA_CHECK_EQ(r.code, Status::kChangeBeyondLimit);
   TA_CHECK_EQ(r.item, 2.0);
   TA_CHECK_NEAR(r.value, 0.3, 1e-9);
   TA_CHECK_EQ(r.limit, m::gantry::kDefaultMaxOriginChangeMm);
-  configure(rig, v::kGantryMaxOriginChange, r.value * (1.0 - 1e-9));
+  t::configure(rig, v::kGantryMaxOriginChange, r.value * (1.0 - 1e-9));
   restream();
   TA_CHECK_EQ(refused_build(rig, true).code, Status::kChangeBeyondLimit);
-  configure(rig, v::kGantryMaxOriginChange, r.value * (1.0 + 1e-9));
+  t::configure(rig, v::kGantryMaxOriginChange, r.value * (1.0 + 1e-9));
   restream();
   TA_CHECK_EQ(gf::build(rig, true), kDone);
   TA_REQUIRE(gf::convert(rig, 2, Vec3(800.0, 600.0, 1500.0)) == kDone);
@@ -135,9 +121,9 @@ TA_TEST("the change gate: a sub-machine's axes turned beyond #705 need M = 1, at
   const double angle = rig.get(v::kGantryAngleChange);
   TA_CHECK_NEAR(angle, 36.0, 1e-6);
   TA_CHECK_EQ(rig.get(v::kGantryAngleChangeId), 1.0);
-  configure(rig, v::kGantryMaxAngleChange, angle * (1.0 - 1e-9));
+  t::configure(rig, v::kGantryMaxAngleChange, angle * (1.0 - 1e-9));
   restream();
-  const Refused r = refused_build(rig, true);
+  const t::Refused r = refused_build(rig, true);
   TA_CHECK_EQ(r.code, Status::kChangeBeyondLimit);
   TA_CHECK_EQ(r.item, 1.0);
   TA_CHECK_NEAR(r.value, angle, 1e-9);
@@ -149,7 +135,7 @@ TA_TEST("the change gate: a sub-machine's axes turned beyond #705 need M = 1, at
   rig.set(v::kArgM, 1.0);
   TA_CHECK_EQ(gf::build(rig, true), kDone);  // confirmed
   TA_CHECK_EQ(rig.get(v::kGateItem), 0.0);
-  configure(rig, v::kGantryMaxAngleChange, angle * (1.0 + 1e-9));
+  t::configure(rig, v::kGantryMaxAngleChange, angle * (1.0 + 1e-9));
   gf::stream(rig);  // back by 36": inside the limit now
   TA_CHECK_EQ(gf::build(rig, true), kDone);
 }
@@ -162,7 +148,7 @@ TA_TEST("the fit gate: a sub-machine's C circle against the tracker's noise at #
   gf::stream_machine(rig);
   gf::stream_sub(rig, 1, bumped);
   gf::stream_sub(rig, 2);
-  configure(rig, v::kGantryTrackerNoisePerM, 0.0);  // a constant noise #701 alone: the boundary in closed form
+  t::configure(rig, v::kGantryTrackerNoisePerM, 0.0);  // a constant noise #701 alone: the boundary in closed form
   TA_REQUIRE(gf::build(rig, false) == kDone);
   const double ratio = rig.get(v::kGantryFitRatio);
   TA_CHECK_EQ(rig.get(v::kGantryFitSubMachine), 1.0);
@@ -177,14 +163,14 @@ TA_TEST("the fit gate: a sub-machine's C circle against the tracker's noise at #
   const double a = m::gantry::kDefaultTrackerNoiseMm;
   TA_CHECK_NEAR(ratio, 6.0 * rms * rms / (a * a) / q, 1e-9 * ratio);
   const double boundary = std::sqrt(6.0 * rms * rms / q);
-  configure(rig, v::kGantryTrackerNoise, boundary * (1.0 + 1e-6));
+  t::configure(rig, v::kGantryTrackerNoise, boundary * (1.0 + 1e-6));
   TA_CHECK_EQ(gf::build(rig, false), kDone);
-  configure(rig, v::kGantryTrackerNoise, boundary * (1.0 - 1e-6));
-  const Refused r = refused_build(rig, true);
+  t::configure(rig, v::kGantryTrackerNoise, boundary * (1.0 - 1e-6));
+  const t::Refused r = refused_build(rig, true);
   TA_CHECK_EQ(r.code, Status::kFitBeyondNoise);
   TA_CHECK_EQ(r.item, 1.0);
   TA_CHECK(r.value > 1.0 && r.value < 1.0 + 1e-5);
-  configure(rig, v::kGantryTrackerNoise, 0.0);  // no stated noise: no fit gate
+  t::configure(rig, v::kGantryTrackerNoise, 0.0);  // no stated noise: no fit gate
   TA_CHECK_EQ(gf::build(rig, false), kDone);
   TA_CHECK_EQ(rig.get(v::kGantryFitRatio), 0.0);
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "gate_rig.hpp"
 #include "module_rig.hpp"
 #include "portable_test.hpp"
 #include "rigidity_fixture.hpp"
@@ -52,11 +53,6 @@ void stream(ModuleRig& rig, const Stream& s) {
   }
 }
 
-void configure(ModuleRig& rig, std::uint16_t n, double value) {
-  TA_REQUIRE(rig.unlock());
-  TA_REQUIRE(rig.put(n, value) == m::AccessFault::kNone);
-  TA_REQUIRE(rig.lock());
-}
 
 // 9832 with R (unlocked when 1) and M.
 double build(ModuleRig& rig, bool store, double confirm = 0.0) {
@@ -66,34 +62,17 @@ double build(ModuleRig& rig, bool store, double confirm = 0.0) {
   return rig.run(9832);
 }
 
-// A refusal: its code, #9012 .. #9014, and nothing else changed (results, the
-// stored table's answer at A = 30 or its absence, the session's count).
-struct Refused {
-  Status code;
-  double item, value, limit;
-};
-Refused refused_build(ModuleRig& rig, bool store, double confirm = 0.0) {
+// 9832 that a gate must refuse: its code, #9012 .. #9014; the results and the
+// stored table's answer at A = 30 (or its absence) as they were.
+t::Answer stored_answer(ModuleRig& rig) {
   rig.set(v::kArgA, 30.0);
   rig.set(v::kArgQ, 0.0);
   rig.set(v::kArgR, 1.0);
-  const double query_before = rig.run(9833);
-  const Vec3 answer_before = rig.get3(v::kRigidityRotvecX);
-  rig.snapshot();
-  const ModuleRig::Results before = rig.results();
-  Refused r{Status::kOk, 0.0, 0.0, 0.0};
-  if (build(rig, store, confirm) != kError) {
-    TA_CHECK(!"the build was expected to be refused");
-    return r;
-  }
-  r = {rig.code(), rig.get(v::kGateItem), rig.get(v::kGateValue), rig.get(v::kGateLimit)};
-  TA_CHECK(rig.unchanged());
-  TA_CHECK(rig.results() == before);
-  rig.set(v::kArgA, 30.0);
-  rig.set(v::kArgQ, 0.0);
-  rig.set(v::kArgR, 1.0);
-  TA_CHECK_EQ(rig.run(9833), query_before);
-  if (query_before == kDone) TA_CHECK((rig.get3(v::kRigidityRotvecX) - answer_before).norm() == 0.0);
-  return r;
+  const double status = rig.run(9833);
+  return {status, rig.get3(v::kRigidityRotvecX)};
+}
+t::Refused refused_build(ModuleRig& rig, bool store, double confirm = 0.0) {
+  return t::refused(rig, [&](ModuleRig& r) { return build(r, store, confirm); }, stored_answer);
 }
 
 }  // namespace
@@ -103,7 +82,7 @@ TA_TEST("9832 refuses A in radians with a_error_implausible, naming the pose and
   Stream radians;
   radians.a_scale = rf::kArcsecToRad * 3600.0;  // A commanded in radians, the machine turned in degrees
   stream(rig, radians);
-  const Refused r = refused_build(rig, true);
+  const t::Refused r = refused_build(rig, true);
   TA_CHECK_EQ(r.code, m::rigidity::kAErrorImplausible);
   TA_CHECK(r.item == 1.0 || r.item == 5.0);  // A = -60 or +60: the first beyond the limit, in A order
   TA_CHECK(std::abs(r.value) > 100000.0);    // (60 deg - 1.047 deg) in arcsec
@@ -121,10 +100,10 @@ TA_TEST("the A-error gate at its exact boundary: #602 just above the largest err
   TA_REQUIRE(rig.run(9834) == kDone);
   const double error = rig.get(v::kPoseAError);
   TA_CHECK_NEAR(error, 36.0, 1e-6);
-  configure(rig, v::kRigidityMaxAError, error * (1.0 + 1e-9));
+  t::configure(rig, v::kRigidityMaxAError, error * (1.0 + 1e-9));
   TA_CHECK_EQ(build(rig, false), kDone);
-  configure(rig, v::kRigidityMaxAError, error * (1.0 - 1e-9));
-  const Refused r = refused_build(rig, false);
+  t::configure(rig, v::kRigidityMaxAError, error * (1.0 - 1e-9));
+  const t::Refused r = refused_build(rig, false);
   TA_CHECK_EQ(r.code, m::rigidity::kAErrorImplausible);
   TA_CHECK_EQ(r.item, 5.0);
   TA_CHECK_NEAR(r.value, error, 1e-9);
@@ -135,18 +114,18 @@ TA_TEST("9832 refuses ball positions in metres with c_radius_implausible; the bo
   Stream metres;
   metres.p_scale = 1e-3;
   stream(rig, metres);
-  const Refused r = refused_build(rig, true);
+  const t::Refused r = refused_build(rig, true);
   TA_CHECK_EQ(r.code, m::rigidity::kCRadiusImplausible);
   TA_CHECK_EQ(r.item, 3.0);                    // the reference pose, A = 0
   TA_CHECK_NEAR(r.value, 0.2, 1e-9);           // 200 mm given as 0.2
   TA_CHECK_EQ(r.limit, m::rigidity::kDefaultMinCRadiusMm);
 
   stream(rig, Stream{});  // in mm: the ball circles C at 200 mm
-  configure(rig, v::kRigidityMinCRadius, 200.0 * (1.0 - 1e-9));
+  t::configure(rig, v::kRigidityMinCRadius, 200.0 * (1.0 - 1e-9));
   TA_CHECK_EQ(build(rig, false), kDone);
-  configure(rig, v::kRigidityMinCRadius, 200.0 * (1.0 + 1e-9));
+  t::configure(rig, v::kRigidityMinCRadius, 200.0 * (1.0 + 1e-9));
   TA_CHECK_EQ(refused_build(rig, false).code, m::rigidity::kCRadiusImplausible);
-  configure(rig, v::kRigidityMinCRadius, 0.0);  // 0 switches it off
+  t::configure(rig, v::kRigidityMinCRadius, 0.0);  // 0 switches it off
   stream(rig, metres);
   TA_CHECK_EQ(build(rig, false), kDone);
 }
@@ -183,15 +162,15 @@ TA_TEST("the fit gate: a pose's C-circle residuals against #601 at #901's chi-sq
   TA_CHECK_EQ(rig.get(v::kRigidityFitPose), static_cast<double>(worst_pose));
   // The noise at which the worst pose sits exactly on the quantile: just above passes, just below refuses.
   const double boundary = std::sqrt(worst_ssr / worst_q);
-  configure(rig, v::kRigidityBallNoise, boundary * (1.0 + 1e-6));
+  t::configure(rig, v::kRigidityBallNoise, boundary * (1.0 + 1e-6));
   TA_CHECK_EQ(build(rig, false), kDone);
-  configure(rig, v::kRigidityBallNoise, boundary * (1.0 - 1e-6));
-  const Refused r = refused_build(rig, true);
+  t::configure(rig, v::kRigidityBallNoise, boundary * (1.0 - 1e-6));
+  const t::Refused r = refused_build(rig, true);
   TA_CHECK_EQ(r.code, Status::kFitBeyondNoise);
   TA_CHECK_EQ(r.item, static_cast<double>(worst_pose));
   TA_CHECK(r.value > 1.0 && r.value < 1.0 + 1e-5);
   TA_CHECK_EQ(r.limit, 1.0);
-  configure(rig, v::kRigidityBallNoise, 0.0);  // not stated: no fit gate
+  t::configure(rig, v::kRigidityBallNoise, 0.0);  // not stated: no fit gate
   TA_CHECK_EQ(build(rig, false), kDone);
   TA_CHECK_EQ(rig.get(v::kRigidityFitRatio), 0.0);
 }
@@ -211,7 +190,7 @@ TA_TEST("the change gate: a store beyond #604 against the stored table needs M =
   TA_CHECK_NEAR(rig.get(v::kRigidityChange), 40.0, 1e-6);
   const double pose = rig.get(v::kRigidityChangePose);
   TA_CHECK(pose == 1.0 || pose == 5.0);
-  const Refused r = refused_build(rig, true);
+  const t::Refused r = refused_build(rig, true);
   TA_CHECK_EQ(r.code, Status::kChangeBeyondLimit);
   TA_CHECK(r.item == 1.0 || r.item == 5.0);
   TA_CHECK_NEAR(r.value, 40.0, 1e-6);
@@ -220,14 +199,14 @@ TA_TEST("the change gate: a store beyond #604 against the stored table needs M =
   TA_CHECK_EQ(rig.code(), Status::kArgumentOutOfRange);
 
   const double change = r.value;
-  configure(rig, v::kRigidityMaxChange, change * (1.0 + 1e-9));
+  t::configure(rig, v::kRigidityMaxChange, change * (1.0 + 1e-9));
   TA_CHECK_EQ(build(rig, true), kDone);  // just inside the limit: stored without M
   TA_CHECK_EQ(rig.get(v::kGateItem), 0.0);  // #9012 .. #9014 read 0 after a success
   TA_CHECK_EQ(rig.get(v::kGateValue), 0.0);
   TA_CHECK_EQ(rig.get(v::kGateLimit), 0.0);
 
   stream(rig, Stream{});  // back to 20": a change of 40" again
-  configure(rig, v::kRigidityMaxChange, change * (1.0 - 1e-9));
+  t::configure(rig, v::kRigidityMaxChange, change * (1.0 - 1e-9));
   TA_CHECK_EQ(refused_build(rig, true).code, Status::kChangeBeyondLimit);
   TA_CHECK_EQ(build(rig, true, 1.0), kDone);  // M = 1 confirms it
   TA_CHECK_NEAR(rig.get(v::kRigidityChange), 40.0, 1e-6);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "gate_rig.hpp"
 #include "module_rig.hpp"
 #include "portable_test.hpp"
 #include "spindle_fixture.hpp"
@@ -57,11 +58,6 @@ void stream(ModuleRig& rig, const Stream& s) {
   }
 }
 
-void configure(ModuleRig& rig, std::uint16_t n, double value) {
-  TA_REQUIRE(rig.unlock());
-  TA_REQUIRE(rig.put(n, value) == m::AccessFault::kNone);
-  TA_REQUIRE(rig.lock());
-}
 
 double build(ModuleRig& rig, bool store, double confirm = 0.0) {
   if (store && !rig.unlock()) return -1.0;
@@ -70,28 +66,14 @@ double build(ModuleRig& rig, bool store, double confirm = 0.0) {
   return rig.run(9842);
 }
 
-struct Refused {
-  Status code;
-  double item, value, limit;
-};
-// A build that must fail: its code and #9012 .. #9014; the results and the
-// stored model's answer (9843 at 90 deg, 200 mm) as they were.
-Refused refused_build(ModuleRig& rig, bool store, double confirm = 0.0) {
-  const double before_status = sf::correction(rig, 90.0, 200.0);
-  const Vec3 before_tip = rig.get3(v::kSpindleTipX);
-  rig.snapshot();
-  const ModuleRig::Results before = rig.results();
-  Refused r{Status::kOk, 0.0, 0.0, 0.0};
-  if (build(rig, store, confirm) != kError) {
-    TA_CHECK(!"the build was expected to be refused");
-    return r;
-  }
-  r = {rig.code(), rig.get(v::kGateItem), rig.get(v::kGateValue), rig.get(v::kGateLimit)};
-  TA_CHECK(rig.unchanged());
-  TA_CHECK(rig.results() == before);
-  TA_CHECK_EQ(sf::correction(rig, 90.0, 200.0), before_status);
-  if (before_status == kDone) TA_CHECK((rig.get3(v::kSpindleTipX) - before_tip).norm() == 0.0);
-  return r;
+// 9842 that a gate must refuse: its code and #9012 .. #9014; the results and
+// the stored model's answer (9843 at 90 deg, 200 mm) as they were.
+t::Answer stored_answer(ModuleRig& rig) {
+  const double status = sf::correction(rig, 90.0, 200.0);
+  return {status, rig.get3(v::kSpindleTipX)};
+}
+t::Refused refused_build(ModuleRig& rig, bool store, double confirm = 0.0) {
+  return t::refused(rig, [&](ModuleRig& r) { return build(r, store, confirm); }, stored_answer);
 }
 
 }  // namespace
@@ -101,7 +83,7 @@ TA_TEST("9842 refuses samples in metres and a typed ball distance with ball_spac
   Stream metres;
   metres.scale = 1e-3;
   stream(rig, metres);
-  Refused r = refused_build(rig, true);
+  t::Refused r = refused_build(rig, true);
   TA_CHECK_EQ(r.code, m::spindle::kBallSpacingImplausible);
   TA_CHECK_NEAR(r.value, 0.1 - 100.0, 1e-6);  // the centres 0.1 apart where V - U is 100
   TA_CHECK_EQ(r.limit, m::spindle::kDefaultMaxSpacingErrorMm);
@@ -121,19 +103,19 @@ TA_TEST("the spacing gate at its exact boundary, and the fit gate catching what 
   Stream shifted;
   shifted.shift_mm = 0.5;  // ball 2 half a millimetre farther down than V says
   stream(rig, shifted);
-  configure(rig, v::kSpindleMaxSpacingError, 0.4);
-  const Refused r = refused_build(rig, false);
+  t::configure(rig, v::kSpindleMaxSpacingError, 0.4);
+  const t::Refused r = refused_build(rig, false);
   TA_CHECK_EQ(r.code, m::spindle::kBallSpacingImplausible);
   TA_CHECK_NEAR(r.value, 0.5, 1e-9);
-  configure(rig, v::kSpindleMaxSpacingError, std::abs(r.value) * (1.0 - 1e-9));
+  t::configure(rig, v::kSpindleMaxSpacingError, std::abs(r.value) * (1.0 - 1e-9));
   TA_CHECK_EQ(refused_build(rig, false).code, m::spindle::kBallSpacingImplausible);
-  configure(rig, v::kSpindleMaxSpacingError, std::abs(r.value) * (1.0 + 1e-9));
+  t::configure(rig, v::kSpindleMaxSpacingError, std::abs(r.value) * (1.0 + 1e-9));
   // Past the spacing gate, the model cannot hold a ball half a millimetre off: the fit gate refuses it.
-  const Refused fit = refused_build(rig, false);
+  const t::Refused fit = refused_build(rig, false);
   TA_CHECK_EQ(fit.code, Status::kFitBeyondNoise);
   TA_CHECK(fit.item == 1.0 || fit.item == 2.0);
   TA_CHECK(fit.value > 1000.0);
-  configure(rig, v::kSpindleFormAllowance, 1.0);  // a 1 mm allowance lets even that through
+  t::configure(rig, v::kSpindleFormAllowance, 1.0);  // a 1 mm allowance lets even that through
   TA_CHECK_EQ(build(rig, false), kDone);
   TA_CHECK_NEAR(rig.get(v::kSpindleBallSpacing), 100.5, 1e-9);
 }
@@ -144,8 +126,8 @@ TA_TEST("the fit gate: each ball's residuals against #801 and #802 at #901's qua
   noisy.noise_mm = 0.0001;  // uniform +-100 nm: 58 nm per axis
   noisy.revolutions = 2;    // repeats: each bin's scatter is part of the residuals
   stream(rig, noisy);
-  configure(rig, v::kSpindleFormAllowance, 0.0);
-  configure(rig, v::kSpindleProbeNoise, 0.001);  // 1 um: far inside
+  t::configure(rig, v::kSpindleFormAllowance, 0.0);
+  t::configure(rig, v::kSpindleProbeNoise, 0.001);  // 1 um: far inside
   TA_REQUIRE(build(rig, false) == kDone);
   const double ratio = rig.get(v::kSpindleFitRatio);
   const double ball = rig.get(v::kSpindleFitBall);
@@ -177,18 +159,18 @@ TA_TEST("the fit gate: each ball's residuals against #801 and #802 at #901's qua
   TA_CHECK_EQ(ball, static_cast<double>(worse));
   // The noise at which the worse ball sits on its quantile: above passes, below refuses.
   const double boundary = std::sqrt(ssr[worse - 1] / q);
-  configure(rig, v::kSpindleProbeNoise, boundary * (1.0 + 1e-6));
+  t::configure(rig, v::kSpindleProbeNoise, boundary * (1.0 + 1e-6));
   TA_CHECK_EQ(build(rig, false), kDone);
-  configure(rig, v::kSpindleProbeNoise, boundary * (1.0 - 1e-6));
-  const Refused r = refused_build(rig, true);
+  t::configure(rig, v::kSpindleProbeNoise, boundary * (1.0 - 1e-6));
+  const t::Refused r = refused_build(rig, true);
   TA_CHECK_EQ(r.code, Status::kFitBeyondNoise);
   TA_CHECK_EQ(r.item, static_cast<double>(worse));
   TA_CHECK(r.value > 1.0 && r.value < 1.0 + 1e-5);
   // The form allowance enters as #802^2 / 3 per axis: the same boundary with #801 = 0.
-  configure(rig, v::kSpindleProbeNoise, 0.0);
-  configure(rig, v::kSpindleFormAllowance, std::sqrt(3.0) * boundary * (1.0 + 1e-6));
+  t::configure(rig, v::kSpindleProbeNoise, 0.0);
+  t::configure(rig, v::kSpindleFormAllowance, std::sqrt(3.0) * boundary * (1.0 + 1e-6));
   TA_CHECK_EQ(build(rig, false), kDone);
-  configure(rig, v::kSpindleFormAllowance, std::sqrt(3.0) * boundary * (1.0 - 1e-6));
+  t::configure(rig, v::kSpindleFormAllowance, std::sqrt(3.0) * boundary * (1.0 - 1e-6));
   TA_CHECK_EQ(refused_build(rig, false).code, Status::kFitBeyondNoise);
 }
 
@@ -204,18 +186,18 @@ TA_TEST("the change gate: a store whose tool tip at V moves beyond #804 needs M 
   TA_REQUIRE(build(rig, false) == kDone);
   const double change = rig.get(v::kSpindleChange);
   TA_CHECK_NEAR(change, 0.008, 1e-9);
-  const Refused r = refused_build(rig, true);
+  const t::Refused r = refused_build(rig, true);
   TA_CHECK_EQ(r.code, Status::kChangeBeyondLimit);
   TA_CHECK_NEAR(r.value, change, 1e-12);
   TA_CHECK_EQ(r.limit, m::spindle::kDefaultMaxChangeMm);
   TA_CHECK(r.item >= 0.0 && r.item < 360.0);
   TA_CHECK_EQ(build(rig, true, 2.0), kError);
   TA_CHECK_EQ(rig.code(), Status::kArgumentOutOfRange);
-  configure(rig, v::kSpindleMaxChange, change * (1.0 - 1e-9));
+  t::configure(rig, v::kSpindleMaxChange, change * (1.0 - 1e-9));
   TA_CHECK_EQ(refused_build(rig, true).code, Status::kChangeBeyondLimit);
-  configure(rig, v::kSpindleMaxChange, change * (1.0 + 1e-9));
+  t::configure(rig, v::kSpindleMaxChange, change * (1.0 + 1e-9));
   TA_CHECK_EQ(build(rig, true), kDone);
-  configure(rig, v::kSpindleMaxChange, m::spindle::kDefaultMaxChangeMm);
+  t::configure(rig, v::kSpindleMaxChange, m::spindle::kDefaultMaxChangeMm);
   stream(rig, Stream{});
   TA_CHECK_EQ(refused_build(rig, true).code, Status::kChangeBeyondLimit);
   TA_CHECK_EQ(build(rig, true, 1.0), kDone);  // M = 1 confirms it
