@@ -424,8 +424,7 @@ void Module::finish(core::Status status) {
   const Refusal refused = ok ? Refusal{} : call_.refusal;  // method_context.hpp contract 8
   at<var::kGateItem>() = refused.item;
   at<var::kGateValue>() = refused.value;
-  at<var::kGateLimit>() = refused.limit;
-  call_.refusal = {};
+  at<var::kGateLimit>() = refused.limit;  // call_.refusal is cleared when the next macro starts
   for (const SlotRun& run : kReadWriteRuns) {
     for (std::size_t k = 0; k < run.count; ++k) values_[run.first + k] = 0.0;
   }
