@@ -24,7 +24,7 @@ PointAccumulator accumulate(PointSpan g) {
 
 struct PassEstimate {
   Vec3 direction = Vec3::UnitX();
-  double slope_variance = 0.0;  // v of convention 4, rad^2
+  Mat3 slope_covariance = Mat3::Zero();  // rad^2, in the plane perpendicular to direction (convention 4)
   double stroke_mm = 0.0;
   double straightness_mm = 0.0;
   double rms_residual_mm = 0.0;
@@ -41,13 +41,16 @@ Result<PassEstimate> fit_pass(PointSpan g, const PointNoise& noise) {
   double t_max = 0.0;
   double max_distance = 0.0;
   double stt = 0.0;
-  double weighted = 0.0;  // sum sigma_i^2 t_i^2
+  double weighted = 0.0;        // sum sigma_i^2 t_i^2
+  Mat3 scatter = Mat3::Zero();  // sum q_i q_i^T of the perpendicular residuals q_i
   for (std::size_t i = 0; i < g.count; ++i) {
     const Vec3 w = g.points_mm[i] - f.point_mm;
     const double t = f.direction.dot(w);
     t_min = std::min(t_min, t);
     t_max = std::max(t_max, t);
-    max_distance = std::max(max_distance, (w - t * f.direction).norm());
+    const Vec3 q = w - t * f.direction;
+    max_distance = std::max(max_distance, q.norm());
+    scatter += q * q.transpose();
     stt += t * t;
     if (noise.modelled()) {
       const double s = noise.sigma_mm(g.points_mm[i]);
@@ -58,10 +61,11 @@ Result<PassEstimate> fit_pass(PointSpan g, const PointNoise& noise) {
   p.direction = f.direction;
   const double n = static_cast<double>(g.count);
   if (noise.modelled()) {
-    p.slope_variance = weighted / (stt * stt);
+    p.slope_covariance = weighted / (stt * stt) * (Mat3::Identity() - f.direction * f.direction.transpose());
   } else {
-    // sum of squared perpendicular distances = n rms^2, over 2n - 4 degrees of freedom.
-    p.slope_variance = n * f.rms_residual_mm * f.rms_residual_mm / (2.0 * n - 4.0) / stt;
+    // The perpendicular residuals' scatter over n - 2 degrees of freedom per
+    // component: the noise's covariance across the line, whatever its shape.
+    p.slope_covariance = scatter / ((n - 2.0) * stt);
   }
   p.stroke_mm = t_max - t_min;
   p.straightness_mm = 2.0 * max_distance;
@@ -149,7 +153,7 @@ Result<AxisEstimate> fit_axis_passes(const PointSpan* passes, std::size_t pass_c
     if (k == 0) first = p.direction;
     if (!(p.direction.dot(first) > 0.0)) return Status::kPassesDisagree;
     sum += p.direction;
-    sum_cov += p.slope_variance * (Mat3::Identity() - p.direction * p.direction.transpose());
+    sum_cov += p.slope_covariance;
     axis.stroke_mm = std::max(axis.stroke_mm, p.stroke_mm);
     axis.straightness_mm = std::max(axis.straightness_mm, p.straightness_mm);
     axis.rms_residual_mm = std::max(axis.rms_residual_mm, p.rms_residual_mm);

@@ -10,8 +10,8 @@
 // 99 % of the runs (issue 17: "on a perfect virtual machine the corrected
 // figures are 0 within 3 sigma in >= 99 % of Monte-Carlo runs"); over the runs
 // each new sub-machine sigma (the A-to-C offset at its true 0, the A-to-C
-// angle) must be within x1.5 of the observed RMS error about the truth, the
-// squareness sigmas within 1 / 1.5 .. kSquarenessConservative (below).
+// angle, the squareness of each pair of axes) must be within x1.5 of the
+// observed RMS error about the truth.
 // TRUEAXIS_FIGURES=1 prints the figures.
 #include <catch2/catch.hpp>
 
@@ -38,17 +38,11 @@ using F = m::AccessFault;
 using trueaxis::test::kDone;
 
 constexpr int kRuns = 2000;  // about 8 s in a Release host build (2 shared cores)
-// The squareness sigmas' bound on the simulator's tracker: they come from each
-// pass fit's own residuals pooled over its two perpendicular components
-// (gantry_fits.hpp convention 2, isotropic), while the simulated tracker is 3 to
-// 4 times noisier across its line of sight than along it; where a pair's angle
-// lies mostly along a line of sight (xy of the sub-machines on the cross beam
-// and in the floor bridge) the stated sigma is larger than the spread: 1.57 x
-// at most over these 2,000 runs (1.66 x over the first 400). Never smaller
-// than 1 / 1.5 of it (0.78 at least). The core's Monte Carlo with the
-// isotropic noise the model assumes holds them within 1.5
-// (tests/core/test_gantry_figure_sigmas.cpp).
-constexpr double kSquarenessConservative = 1.75;
+// The squareness sigmas come from each pass fit's perpendicular residuals,
+// one noise per perpendicular axis (gantry_fits.hpp convention 4): the
+// simulated tracker is 3 to 4 times noisier across its line of sight than
+// along it. Pooled over both axes (isotropic) they were up to 1.57 x the
+// observed spread here; per axis 0.97..1.03 over these 2,000 runs.
 
 bool print_figures() { return std::getenv("TRUEAXIS_FIGURES") != nullptr; }
 
@@ -167,7 +161,7 @@ TEST_CASE("a perfect virtual gantry: the corrected form errors are 0 within 3 si
       const double r = squareness[3 * i + static_cast<std::size_t>(k)].ratio();
       INFO("sub-machine " << i + 1 << " squareness " << pair[k] << ": sigma / observed " << r);
       CHECK(r >= 1.0 / 1.5);
-      CHECK(r <= kSquarenessConservative);
+      CHECK(r <= 1.5);
       lo = std::fmin(lo, r);
       hi = std::fmax(hi, r);
     }

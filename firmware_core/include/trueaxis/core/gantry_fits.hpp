@@ -14,11 +14,13 @@
 //     tracker's position given in the points' frame. An AT960-like MPE
 //     +-(15 um + 6 um/m) read as 2 sigma is a = 0.0075, b = 3e-6. With a = b = 0
 //     every fit takes sigma from its own residuals instead (a plane
-//     sigma^2 = sum h_i^2 / (n - 3), a pass sum e_i^2 / (2n - 4) over the two
-//     perpendicular components e_i, a circle as circle_fit.hpp item 5): pad
-//     unflatness and axis straightness then count as noise. The real tracker's
-//     error is larger along the line of sight than across it (or the reverse);
-//     the isotropic model is what the interface asks for, not a claim about it.
+//     sigma^2 = sum h_i^2 / (n - 3); a pass the covariance of its
+//     perpendicular residuals q_i, sum q_i q_i^T / (n - 2), which follows a
+//     tracker that is noisier across its line of sight than along it (convention
+//     4); a circle as circle_fit.hpp item 5): pad unflatness and axis
+//     straightness then count as noise. A stated model (a, b) is isotropic: the
+//     real tracker's error is larger across the line of sight than along it, so
+//     a stated model overstates the noise along it.
 //     additive = true takes the MPE's own form instead,
 //         sigma_i = a + b * |p_i - tracker|,
 //     as a tracker's data sheet states it and the simulator's tracker draws
@@ -38,9 +40,15 @@
 //     (n - alpha u - beta v) normalised. flatness_mm = max - min of h_i.
 //  4. Pass (one line fit, fit_accumulator.hpp): with t_i the position along the
 //     fitted direction from the centroid, each perpendicular slope is
-//     sum_i t_i e_i / Stt, Stt = sum t_i^2, variance v = sum sigma_i^2 t_i^2 / Stt^2,
-//     the same for both perpendicular axes and uncorrelated; the unit direction's
-//     error then has covariance v (I - d d^T). straightness_mm = twice the largest
+//     sum_i t_i e_i / Stt, Stt = sum t_i^2. With a stated model its variance is
+//     v = sum sigma_i^2 t_i^2 / Stt^2, the same for both perpendicular axes and
+//     uncorrelated, and the unit direction's error has covariance v (I - d d^T).
+//     From the residuals (no model) it is S / Stt, S = sum q_i q_i^T / (n - 2)
+//     the perpendicular residuals' covariance (rank 2, across d): each
+//     perpendicular axis gets its own noise, so a pass lying across the line of
+//     sight, whose one perpendicular axis is along it, is not given the larger
+//     transverse noise on both (issue 17: squareness sigmas 1.57 x the spread on
+//     the simulator's tracker when pooled isotropically). straightness_mm = twice the largest
 //     perpendicular distance from the fitted line; stroke_mm = max t - min t.
 //  5. Axis (AxisEstimate) from K passes: each pass's direction is oriented by the
 //     order of its points (growing sample index = the axis's positive direction);
