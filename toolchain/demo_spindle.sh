@@ -4,8 +4,11 @@
 # offsets, 15 nm probe noise, 50 nm form error on the balls), and the
 # controller's correction query on what it stored:
 #   1. measure the spindle with the virtual spindle analyser, two balls over
-#      three revolutions (trueaxis-measure-spindle, with the ground truth beside
-#      the samples);
+#      three revolutions sampled on the analyser's clock, not the spindle's
+#      encoder (1,024 samples a nominal revolution, the speed drifting by 1 %:
+#      angles that never repeat, as an analyser without an encoder gives them;
+#      trueaxis-measure-spindle --time-sampled, with the ground truth beside the
+#      samples);
 #   2. identify and store the tool-axis model in the module (trueaxis-calibrate
 #      spindle --store), with the JSON and the report page;
 #   3. ask macro 9843 over Modbus (mbpoll) for the tool-tip error at a few
@@ -43,7 +46,8 @@ demo_start trueaxis-measure-spindle "$@"
 echo
 echo "== 1. measure the virtual spindle with the spindle analyser"
 "$bin_dir/trueaxis-measure-spindle" --out "$out_dir/samples.csv" --machine "$out_dir/machine.csv" \
-  --truth "$out_dir/truth.json" --seed "$seed"
+  --truth "$out_dir/truth.json" --seed "$seed" --revolutions 3 --time-sampled --samples-per-rev 1024 \
+  --drift-percent 1
 
 echo
 echo "== 2. identify and store the tool-axis model (trueaxis-calibrate spindle --store)"
@@ -73,7 +77,7 @@ true_per = {p["phi_deg"]: p for p in truth["per_angle"]}
 failed = []
 
 print(f"  {fit['samples']:.0f} ball centres, {out['evaluations']} evaluations; probe noise "
-      f"{fit['noise_sigma_mm'] * 1e6:.1f} nm ({'from the repeats' if fit['noise_from_repeats'] else 'every residual'}), "
+      f"{fit['noise_sigma_mm'] * 1e6:.1f} nm ({'within the 2-deg angle bins' if fit['noise_from_repeats'] else 'every residual'}), "
       f"synchronous RMS {fit['synchronous_rms_mm'] * 1e6:.1f} nm")
 tip_max = max(math.hypot(*p["tool_tip_error_mm"][:2]) for p in out["per_angle"])
 print(f"  theta_e up to {out['theta_e_max_arcsec']:.3f} arcsec, d_e up to {out['d_e_max_mm'] * 1000:.3f} um, "

@@ -27,19 +27,44 @@ void model_fields(Io& io, Model& m) {
   io(m.fit.smallest_eigenvalue_ratio);
 }
 
-// theta_e and d_e (convention 3): the screw error from the ideal tool line (-Z
-// through the origin) to the actual one through q along d. Not inlined
-// ([[gnu::noinline]]; ignored by compilers that do not know it): its lines'
-// temporaries stay out of spindle_correction's frame (README "Stack").
-[[gnu::noinline]] Status tool_line_error(const Vec3& q, const Vec3& d, SpindleCorrection& out) {
-  const Result<PluckerLine> actual = plucker_from_point(q, d);
-  if (!actual.ok()) return actual.status();
-  PluckerLine ideal;
-  ideal.direction = -Vec3::UnitZ();
-  const Result<ScrewError> screw = screw_error(ideal, actual.value());
-  if (!screw.ok()) return screw.status();
-  out.theta_e_rad = screw.value().theta_rad;
-  out.d_e_mm = screw.value().distance_mm;
+// theta_e and d_e (convention 2): the screw error (screw.hpp) from the ideal
+// tool line (-Z through the origin) to the actual one through q along d, in
+// closed form rather than through plucker_from_point and screw_error (the
+// direct correction query's cost, issue 18). With k = (-Z) x d = (d_y, -d_x, 0)
+// (exact: no cancellation, unlike a cross product of two unit vectors near 0),
+// |k| = |d| sin(theta_e), -d_z = |d| cos(theta_e), so, d of any length:
+//   theta_e = atan2(|k|, -d_z);
+//   d_e = |q . k| / |k|, the component of q along the common perpendicular
+//   k / |k| (screw_error's |w . axis|: w = q minus its part along d, normal to k).
+// screw_error's parallel branch (screw.hpp convention 5), taken at its
+// threshold |k| / |d| < kParallelSin (compared squared): d_e = |q x d| / |d|,
+// the distance of the origin from the actual line (for k = 0 exactly, q's
+// distance from the Z axis), theta_e still the atan2 (0 or pi when exactly
+// parallel). Status codes as plucker_from_point's and screw_error's: kNotFinite
+// for a non-finite q or d, kArgumentOutOfRange for a zero d and for
+// coordinates so large that d_e overflows (screw_error: that a foot does; near
+// 1e300 mm, no machine's). A d whose squared length leaves [2^-100, 2^100] is first scaled by
+// its largest component, as plucker_from_point does (never here: |d| >= 1 for a
+// unit a, d - a normal to it). Not inlined ([[gnu::noinline]]; ignored by
+// compilers that do not know it): its temporaries stay out of
+// spindle_correction's frame (README "Stack").
+[[gnu::noinline]] Status tool_line_error(const Vec3& q, const Vec3& d_in, SpindleCorrection& out) {
+  if (!all_finite(q) || !all_finite(d_in)) return Status::kNotFinite;
+  Vec3 d = d_in;
+  double k2 = d.x() * d.x() + d.y() * d.y();  // |k|^2
+  double dd = k2 + d.z() * d.z();             // |d|^2
+  if (!(dd >= 0x1p-100 && dd <= 0x1p100)) {
+    const double largest = d.cwiseAbs().maxCoeff();
+    if (!(largest > 0.0)) return Status::kArgumentOutOfRange;
+    d /= largest;
+    k2 = d.x() * d.x() + d.y() * d.y();
+    dd = k2 + d.z() * d.z();
+  }
+  const double k = std::sqrt(k2);
+  out.theta_e_rad = std::atan2(k, -d.z());
+  out.d_e_mm = k2 < kParallelSin * kParallelSin * dd ? std::sqrt(q.cross(d).squaredNorm() / dd)
+                                                      : std::abs(q.x() * d.y() - q.y() * d.x()) / k;
+  if (!std::isfinite(out.d_e_mm)) return Status::kArgumentOutOfRange;
   return Status::kOk;
 }
 

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "trueaxis/core/small_linear.hpp"
+
 namespace trueaxis::core {
 
 namespace {
@@ -68,8 +70,7 @@ Vec3 spindle_ball_mm(const SpindleParams& p, const SpindleGeometry& g, int ball,
   return p.head<3>() + (g.gauge_mm + b) * x.a + std::cos(phi_rad) * v + std::sin(phi_rad) * x.a.cross(v);
 }
 
-Vec3 spindle_ball_jacobian(const SpindleParams& p, const SpindleGeometry& g, int ball, double phi_rad,
-                           SpindleJacobian& j) {
+void spindle_ball_terms(const SpindleParams& p, const SpindleGeometry& g, int ball, SpindleBallTerms& out) {
   const double ax = p(3);
   const double ay = p(4);
   const double az = -std::sqrt(std::fmax(0.0, 1.0 - ax * ax - ay * ay));
@@ -82,21 +83,87 @@ Vec3 spindle_ball_jacobian(const SpindleParams& p, const SpindleGeometry& g, int
   const Vec3 v = e.n + b * w.n;
   const Vec3 dv_x = e.d_ax + b * w.d_ax;  // d v / d a_x
   const Vec3 dv_y = e.d_ay + b * w.d_ay;
+  const double depth = g.gauge_mm + b;
+  out.m = p.head<3>() + depth * a;
+  out.v = v;
+  out.u = a.cross(v);
+  // m = o + depth a; v's own parameters enter through d v / d e_x = the
+  // a-normal unit (1, 0, -a_x / a_z) = da_x, likewise the rest; u = a x v.
+  out.jm.setZero();
+  out.jm.leftCols<3>().setIdentity();
+  out.jm.col(3) = depth * da_x;
+  out.jm.col(4) = depth * da_y;
+  out.jv.leftCols<3>().setZero();
+  out.jv.col(3) = dv_x;
+  out.jv.col(4) = dv_y;
+  out.jv.col(5) = da_x;
+  out.jv.col(6) = da_y;
+  out.jv.col(7) = b * da_x;
+  out.jv.col(8) = b * da_y;
+  out.ju.leftCols<3>().setZero();
+  out.ju.col(3) = da_x.cross(v) + a.cross(dv_x);
+  out.ju.col(4) = da_y.cross(v) + a.cross(dv_y);
+  out.ju.col(5) = a.cross(da_x);
+  out.ju.col(6) = a.cross(da_y);
+  out.ju.col(7) = b * out.ju.col(5);
+  out.ju.col(8) = b * out.ju.col(6);
+}
+
+Vec3 spindle_ball_jacobian(const SpindleParams& p, const SpindleGeometry& g, int ball, double phi_rad,
+                           SpindleJacobian& j) {
+  SpindleBallTerms t;
+  spindle_ball_terms(p, g, ball, t);
   const double c = std::cos(phi_rad);
   const double s = std::sin(phi_rad);
-  const double depth = g.gauge_mm + b;
-  // M = o + depth a + c v + s (a x v); v's own parameters enter through
-  // d v / d e_x = d a-normal unit (1, 0, -a_x / a_z) = da_x, likewise the rest.
-  j.leftCols<3>().setIdentity();
-  j.col(3) = depth * da_x + c * dv_x + s * (da_x.cross(v) + a.cross(dv_x));
-  j.col(4) = depth * da_y + c * dv_y + s * (da_y.cross(v) + a.cross(dv_y));
-  const Vec3 de_x = c * da_x + s * a.cross(da_x);
-  const Vec3 de_y = c * da_y + s * a.cross(da_y);
-  j.col(5) = de_x;
-  j.col(6) = de_y;
-  j.col(7) = b * de_x;
-  j.col(8) = b * de_y;
-  return p.head<3>() + depth * a + c * v + s * a.cross(v);
+  j = t.jm + c * t.jv + s * t.ju;
+  return t.m + c * t.v + s * t.u;
+}
+
+Vec3 SpindleBallSums::mean_mm() const {
+  if (count == 0) return Vec3::Zero();
+  return origin_mm + d / static_cast<double>(count);
+}
+
+Status spindle_harmonics(const SpindleBallSums& sums, SpindleHarmonics& out) {
+  SquareMatrix<3> h;
+  h << static_cast<double>(sums.count), sums.c, sums.s, sums.c, sums.cc, sums.cs, sums.s, sums.cs, sums.ss;
+  SquareMatrix<3> l;
+  // Positive definite needs three angles; judged relative to the count, as
+  // the sums of cos^2 and sin^2 over close angles cancel to rounding.
+  if (!cholesky(h, l) || !(l(2, 2) > 1e-9 * std::sqrt(static_cast<double>(sums.count)))) {
+    return Status::kNotIdentifiable;
+  }
+  SpindleHarmonics r;
+  r.l = l.triangularView<Eigen::Lower>();
+  double ssr = 0.0;
+  Mat3 z;
+  for (int x = 0; x < 3; ++x) {
+    const Vec3 g(sums.d(x), sums.dc(x), sums.ds(x));
+    const Vec3 y = r.l.triangularView<Eigen::Lower>().solve(g);
+    r.y.col(x) = y;
+    z.col(x) = r.l.transpose().triangularView<Eigen::Upper>().solve(y);
+    ssr += std::fmax(0.0, sums.dd(x) - y.squaredNorm());
+  }
+  r.centre_mm = sums.origin_mm + z.row(0).transpose();
+  r.v = z.row(1).transpose();
+  r.u = z.row(2).transpose();
+  r.ssr_mm2 = ssr;
+  out = r;
+  return Status::kOk;
+}
+
+SpindleNoise spindle_bin_noise(const SpindleBin& b) {
+  SpindleNoise n;
+  if (b.count < 2) return n;
+  const double count = static_cast<double>(b.count);
+  if (std::sqrt(b.delta_m2 / count) <= kSameAngleDeg) {  // repeats of one angle: the mean
+    n.ssr_mm2 = b.scatter_mm2;
+    n.dof = b.count - 1;
+    return n;
+  }
+  n.ssr_mm2 = std::fmax(0.0, b.scatter_mm2 - b.cross_mm.squaredNorm() / b.delta_m2);
+  n.dof = b.count - 2;
+  return n;
 }
 
 std::uint32_t spindle_fingerprint(const SpindleSample& s) {
@@ -115,8 +182,11 @@ std::uint32_t spindle_fingerprint(const SpindleSample& s) {
 }
 
 void SpindleBins::clear() {
+  for (auto& ball : bins_) {
+    for (SpindleBin& b : ball) b.count = 0;
+  }
+  sums_[0] = sums_[1] = SpindleBallSums();
   angles_[0] = angles_[1] = 0;
-  samples_[0] = samples_[1] = 0;
 }
 
 Status SpindleBins::add(const SpindleSample& s) {
@@ -129,66 +199,83 @@ Status SpindleBins::add(const SpindleSample& s) {
   if (phi < 0.0) phi += 360.0;
   if (phi >= 360.0) phi = 0.0;  // -tiny + 360 rounds to 360
   const std::size_t k = index(s.ball);
-  SpindleBin* bins = bins_[k];
-  std::size_t& n = angles_[k];
-  // The first bin at or above phi - tolerance (bins sorted by angle).
-  std::size_t lo = 0;
-  std::size_t hi = n;
-  while (lo < hi) {
-    const std::size_t mid = (lo + hi) / 2;
-    if (bins[mid].phi_deg < phi - kSameAngleDeg) {
-      lo = mid + 1;
-    } else {
-      hi = mid;
-    }
-  }
-  SpindleBin* same = nullptr;
-  if (lo < n && bins[lo].phi_deg <= phi + kSameAngleDeg) same = &bins[lo];
-  // Across 0 / 360.
-  if (same == nullptr && n > 0 && phi < kSameAngleDeg && bins[n - 1].phi_deg - 360.0 >= phi - kSameAngleDeg) {
-    same = &bins[n - 1];
-  }
-  if (same == nullptr && n > 0 && phi > 360.0 - kSameAngleDeg && bins[0].phi_deg + 360.0 <= phi + kSameAngleDeg) {
-    same = &bins[0];
-  }
+  std::size_t i = static_cast<std::size_t>(phi / kSpindleBinDeg);
+  if (i >= kSpindleBins) i = kSpindleBins - 1;
+  SpindleBin& b = bins_[k][i];
   const std::uint32_t fingerprint = spindle_fingerprint(s);
-  if (same != nullptr) {
-    if (fingerprint == same->first_fingerprint || fingerprint == same->last_fingerprint) {
-      return Status::kDuplicateSample;
-    }
-    if (same->count >= kMaxBinCount) return Status::kSessionFull;
-    same->last_fingerprint = fingerprint;
-    ++same->count;
-    const Vec3 delta = s.p_mm - same->mean_mm;
-    same->mean_mm += delta / static_cast<double>(same->count);
-    same->scatter_mm2 += delta.dot(s.p_mm - same->mean_mm);
-  } else {
-    if (n == kMaxSpindleAngles) return Status::kSessionFull;
-    for (std::size_t i = n; i > lo; --i) bins[i] = bins[i - 1];
-    bins[lo].phi_deg = phi;
-    bins[lo].count = 1;
-    bins[lo].mean_mm = s.p_mm;
-    bins[lo].scatter_mm2 = 0.0;
-    bins[lo].first_fingerprint = bins[lo].last_fingerprint = fingerprint;
-    ++n;
+  if (b.count > 0) {
+    if (fingerprint == b.first_fingerprint || fingerprint == b.last_fingerprint) return Status::kDuplicateSample;
+    if (b.count >= kMaxBinCount) return Status::kSessionFull;
   }
-  ++samples_[k];
+  // The bin (Welford's update of the means, of sum (delta - mean)^2, of the
+  // cross sums and of the scatter).
+  if (b.count == 0) {
+    b = SpindleBin();
+    b.phi_deg = phi;
+    b.first_fingerprint = fingerprint;
+    ++angles_[k];
+  }
+  SpindleBallSums& sum = sums_[k];
+  if (sum.count == 0) sum.origin_mm = s.p_mm;
+  const Vec3 d = s.p_mm - sum.origin_mm;
+  b.last_fingerprint = fingerprint;
+  ++b.count;
+  const double n = static_cast<double>(b.count);
+  const double delta = phi - b.phi_deg;
+  const double dd = delta - b.mean_delta_deg;
+  b.mean_delta_deg += dd / n;
+  const Vec3 dp = d - b.mean_offset_mm;
+  b.mean_offset_mm += dp / n;
+  const Vec3 dp_after = d - b.mean_offset_mm;
+  b.delta_m2 += dd * (delta - b.mean_delta_deg);
+  b.cross_mm += dd * dp_after;
+  b.scatter_mm2 += dp.dot(dp_after);
+  // The ball's sums.
+  const double rad = deg_to_rad(phi);
+  const double c = std::cos(rad);
+  const double sn = std::sin(rad);
+  ++sum.count;
+  sum.c += c;
+  sum.s += sn;
+  sum.cc += c * c;
+  sum.cs += c * sn;
+  sum.ss += sn * sn;
+  sum.d += d;
+  sum.dc += c * d;
+  sum.ds += sn * d;
+  sum.dd += d.cwiseProduct(d);
   return Status::kOk;
 }
 
 double SpindleBins::largest_gap_deg(int ball) const {
-  const std::size_t k = index(ball);
-  const std::size_t n = angles_[k];
-  if (n < 2) return 360.0;
-  double gap = bins_[k][0].phi_deg + 360.0 - bins_[k][n - 1].phi_deg;
-  for (std::size_t i = 1; i < n; ++i) gap = std::fmax(gap, bins_[k][i].phi_deg - bins_[k][i - 1].phi_deg);
-  return gap;
+  const SpindleBin* bins = bins_[index(ball)];
+  if (angles(ball) < 2) return 360.0;
+  double first = 0.0;
+  double last = 0.0;
+  double gap = 0.0;
+  bool any = false;
+  for (std::size_t i = 0; i < kSpindleBins; ++i) {
+    if (bins[i].count == 0) continue;
+    const double angle = bins[i].angle_deg();
+    if (any) {
+      gap = std::fmax(gap, angle - last);
+    } else {
+      first = angle;
+      any = true;
+    }
+    last = angle;
+  }
+  return std::fmax(gap, first + 360.0 - last);
 }
 
-double SpindleBins::scatter_mm2() const {
-  double sum = 0.0;
-  for (std::size_t k = 0; k < 2; ++k) {
-    for (std::size_t i = 0; i < angles_[k]; ++i) sum += bins_[k][i].scatter_mm2;
+SpindleNoise SpindleBins::noise() const {
+  SpindleNoise sum;
+  for (const auto& ball : bins_) {
+    for (const SpindleBin& b : ball) {
+      const SpindleNoise n = spindle_bin_noise(b);
+      sum.ssr_mm2 += n.ssr_mm2;
+      sum.dof += n.dof;
+    }
   }
   return sum;
 }
@@ -199,15 +286,11 @@ Result<SpindleParams> spindle_start(const SpindleBins& bins, const SpindleGeomet
   Vec3 mean[2];
   Vec3 v[2];
   for (int k = 0; k < 2; ++k) {
-    const std::size_t n = bins.angles(k + 1);
-    mean[k].setZero();
-    for (std::size_t i = 0; i < n; ++i) mean[k] += bins.bin(k + 1, i).mean_mm;
-    mean[k] /= static_cast<double>(n);
-    v[k].setZero();
-    for (std::size_t i = 0; i < n; ++i) {
-      const SpindleBin& b = bins.bin(k + 1, i);
-      v[k] += (2.0 / static_cast<double>(n)) * std::cos(deg_to_rad(b.phi_deg)) * (b.mean_mm - mean[k]);
-    }
+    SpindleHarmonics h;
+    const Status fitted = spindle_harmonics(bins.sums(k + 1), h);
+    if (fitted != Status::kOk) return fitted;
+    mean[k] = h.centre_mm;
+    v[k] = h.v;
   }
   const Vec3 d = mean[1] - mean[0];
   if (!(d.norm() > 0.0)) return Status::kNotIdentifiable;
@@ -236,9 +319,9 @@ void SpindleBuilder::start(const SpindleBins& bins, const SpindleGeometry& g, do
   max_gap_deg_ = max_gap_deg;
   options_ = options;
   fit_ = SpindleFit();
+  noise_ = SpindleNoise();
   phase_ = Phase::kStart;
   status_ = Status::kOk;
-  cursor_ = 0;
 }
 
 SpindleStep SpindleBuilder::fail(Status s) {
@@ -247,39 +330,57 @@ SpindleStep SpindleBuilder::fail(Status s) {
   return {s, false};
 }
 
+void SpindleBuilder::evaluate(const SpindleParams& p, bool into_solver, double ssr[2]) {
+  for (int k = 0; k < 2; ++k) {
+    const SpindleHarmonics& h = harmonics_[k];
+    spindle_ball_terms(p, geometry_, k + 1, terms_);
+    const Vec3 m = terms_.m - bins_->sums(k + 1).origin_mm;
+    double sum = 0.0;
+    for (int x = 0; x < 3; ++x) {
+      // Convention 4: L^T z_x - y_x and its Jacobian L^T (d z_x / d p).
+      const Vec3 z(m(x), terms_.v(x), terms_.u(x));
+      const Vec3 r = h.l.transpose() * z - h.y.col(x);
+      sum += r.squaredNorm();
+      if (into_solver) {
+        SpindleJacobian dz;
+        dz.row(0) = terms_.jm.row(x);
+        dz.row(1) = terms_.jv.row(x);
+        dz.row(2) = terms_.ju.row(x);
+        const SpindleJacobian j = h.l.transpose().lazyProduct(dz);
+        lm_.add(r, j);
+      }
+    }
+    if (into_solver) lm_.add_constant(h.ssr_mm2, 3 * (bins_->samples(k + 1) - 3));
+    ssr[k] = sum + h.ssr_mm2;
+  }
+}
+
 SpindleStep SpindleBuilder::step() {
   switch (phase_) {
     case Phase::kStart: {
       const Result<SpindleParams> p0 = spindle_start(*bins_, geometry_, max_gap_deg_);
       if (!p0.ok()) return fail(p0.status());
+      for (int k = 0; k < 2; ++k) {
+        if (spindle_harmonics(bins_->sums(k + 1), harmonics_[k]) != Status::kOk) return fail(Status::kNotIdentifiable);
+      }
       lm_.start(p0.value(), options_);
-      lm_.begin_evaluation();
-      cursor_ = 0;
-      phase_ = Phase::kEvaluate;
+      phase_ = Phase::kNoise;
       return {Status::kOk, true};
     }
+    case Phase::kNoise:
+      noise_ = bins_->noise();
+      phase_ = Phase::kEvaluate;
+      return {Status::kOk, true};
     case Phase::kEvaluate: {
-      const std::size_t n1 = bins_->angles(1);
-      const std::size_t total = n1 + bins_->angles(2);
-      const SpindleParams p = lm_.point();
-      SpindleJacobian j;
-      for (std::size_t done = 0; done < kBinsPerStep && cursor_ < total; ++done, ++cursor_) {
-        const int ball = cursor_ < n1 ? 1 : 2;
-        const SpindleBin& b = bins_->bin(ball, cursor_ < n1 ? cursor_ : cursor_ - n1);
-        const Vec3 m = spindle_ball_jacobian(p, geometry_, ball, deg_to_rad(b.phi_deg), j);
-        const double root = std::sqrt(static_cast<double>(b.count));
-        const Vec3 r = root * (m - b.mean_mm);
-        j *= root;
-        lm_.add(r, j);
-      }
-      if (cursor_ == total) phase_ = Phase::kDecide;
+      double ssr[2];
+      lm_.begin_evaluation();
+      evaluate(lm_.point(), true, ssr);
+      phase_ = Phase::kDecide;
       return {Status::kOk, true};
     }
     case Phase::kDecide: {
       const LmStep s = lm_.finish_evaluation();
       if (s.more) {
-        lm_.begin_evaluation();
-        cursor_ = 0;
         phase_ = Phase::kEvaluate;
         return {Status::kOk, true};
       }
@@ -293,19 +394,17 @@ SpindleStep SpindleBuilder::step() {
     }
     case Phase::kFinish: {
       const double n = static_cast<double>(bins_->samples());
-      const double bins = static_cast<double>(bins_->angles(1) + bins_->angles(2));
-      const double scatter = bins_->scatter_mm2();
-      const double means = 2.0 * lm_.cost();  // sum of count x |mean residual|^2
-      const std::size_t repeats = bins_->samples() - (bins_->angles(1) + bins_->angles(2));
-      fit_.noise_from_repeats = repeats >= kMinNoiseRepeats;
-      const double s2 = fit_.noise_from_repeats ? scatter / (3.0 * (n - bins))
-                                                : (means + scatter) / (3.0 * n - kSpindleParams);
       fit_.params = lm_.solution();
       if (!(std::hypot(fit_.params(3), fit_.params(4)) <= kMaxSpindleTilt)) return fail(Status::kArgumentOutOfRange);
+      evaluate(fit_.params, false, fit_.ball_ssr_mm2);
+      const double ssr = fit_.ball_ssr_mm2[0] + fit_.ball_ssr_mm2[1];
+      fit_.noise_from_repeats = noise_.dof >= kMinNoiseRepeats;
+      const double s2 = fit_.noise_from_repeats ? noise_.ssr_mm2 / (3.0 * static_cast<double>(noise_.dof))
+                                                : ssr / (3.0 * n - kSpindleParams);
       lm_.covariance(s2 > 0.0 ? s2 : 1e-300, fit_.covariance, factor_);
       fit_.noise_sigma_mm = std::sqrt(s2);
-      fit_.rms_mm = std::sqrt((means + scatter) / n);
-      fit_.synchronous_rms_mm = std::sqrt(means / n);
+      fit_.rms_mm = std::sqrt(ssr / n);
+      fit_.synchronous_rms_mm = std::sqrt(std::fmax(0.0, ssr - noise_.ssr_mm2) / n);
       fit_.samples = static_cast<std::uint32_t>(bins_->samples());
       fit_.angles[0] = static_cast<std::uint32_t>(bins_->angles(1));
       fit_.angles[1] = static_cast<std::uint32_t>(bins_->angles(2));

@@ -11,6 +11,7 @@
 
 #include "reference.hpp"
 #include "trueaxis/core/byte_order.hpp"
+#include "trueaxis/core/screw.hpp"
 #include "trueaxis/core/spindle_correction.hpp"
 
 namespace core = trueaxis::core;
@@ -263,4 +264,165 @@ TEST_CASE("the stored model's bytes are convention 5's layout, field by field", 
   CHECK(back.fit.smallest_eigenvalue_ratio == m.fit.smallest_eigenvalue_ratio);
   CHECK(back.geometry.gauge_mm == 350.0);
   CHECK(back.geometry.ball_mm[0] == 50.0);
+}
+
+// --- the screw error in closed form (issue 18 item 3) ---
+
+namespace {
+
+// Convention 2's q and d, formed as spindle_correction forms them, so the two
+// computations below see the same line.
+void tool_line(const core::SpindleAxes& x, double g, double phi, Vec3& q, Vec3& d) {
+  const double c = std::cos(phi), s = std::sin(phi);
+  q = g * x.a + (c * x.e + s * x.a.cross(x.e));
+  d = x.a + (c * x.w + s * x.a.cross(x.w));
+}
+
+// The general path spindle_correction no longer takes: plucker_from_point and
+// screw_error from the ideal line (-Z through the origin).
+struct General {
+  Status status = Status::kOk;
+  core::ScrewError screw;
+};
+General general(const Vec3& q, const Vec3& d) {
+  General r;
+  const auto actual = core::plucker_from_point(q, d);
+  if (!actual.ok()) {
+    r.status = actual.status();
+    return r;
+  }
+  core::PluckerLine ideal;
+  ideal.direction = -Vec3::UnitZ();
+  const auto e = core::screw_error(ideal, actual.value());
+  r.status = e.status();
+  r.screw = e.value();
+  return r;
+}
+
+// Worst differences of spindle_correction against general() and how often
+// each of screw_error's branches was met.
+struct Agreement {
+  double theta = 0, distance = 0;
+  int cases = 0, parallel = 0, status_mismatch = 0;
+  void add(const core::SpindleAxes& x, double g, double phi) {
+    Vec3 q, d;
+    tool_line(x, g, phi, q, d);
+    const General ref = general(q, d);
+    const auto c = core::spindle_correction(x, g, 100.0, phi);
+    ++cases;
+    if (c.status() != ref.status) ++status_mismatch;
+    if (!c.ok() || ref.status != Status::kOk) return;
+    if (ref.screw.parallel) ++parallel;
+    theta = std::fmax(theta, std::fabs(c.value().theta_e_rad - ref.screw.theta_rad));
+    distance = std::fmax(distance, std::fabs(c.value().d_e_mm - ref.screw.distance_mm));
+  }
+};
+
+// A unit vector normal to unit a.
+Vec3 normal_to(t::Rng& rng, const Vec3& a) {
+  const Vec3 r = rng.unit_vector();
+  return (r - r.dot(a) * a).normalized();
+}
+
+double log_uniform(t::Rng& rng, double lo, double hi) {
+  return std::pow(10.0, rng.uniform(std::log10(lo), std::log10(hi)));
+}
+
+}  // namespace
+
+TEST_CASE("the closed-form screw error against plucker_from_point and screw_error", "[spindle]") {
+  t::Rng rng(84);
+  Agreement agree;
+  SECTION("random models, tilts of 100 arcsec and 0.2 rad, any angle") {
+    for (int trial = 0; trial < 4000; ++trial) {
+      const core::SpindleParams p = random_params(rng, trial % 2 == 0 ? 100 * kArcsec : 0.2);
+      agree.add(core::spindle_axes(p), rng.uniform(100, 500), rng.uniform(-15, 15));
+    }
+    CHECK(agree.parallel == 0);
+  }
+  SECTION("next to the singularity: a on -Z, the tool tilted 1e-15..1e-6 rad, and exactly parallel") {
+    for (int trial = 0; trial < 4000; ++trial) {
+      core::SpindleAxes x;  // a = -Z exactly
+      x.e = Vec3(rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), 0.0);
+      const double tilt = trial % 8 == 0 ? 0.0 : log_uniform(rng, 1e-15, 1e-6);
+      if (std::fabs(tilt / core::kParallelSin - 1.0) < 1e-6) continue;  // the branch itself is rounding there
+      const double beta = rng.uniform(-core::kPi, core::kPi);
+      x.w = tilt * Vec3(std::cos(beta), std::sin(beta), 0.0);
+      agree.add(x, rng.uniform(100, 500), rng.uniform(-15, 15));
+    }
+    CHECK(agree.parallel > 1500);               // below 1e-12: screw_error's parallel branch
+    CHECK(agree.cases - agree.parallel > 2000);  // above it, |k| down to 1e-12
+  }
+  SECTION("next to the singularity: a tilted up to 100 arcsec, w cancelling it but for 1e-15..1e-6 rad") {
+    for (int trial = 0; trial < 4000; ++trial) {
+      const core::SpindleAxes tilted = core::spindle_axes(random_params(rng, 100 * kArcsec));
+      const Vec3 a = tilted.a;
+      const Vec3 cancel = -Vec3::UnitZ() / -a.z() - a;  // normal to a, a + cancel on -Z
+      const double tilt = trial % 8 == 0 ? 0.0 : log_uniform(rng, 1e-15, 1e-6);
+      if (std::fabs(tilt / core::kParallelSin - 1.0) < 1e-3) continue;
+      core::SpindleAxes x;
+      x.a = a;
+      x.e = tilted.e;
+      x.w = cancel + tilt * normal_to(rng, a);
+      agree.add(x, rng.uniform(100, 500), 0.0);  // phi = 0: d = a + w as built
+    }
+    CHECK(agree.parallel > 1000);
+    CHECK(agree.cases - agree.parallel > 2000);
+  }
+  SECTION("d not of unit length (a scaled), near and far from the singularity, the threshold on both sides") {
+    for (int trial = 0; trial < 4000; ++trial) {
+      const double scales[4] = {1e-3, 0.5, 3.0, 1e3};
+      const double scale = scales[trial % 4];
+      core::SpindleAxes x;
+      const double tilt = trial % 3 == 0 ? rng.uniform(0.0, 0.3) : log_uniform(rng, 1e-15, 1e-9);
+      x.a = -scale * Vec3::UnitZ();
+      const double beta = rng.uniform(-core::kPi, core::kPi);
+      x.w = scale * tilt * Vec3(std::cos(beta), std::sin(beta), 0.0);
+      x.e = Vec3(rng.uniform(-0.01, 0.01), rng.uniform(-0.01, 0.01), 0.0);
+      if (std::fabs(tilt / core::kParallelSin - 1.0) < 1e-6) continue;
+      agree.add(x, rng.uniform(100, 500), rng.uniform(-15, 15));
+    }
+    for (const double tilt : {0.999e-12, 1.001e-12}) {  // just either side of kParallelSin
+      for (const double scale : {1e-3, 1.0, 1e3}) {
+        core::SpindleAxes x;
+        x.a = -scale * Vec3::UnitZ();
+        x.w = scale * tilt * Vec3(0.6, 0.8, 0.0);
+        x.e = Vec3(0.003, -0.004, 0.0);  // not along k: the branches differ by millimetres' thousandths
+        agree.add(x, 350.0, 0.0);
+      }
+    }
+    CHECK(agree.parallel > 1000);
+    CHECK(agree.cases - agree.parallel > 2000);
+  }
+  SECTION("the tool line reversed (theta pi), extreme lengths of d, and the refusals") {
+    core::SpindleAxes x;
+    x.a = Vec3::UnitZ();
+    x.e = Vec3(0.003, -0.004, 0.0);
+    agree.add(x, 350.0, 0.4);  // exactly antiparallel
+    x.w = Vec3(1e-9, 0.0, 0.0);
+    agree.add(x, 350.0, 0.4);
+    for (const double scale : {1e-160, 1e-40, 1e40, 1e150}) {
+      for (const double tilt : {0.0, 1e-13, 1e-7, 0.1}) {
+        core::SpindleAxes s;
+        s.a = -scale * Vec3::UnitZ();
+        s.w = scale * tilt * Vec3(0.6, 0.8, 0.0);
+        s.e = Vec3(0.003, -0.004, 0.0);
+        agree.add(s, 350.0 / scale, 0.0);  // q = (0.003, -0.004, -350) still
+      }
+    }
+    core::SpindleAxes zero;
+    zero.a = Vec3::Zero();
+    agree.add(zero, 350.0, 0.0);  // d = 0: both kArgumentOutOfRange
+    core::SpindleAxes nan;
+    nan.w = Vec3(NAN, 0.0, 0.0);
+    agree.add(nan, 350.0, 0.0);  // both kNotFinite
+    CHECK(core::spindle_correction(zero, 350, 0, 0).status() == Status::kArgumentOutOfRange);
+    CHECK(core::spindle_correction(nan, 350, 0, 0).status() == Status::kNotFinite);
+    CHECK(agree.parallel >= 6);
+  }
+  INFO("cases " << agree.cases << ", parallel " << agree.parallel << ", worst theta " << agree.theta
+                 << " rad, d_e " << agree.distance << " mm");
+  CHECK(agree.status_mismatch == 0);
+  CHECK(agree.theta <= 1e-12);
+  CHECK(agree.distance <= 1e-9);
 }

@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <iomanip>
 #include <memory>
 #include <vector>
 
@@ -198,41 +199,53 @@ TEST_CASE("the analytic Jacobian agrees with central differences", "[spindle]") 
   }
 }
 
-TEST_CASE("angle bins: repeats merge, every angle once, capacity and coverage at their limits", "[spindle]") {
+TEST_CASE("angle bins: repeats merge, bins hold any angles, coverage at its limits", "[spindle]") {
   auto bins = std::make_unique<core::SpindleBins>();
   bins->clear();
-  SECTION("repeats of an angle (mod 360, within 1e-6 deg) share a bin with the right mean and scatter") {
+  SECTION("repeats of an angle (mod 360) share a bin with the right mean and scatter") {
     const Vec3 p1(1, 2, 3), p2(1.5, 2, 3), p3(1, 2.5, 3);
     REQUIRE(bins->add({10.0, 1, p1}) == Status::kOk);
-    REQUIRE(bins->add({370.0 + 0.9e-6, 1, p2}) == Status::kOk);
-    REQUIRE(bins->add({-350.0 - 0.9e-6, 1, p3}) == Status::kOk);
-    REQUIRE(bins->add({10.0 + 1.1e-6, 1, p3}) == Status::kOk);  // just outside: its own bin
+    REQUIRE(bins->add({370.0, 1, p2}) == Status::kOk);
+    REQUIRE(bins->add({-350.0, 1, p3}) == Status::kOk);
+    REQUIRE(bins->add({12.0, 1, p3}) == Status::kOk);  // the next bin (2 deg wide, from 10)
     CHECK(bins->angles(1) == 2);
     CHECK(bins->samples(1) == 4);
-    const core::SpindleBin& b = bins->bin(1, 0);
+    const core::SpindleBin& b = bins->bin(1, 5);
     CHECK(b.count == 3);
+    CHECK(b.phi_deg == 10.0);
+    CHECK(b.angle_deg() == 10.0);
     const Vec3 mean = (p1 + p2 + p3) / 3;
-    CHECK((b.mean_mm - mean).norm() < 1e-15);
+    CHECK((b.mean_offset_mm - (mean - p1)).norm() < 1e-15);
     const double scatter = (p1 - mean).squaredNorm() + (p2 - mean).squaredNorm() + (p3 - mean).squaredNorm();
     CHECK(b.scatter_mm2 == Approx(scatter).epsilon(1e-14));
+    // Repeats of one angle: the noise about their mean, count - 1 degrees of freedom.
+    const core::SpindleNoise n = core::spindle_bin_noise(b);
+    CHECK(n.dof == 2);
+    CHECK(n.ssr_mm2 == b.scatter_mm2);
+    CHECK(bins->bin(1, 6).count == 1);
   }
-  SECTION("0 and 360 - 0.5e-6 are one angle; the bins stay sorted") {
+  SECTION("an angle just below 360 lies in the last bin, 0 in the first: the gap across 0 is their distance") {
     REQUIRE(bins->add({359.9999995, 2, Vec3::Zero()}) == Status::kOk);
+    REQUIRE(bins->add({-0.5e-6, 2, Vec3::Ones()}) == Status::kOk);  // the same angle written below 0
     REQUIRE(bins->add({0.0, 2, Vec3::Ones()}) == Status::kOk);
     REQUIRE(bins->add({180.0, 2, Vec3::Ones()}) == Status::kOk);
     REQUIRE(bins->add({90.0, 2, Vec3::Ones()}) == Status::kOk);
-    CHECK(bins->angles(2) == 3);
-    CHECK(bins->bin(2, 0).phi_deg == 90.0);
-    CHECK(bins->bin(2, 1).phi_deg == 180.0);
-    CHECK(bins->bin(2, 2).count == 2);
+    CHECK(bins->angles(2) == 4);
+    CHECK(bins->bin(2, 0).phi_deg == 0.0);
+    CHECK(bins->bin(2, 45).phi_deg == 90.0);
+    CHECK(bins->bin(2, 90).phi_deg == 180.0);
+    CHECK(bins->bin(2, core::kSpindleBins - 1).count == 2);
+    CHECK(bins->largest_gap_deg(2) == Approx(180.0 - 0.5e-6).epsilon(1e-15));
   }
-  SECTION("360 distinct angles fit, the 361st is session_full and changes nothing") {
-    for (int i = 0; i < 360; ++i) REQUIRE(bins->add({i * 1.0, 1, Vec3::Zero()}) == Status::kOk);
-    CHECK(bins->add({0.5, 1, Vec3::Zero()}) == Status::kSessionFull);
-    CHECK(bins->angles(1) == 360);
-    CHECK(bins->samples(1) == 360);
-    CHECK(bins->add({367.0, 1, Vec3::Zero()}) == Status::kOk);  // a repeat still fits
-    CHECK(bins->largest_gap_deg(1) == 1.0);
+  SECTION("any number of distinct angles: 4,096 a revolution over 3 revolutions fill every bin") {
+    for (int rev = 0; rev < 3; ++rev) {
+      for (int i = 0; i < 4096; ++i) {
+        REQUIRE(bins->add({360.0 * rev + 360.0 * i / 4096, 1, Vec3(1e-6 * (rev * 4096 + i), 0, 0)}) == Status::kOk);
+      }
+    }
+    CHECK(bins->angles(1) == core::kSpindleBins);
+    CHECK(bins->samples(1) == 3 * 4096);
+    CHECK(bins->largest_gap_deg(1) < 2 * core::kSpindleBinDeg);  // convention 7: bins' mean angles
   }
   SECTION("bad samples change nothing") {
     CHECK(bins->add({NAN, 1, Vec3::Zero()}) == Status::kNotFinite);
@@ -374,8 +387,8 @@ TEST_CASE("the builder's steps are bounded and give fit_spindle's result bit for
   CHECK(bool(builder.fit().params == direct.params));
   CHECK(bool(builder.fit().covariance == direct.covariance));
   const int evaluations = builder.fit().evaluations;
-  // start + per evaluation (720 bins / 48 per step + its decision) + the finish
-  CHECK(steps == 1 + evaluations * (720 / 48 + 1) + 1);
+  // start + the bins' noise + per evaluation (the sums, then its decision) + the finish
+  CHECK(steps == 2 + evaluations * 2 + 1);
   // The builder runs again from start() with the same result; a step after the end repeats it.
   builder.start(*bins, kGeometry);
   do step = builder.step(); while (step.more);
@@ -412,20 +425,7 @@ TEST_CASE("both balls at one place: not_identifiable; a solver cut short: no_con
 
 // --- proposed (review of M4): each closes a break no test caught ---
 
-TEST_CASE("a repeat just below 360 joins the bin at 0 whichever came first", "[spindle]") {
-  auto bins = std::make_unique<core::SpindleBins>();
-  bins->clear();
-  REQUIRE(bins->add({0.0, 1, Vec3::Zero()}) == Status::kOk);
-  REQUIRE(bins->add({90.0, 1, Vec3::Zero()}) == Status::kOk);
-  REQUIRE(bins->add({359.9999995, 1, Vec3::Ones()}) == Status::kOk);  // 0.5e-6 deg below 0, written at the top
-  REQUIRE(bins->add({-0.5e-6, 1, Vec3::Ones()}) == Status::kOk);      // the same angle written below 0
-  CHECK(bins->angles(1) == 2);
-  CHECK(bins->bin(1, 0).phi_deg == 0.0);
-  CHECK(bins->bin(1, 0).count == 3);
-  CHECK(bins->largest_gap_deg(1) == 270.0);
-}
-
-TEST_CASE("2^24 repeats of an angle fit in its bin, the next is session_full and changes nothing", "[spindle]") {
+TEST_CASE("2^23 samples fit in one angle bin, the next is session_full and changes nothing", "[spindle]") {
   auto bins = std::make_unique<core::SpindleBins>();
   bins->clear();
   std::uint32_t ok = 0;
@@ -434,9 +434,11 @@ TEST_CASE("2^24 repeats of an angle fit in its bin, the next is session_full and
     ok += bins->add({10.0, 1, Vec3(1e-3 * static_cast<double>(i), 0, 0)}) == Status::kOk ? 1u : 0u;
   }
   CHECK(ok == core::kMaxBinCount);
-  CHECK(bins->add({370.0, 1, Vec3(-1, 0, 0)}) == Status::kSessionFull);
-  CHECK(bins->bin(1, 0).count == core::kMaxBinCount);
+  CHECK(bins->add({371.0, 1, Vec3(-1, 0, 0)}) == Status::kSessionFull);  // the same bin, another angle
+  CHECK(bins->bin(1, 5).count == core::kMaxBinCount);
   CHECK(bins->samples(1) == core::kMaxBinCount);
+  CHECK(bins->sums(1).count == core::kMaxBinCount);
+  CHECK(bins->add({12.0, 1, Vec3(-1, 0, 0)}) == Status::kOk);  // the next bin still takes samples
 }
 
 // Two revolutions of exact data, the second moved by d along X: each bin's mean is
@@ -464,23 +466,27 @@ TEST_CASE("the noise and the RMS figures are convention 6's formulas exactly", "
   CHECK(fit.synchronous_rms_mm < 1e-9);              // the means lie on the model
 }
 
-TEST_CASE("an evaluation never takes more than kBinsPerStep bins in one step", "[spindle]") {
-  // 24 + 25 = 49 bins: 48 in one step and 1 in the next; a bound of 49 would take one.
-  auto bins = std::make_unique<core::SpindleBins>();
-  bins->clear();
-  for (int k = 1; k <= 2; ++k) {
-    const int n = k == 1 ? 24 : 25;
-    for (int i = 0; i < n; ++i) {
-      const double phi = 360.0 * i / n;
-      REQUIRE(bins->add({phi, k, ball(truth(), kGeometry.ball_mm[k - 1], core::deg_to_rad(phi))}) == Status::kOk);
+TEST_CASE("an evaluation takes one step whatever the number of samples", "[spindle]") {
+  // 16 samples or 20,480 a ball: the same steps per evaluation.
+  for (const int per_revolution : {8, 4096}) {
+    const int revolutions = per_revolution == 8 ? 1 : 5;
+    auto bins = std::make_unique<core::SpindleBins>();
+    bins->clear();
+    for (int k = 1; k <= 2; ++k) {
+      for (int i = 0; i < per_revolution * revolutions; ++i) {
+        const double phi = 360.0 * i / per_revolution;
+        REQUIRE(bins->add({phi, k, ball(truth(), kGeometry.ball_mm[k - 1], core::deg_to_rad(phi)) +
+                                       Vec3(1e-9 * (i % 7), 0, 0)}) == Status::kOk);
+      }
     }
+    core::SpindleBuilder builder;
+    builder.start(*bins, kGeometry);
+    core::SpindleStep step;
+    const int steps = step_to_end(builder, step);
+    CAPTURE(per_revolution);
+    REQUIRE(step.status == Status::kOk);
+    CHECK(steps == 2 + builder.fit().evaluations * 2 + 1);
   }
-  core::SpindleBuilder builder;
-  builder.start(*bins, kGeometry);
-  core::SpindleStep step;
-  const int steps = step_to_end(builder, step);
-  REQUIRE(step.status == Status::kOk);
-  CHECK(steps == 1 + builder.fit().evaluations * (2 + 1) + 1);
 }
 
 // The fit stores only what the decoder loads again (spindle_correction.hpp
@@ -497,4 +503,133 @@ TEST_CASE("an axis tilted past kMaxSpindleTilt is refused at the fit, one just i
     CAPTURE(ax);
     CHECK(status == (ax < core::kMaxSpindleTilt ? Status::kOk : Status::kArgumentOutOfRange));
   }
+}
+
+// ---- issue 18: any sampling, in fixed memory --------------------------------------
+
+TEST_CASE("a bin's noise is the residual of its own local line, as a regression on its samples gives it",
+          "[spindle]") {
+  t::Rng rng(1801);
+  for (int trial = 0; trial < 200; ++trial) {
+    auto bins = std::make_unique<core::SpindleBins>();
+    bins->clear();
+    const int n = 2 + trial % 30;
+    const double phi0 = 2.0 * static_cast<double>(trial % 180);
+    // Samples at angles across the bin (or, every fourth trial, repeats of one
+    // angle), each a line in delta plus noise, around a centre far from 0.
+    std::vector<double> delta(static_cast<std::size_t>(n));
+    std::vector<Vec3> p(static_cast<std::size_t>(n));
+    const Vec3 centre(123.4, -56.7, 400.0);
+    const Vec3 slope(rng.normal(), rng.normal(), rng.normal());
+    for (int i = 0; i < n; ++i) {
+      const std::size_t k = static_cast<std::size_t>(i);
+      delta[k] = trial % 4 == 0 ? 0.0 : (i == 0 ? 0.0 : rng.uniform(0.0, 1.999));
+      p[k] = centre + 1e-3 * delta[k] * slope + 15e-6 * Vec3(rng.normal(), rng.normal(), rng.normal());
+      REQUIRE(bins->add({phi0 + delta[k] + 720.0, 1, p[k]}) == Status::kOk);
+    }
+    REQUIRE(bins->angles(1) == 1);
+    const core::SpindleBin& b = bins->bin(1, static_cast<std::size_t>(phi0 / 2.0));
+    REQUIRE(b.count == static_cast<std::uint32_t>(n));
+    const core::SpindleNoise got = core::spindle_bin_noise(b);
+    // Independent: per axis, least squares on (1, delta) by normal equations
+    // in long double (one angle: the mean alone).
+    long double sd = 0, sdd = 0;
+    for (double d : delta) {
+      sd += d;
+      sdd += static_cast<long double>(d) * d;
+    }
+    const bool one_angle = trial % 4 == 0;
+    long double ssr = 0;
+    for (int x = 0; x < 3; ++x) {
+      long double sp = 0, sdp = 0;
+      for (std::size_t k = 0; k < delta.size(); ++k) {
+        sp += p[k](x);
+        sdp += static_cast<long double>(delta[k]) * p[k](x);
+      }
+      const long double det = n * sdd - sd * sd;
+      const long double beta = one_angle ? 0.0L : (n * sdp - sd * sp) / det;
+      const long double alpha = (sp - beta * sd) / n;
+      for (std::size_t k = 0; k < delta.size(); ++k) {
+        const long double r = p[k](x) - alpha - beta * delta[k];
+        ssr += r * r;
+      }
+    }
+    CAPTURE(trial, n);
+    CHECK(got.dof == static_cast<std::size_t>(one_angle ? n - 1 : n - 2));
+    INFO(std::setprecision(17) << got.ssr_mm2 << " " << static_cast<double>(ssr));
+    CHECK(got.ssr_mm2 == Approx(static_cast<double>(ssr)).epsilon(1e-8).margin(1e-20));
+  }
+}
+
+TEST_CASE("angles spread by no more than kSameAngleDeg are repeats of one angle; a little more is a line",
+          "[spindle]") {
+  for (const double spread : {0.99e-6, 1.01e-6}) {
+    auto bins = std::make_unique<core::SpindleBins>();
+    bins->clear();
+    // Two angles +-spread around 31: RMS spread exactly `spread`, four samples.
+    const double at[4] = {31.0 - spread, 31.0 + spread, 31.0 - spread, 31.0 + spread};
+    for (int i = 0; i < 4; ++i) REQUIRE(bins->add({at[i], 1, Vec3(1e-3 * i, 0, 0)}) == Status::kOk);
+    const core::SpindleNoise n = core::spindle_bin_noise(bins->bin(1, 15));
+    CAPTURE(spread);
+    CHECK(n.dof == (spread < core::kSameAngleDeg ? 3u : 2u));
+  }
+}
+
+// The session's sums give the least-squares fit to every sample, for angles that
+// never repeat (time-sampled, a drifting speed): against a Gauss-Newton written
+// here on the samples themselves (the model of `ball`, numeric Jacobian).
+TEST_CASE("time-sampled angles: the fit from the sums is the least-squares fit to every sample", "[spindle]") {
+  t::Rng rng(1802);
+  const core::SpindleParams p = truth();
+  std::vector<core::SpindleSample> s;
+  double phi = 17.3;
+  for (int i = 0; phi < 17.3 + 3 * 360.0; ++i) {
+    const double speed = 1.0 + 0.01 * (phi - 17.3) / (3 * 360.0) - 0.005;  // drifting by 1 %
+    for (int k = 1; k <= 2; ++k) {
+      const Vec3 n(rng.normal(), rng.normal(), rng.normal());
+      const double r = core::deg_to_rad(phi);
+      const Vec3 form(40e-6 * std::cos(3 * r + k), 30e-6 * std::sin(5 * r), 0.0);
+      s.push_back({phi, k, ball(p, kGeometry.ball_mm[k - 1], r) + form + 15e-6 * n});
+    }
+    phi += 360.0 / 1024 * speed;
+  }
+  core::SpindleFit fit;
+  REQUIRE(core::fit_spindle(s.data(), s.size(), kGeometry, fit) == Status::kOk);
+  // Gauss-Newton on the samples.
+  core::SpindleParams q = fit.params;
+  for (int k = 0; k < 9; ++k) q(k) += 3.0 * std::sqrt(fit.covariance(k, k));  // a start off the answer
+  double ssr_ball[2] = {0, 0};
+  for (int iteration = 0; iteration < 6; ++iteration) {
+    Eigen::Matrix<double, 9, 9> a = Eigen::Matrix<double, 9, 9>::Zero();
+    Eigen::Matrix<double, 9, 1> g = Eigen::Matrix<double, 9, 1>::Zero();
+    ssr_ball[0] = ssr_ball[1] = 0;
+    for (const auto& x : s) {
+      const double depth = kGeometry.ball_mm[x.ball - 1];
+      const double r = core::deg_to_rad(std::fmod(x.phi_deg, 360.0));
+      const Vec3 res = ball(q, depth, r) - x.p_mm;
+      ssr_ball[x.ball - 1] += res.squaredNorm();
+      Eigen::Matrix<double, 3, 9> j;
+      for (int k = 0; k < 9; ++k) {
+        core::SpindleParams plus = q, minus = q;
+        const double h = k < 3 || k == 5 || k == 6 ? 1e-5 : 1e-7;
+        plus(k) += h;
+        minus(k) -= h;
+        j.col(k) = (ball(plus, depth, r) - ball(minus, depth, r)) / (2 * h);
+      }
+      a += j.transpose() * j;
+      g += j.transpose() * res;
+    }
+    q -= a.ldlt().solve(g);
+  }
+  for (int k = 0; k < 9; ++k) {
+    CAPTURE(k);
+    CHECK(std::fabs(fit.params(k) - q(k)) < 1e-3 * std::sqrt(fit.covariance(k, k)));
+  }
+  CHECK(fit.ball_ssr_mm2[0] == Approx(ssr_ball[0]).epsilon(1e-6));
+  CHECK(fit.ball_ssr_mm2[1] == Approx(ssr_ball[1]).epsilon(1e-6));
+  CHECK(fit.rms_mm == Approx(std::sqrt((ssr_ball[0] + ssr_ball[1]) / static_cast<double>(s.size()))).epsilon(1e-6));
+  // The noise from the bins' local lines: the probes' 15 nm, not the form error.
+  CHECK(fit.noise_from_repeats);
+  CHECK(fit.noise_sigma_mm == Approx(15e-6).epsilon(0.05));
+  CHECK(fit.synchronous_rms_mm > 30e-6);
 }

@@ -91,6 +91,21 @@ struct Started {
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+// Issue 18 computes M4's screw error (theta_e, d_e) in closed form
+// (spindle_correction.cpp) instead of through Pluecker lines: the same
+// figures, rounded differently in their last bits (the core test "the
+// closed-form screw error against plucker_from_point and screw_error" holds
+// them to 1e-12 rad and 1e-9 mm). 9843's and 9844's theta_e and d_e may
+// differ from 5f22699's by 1e-13 relative, 9844's sigmas (central differences
+// of them over steps of 1e-9) by 1e-6; the tool-tip errors and everything
+// else stay bit for bit, and the stored model loads bit for bit (9845).
+double spindle_rounding(int macro, int output) {
+  if (macro != 9843 && macro != 9844) return 0.0;
+  if (output == 100 || output == 101) return 1e-13;
+  if (macro == 9844 && ((output >= 105 && output <= 109) || output >= 113)) return 1e-6;
+  return 0.0;
+}
+
 // The shortest decimal that reads back as x.
 std::string text(double x) {
   char buf[40];
@@ -119,8 +134,11 @@ std::string describe(const expected::Query& q) {
 // whole list of answers it took with it, in one failure.
 struct Differences {
   std::vector<std::string> lines;
-  void value(const std::string& what, double got, double want) {
-    if (!same_bits(got, want)) lines.push_back(what + ": got " + text(got) + ", 5f22699 gave " + text(want));
+  // `relative` > 0: an answer whose arithmetic changed on purpose since 5f22699
+  // (see spindle_rounding below), within that relative difference.
+  void value(const std::string& what, double got, double want, double relative = 0.0) {
+    const bool same = relative > 0.0 ? std::fabs(got - want) <= relative * std::fabs(want) : same_bits(got, want);
+    if (!same) lines.push_back(what + ": got " + text(got) + ", 5f22699 gave " + text(want));
   }
   void status(const std::string& what, int got, int want) {
     if (got != want) lines.push_back(what + ": status " + std::to_string(got) + ", 5f22699 gave " + std::to_string(want));
@@ -157,7 +175,9 @@ void run_query(Started& s, const expected::Query& q, Differences& d) {
   if (error != 0 || q.error != 0) return;
   std::vector<double> got(q.count);
   REQUIRE(s.module.read(100, q.count, got.data()) == F::kNone);
-  for (std::size_t k = 0; k < q.count; ++k) d.value(what + " #" + std::to_string(100 + k), got[k], q.results[k]);
+  for (std::size_t k = 0; k < q.count; ++k) {
+    d.value(what + " #" + std::to_string(100 + k), got[k], q.results[k], spindle_rounding(static_cast<int>(q.macro), 100 + static_cast<int>(k)));
+  }
 }
 
 bool is_level(const expected::Query& q) { return q.macro == 9810 || q.macro == 9811; }
@@ -240,8 +260,8 @@ TEST_CASE("a store written by 5f22699 loads with every record intact", "[store][
       const auto r = m::spindle::tool_tip_correction(spindle, t.phi_deg, t.tool_mm);
       d.status(what, static_cast<int>(r.status()), t.status);
       if (!r.ok() || t.status != 0) continue;
-      d.value(what + " theta_e", r.value().theta_e_rad, t.theta_e_rad);
-      d.value(what + " d_e", r.value().d_e_mm, t.d_e_mm);
+      d.value(what + " theta_e", r.value().theta_e_rad, t.theta_e_rad, spindle_rounding(9843, 100));
+      d.value(what + " d_e", r.value().d_e_mm, t.d_e_mm, spindle_rounding(9843, 101));
       for (int k = 0; k < 3; ++k) {
         d.value(what + " tip[" + std::to_string(k) + "]", r.value().tip_error_mm[k], t.tip_error_mm[k]);
       }

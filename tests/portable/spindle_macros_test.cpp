@@ -68,23 +68,23 @@ Correction correction_outputs(const ModuleRig& rig) {
 
 }  // namespace
 
-TA_TEST("9840 opens an empty session of 360 angles per ball; 9841 counts samples and distinct angles") {
+TA_TEST("9840 opens an empty session of 180 angle bins per ball; 9841 counts samples and the bins holding them") {
   ModuleRig rig;
   TA_REQUIRE(rig.done(9840));
   TA_CHECK_EQ(rig.get(v::kSpindleSessionSamples), 0.0);
-  TA_CHECK_EQ(rig.get(v::kSpindleSessionCapacity), 360.0);
+  TA_CHECK_EQ(rig.get(v::kSpindleSessionCapacity), 180.0);
   TA_CHECK_EQ(sf::add(rig, 10.0, 1, sf::ball(1, 10.0)), kDone);
   TA_CHECK_EQ(sf::add(rig, 370.0, 1, sf::ball(1, 10.0)), kDone);  // the same angle a revolution on: its bin
   TA_CHECK_EQ(sf::add(rig, 20.0, 2, sf::ball(2, 20.0)), kDone);
   TA_CHECK_EQ(rig.get(v::kSpindleSessionSamples), 3.0);
   TA_CHECK_EQ(rig.get(v::kSpindleSessionAngles1), 1.0);
   TA_CHECK_EQ(rig.get(v::kSpindleSessionAngles2), 1.0);
-  TA_CHECK_EQ(rig.get(v::kSpindleSessionCapacity), 360.0);
+  TA_CHECK_EQ(rig.get(v::kSpindleSessionCapacity), 180.0);
   TA_REQUIRE(rig.done(9840));
   TA_CHECK_EQ(rig.get(v::kSpindleSessionSamples), 0.0);
 }
 
-TA_TEST("9841 refuses a ball other than 1 or 2 and keeps the session; the 361st angle of a ball is session_full") {
+TA_TEST("9841 refuses a ball other than 1 or 2 and keeps the session; any number of distinct angles is taken") {
   ModuleRig rig;
   sf::stream(rig);
   const ModuleRig::Results kept = rig.results();
@@ -99,12 +99,13 @@ TA_TEST("9841 refuses a ball other than 1 or 2 and keeps the session; the 361st 
   TA_REQUIRE(bins != nullptr);
   TA_CHECK_EQ(bins->samples(), std::size_t{2 * sf::kAngles});
   TA_REQUIRE(rig.done(9840));
-  for (int i = 0; i < 360; ++i) TA_REQUIRE(sf::add(rig, i, 2, Vec3(0, 0, 400)) == kDone);
-  TA_CHECK_EQ(rig.get(v::kSpindleSessionAngles2), 360.0);
-  TA_CHECK_EQ(sf::add(rig, 0.5, 2, Vec3(0, 0, 400)), kError);
-  TA_CHECK_EQ(rig.code(), Status::kSessionFull);
-  TA_CHECK_EQ(rig.get(v::kSpindleSessionSamples), 360.0);
-  TA_CHECK_EQ(sf::add(rig, 0.5, 1, Vec3(0, 0, 400)), kDone);  // the other ball has room
+  // 720 distinct angles (the session held 360 before issue 18), then 360 more
+  // that never repeat them: every one taken, all 180 bins hold samples.
+  for (int i = 0; i < 720; ++i) TA_REQUIRE(sf::add(rig, 0.5 * i, 2, Vec3(0, 0, 400 + 1e-6 * i)) == kDone);
+  for (int i = 0; i < 360; ++i) TA_REQUIRE(sf::add(rig, 360.25 + i, 2, Vec3(0, 0, 401 + 1e-6 * i)) == kDone);
+  TA_CHECK_EQ(rig.get(v::kSpindleSessionAngles2), 180.0);
+  TA_CHECK_EQ(rig.get(v::kSpindleSessionSamples), 1080.0);
+  TA_CHECK_EQ(sf::add(rig, 0.5, 1, Vec3(0, 0, 400)), kDone);
 }
 
 TA_TEST("9841 refuses a sample given twice bit for bit (duplicate_sample); a revolution on is a repeat; the samples given twice change no figure") {

@@ -25,7 +25,17 @@ VirtualAnalyser::VirtualAnalyser(const AnalyserConfig& config) : config_(config)
   }
 }
 
-int VirtualAnalyser::steps_per_revolution() const { return static_cast<int>(std::lround(360.0 / config_.step_deg)); }
+int VirtualAnalyser::steps_per_revolution() const {
+  if (config_.samples_per_revolution > 0) return config_.samples_per_revolution;
+  if (config_.time_sampled) return kTimeSampledDefaultSamples;
+  return static_cast<int>(std::lround(360.0 / config_.step_deg));
+}
+
+double VirtualAnalyser::time_sampled_angle_deg(double t) const {
+  const double d = config_.speed_drift;
+  const double r = static_cast<double>(config_.revolutions);
+  return 360.0 * (t * ((1.0 - 0.5 * d) + d * t / (2.0 * r)));
+}
 
 double VirtualAnalyser::form_radius_mm(int ball, double beta_deg) const {
   const int k = ball == 2 ? 1 : 0;
@@ -46,22 +56,37 @@ std::vector<core::SpindleSample> VirtualAnalyser::measure(const BallCentres& cen
   std::vector<core::SpindleSample> out;
   const int steps = steps_per_revolution();
   const double sigma = config_.noise_sigma_mm;
-  for (int r = 0; r < config_.revolutions; ++r) {
-    for (int i = 0; i < steps; ++i) {
-      const double phi = 360.0 * r + config_.step_deg * i;
-      for (int ball = 1; ball <= 2; ++ball) {
-        core::SpindleSample s;
-        s.phi_deg = phi;
-        s.ball = ball;
-        s.p_mm = centres(ball, phi) + form_error_mm(ball, phi);
-        if (sigma > 0.0) {
-          const double nx = noise.normal();
-          const double ny = noise.normal();
-          const double nz = noise.normal();
-          s.p_mm += sigma * Vec3(nx, ny, nz);
-        }
-        out.push_back(s);
+  // Convention 1's (or 3's) reading of both balls at one angle.
+  auto read_at = [&](double phi) {
+    for (int ball = 1; ball <= 2; ++ball) {
+      core::SpindleSample s;
+      s.phi_deg = phi;
+      s.ball = ball;
+      s.p_mm = centres(ball, phi) + form_error_mm(ball, phi);
+      if (sigma > 0.0) {
+        const double nx = noise.normal();
+        const double ny = noise.normal();
+        const double nz = noise.normal();
+        s.p_mm += sigma * Vec3(nx, ny, nz);
       }
+      out.push_back(s);
+    }
+  };
+  if (config_.revolutions <= 0 || steps <= 0) return out;
+  out.reserve(2u * static_cast<std::size_t>(config_.revolutions) * static_cast<std::size_t>(steps));
+  if (config_.time_sampled) {  // convention 3
+    const double phi0 = 360.0 * (1.0 - noise.uniform01());
+    const double tau = 1.0 - noise.uniform01();
+    const long count = static_cast<long>(steps) * config_.revolutions;
+    for (long k = 0; k < count; ++k) {
+      read_at(phi0 + time_sampled_angle_deg((static_cast<double>(k) + tau) / steps));
+    }
+    return out;
+  }
+  for (int r = 0; r < config_.revolutions; ++r) {  // convention 1
+    for (int i = 0; i < steps; ++i) {
+      read_at(config_.samples_per_revolution > 0 ? 360.0 * r + 360.0 * i / steps
+                                                 : 360.0 * r + config_.step_deg * i);
     }
   }
   return out;

@@ -124,8 +124,8 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
       }
       if (!run_or_fail(client, kAdd, where, r)) {
         if (module_refused(r, static_cast<int>(core::Status::kSessionFull))) {
-          r.error += ": ball " + row.texts[1] + " has " + std::to_string(core::kMaxSpindleAngles) +
-                     " distinct angles already, the most the session holds";
+          r.error += ": ball " + row.texts[1] + "'s angle bin holds " + std::to_string(core::kMaxBinCount) +
+                     " samples already, the most it holds";
         }
         return r;
       }

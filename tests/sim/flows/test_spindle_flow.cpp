@@ -109,7 +109,7 @@ TEST_CASE("9840..9845: the module identifies, stores and answers as the core com
   CHECK(rig.get(v::kSpindleSessionSamples) == 288);
   CHECK(rig.get(v::kSpindleSessionAngles1) == 72);
   CHECK(rig.get(v::kSpindleSessionAngles2) == 72);
-  CHECK(rig.get(v::kSpindleSessionCapacity) == 360);
+  CHECK(rig.get(v::kSpindleSessionCapacity) == 180);
 
   REQUIRE(rig.build(false) == kDone);
   const core::SpindleFit fit = direct_fit(s);

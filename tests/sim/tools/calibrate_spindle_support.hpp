@@ -27,11 +27,16 @@ struct SpindleFiles {
 };
 
 // trueaxis-measure-spindle --seed SEED --revolutions R into w, files named after `tag`.
-inline SpindleFiles measure_spindle(const Workspace& w, const std::string& tag, int seed, int revolutions) {
+// `sampling`: further options of trueaxis-measure-spindle (--samples-per-rev N,
+// --time-sampled, ...).
+inline SpindleFiles measure_spindle(const Workspace& w, const std::string& tag, int seed, int revolutions,
+                                    const std::vector<std::string>& sampling = {}) {
   const SpindleFiles f{w.file(tag + "_samples.csv"), w.file(tag + "_machine.csv"), w.file(tag + "_truth.json")};
-  const Run r = run({TRUEAXIS_MEASURE_SPINDLE_BINARY, "--out", f.samples, "--machine", f.machine, "--truth", f.truth,
-                     "--seed", std::to_string(seed), "--revolutions", std::to_string(revolutions)},
-                    w.file("measure_err.txt"));
+  std::vector<std::string> args = {TRUEAXIS_MEASURE_SPINDLE_BINARY, "--out", f.samples, "--machine", f.machine,
+                                   "--truth", f.truth, "--seed", std::to_string(seed), "--revolutions",
+                                   std::to_string(revolutions)};
+  args.insert(args.end(), sampling.begin(), sampling.end());
+  const Run r = run(args, w.file("measure_err.txt"));
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   return f;

@@ -13,7 +13,7 @@ MacroStep report_session(Context& ctx, const core::SpindleBins& b) {
   ctx.out<var::kSpindleSessionSamples>(static_cast<double>(b.samples()));
   ctx.out<var::kSpindleSessionAngles1>(static_cast<double>(b.angles(1)));
   ctx.out<var::kSpindleSessionAngles2>(static_cast<double>(b.angles(2)));
-  ctx.out<var::kSpindleSessionCapacity>(static_cast<double>(core::kMaxSpindleAngles));
+  ctx.out<var::kSpindleSessionCapacity>(static_cast<double>(core::kSpindleBins));
   return done(core::Status::kOk);
 }
 
@@ -37,35 +37,6 @@ MacroStep with_model(Context& ctx, const State& state, bool stored, Report repor
   const Work* work = ctx.work();
   if (work == nullptr) return done(core::Status::kResultReplaced);
   return report(work->computed);
-}
-
-// The count-weighted mean of a ball's bin means (zero for none).
-core::Vec3 ball_mean_mm(const core::SpindleBins& bins, int ball) {
-  core::Vec3 sum = core::Vec3::Zero();
-  double n = 0.0;
-  for (std::size_t i = 0; i < bins.angles(ball); ++i) {
-    const core::SpindleBin& b = bins.bin(ball, i);
-    sum += static_cast<double>(b.count) * b.mean_mm;
-    n += static_cast<double>(b.count);
-  }
-  return n > 0.0 ? core::Vec3(sum / n) : core::Vec3::Zero();
-}
-
-// Adds up to kBinsPerStep bins' squared residuals (their scatter, and the
-// count times the squared distance of their mean from the model) to each
-// ball's sum; true when every bin is in.
-bool add_residuals(Work& work, const core::SpindleBins& bins) {
-  const core::SpindleModel& m = work.computed;
-  for (std::size_t done = 0; done < core::SpindleBuilder::kBinsPerStep; ++done) {
-    const std::size_t first = bins.angles(1);
-    if (work.cursor >= first + bins.angles(2)) return true;
-    const int ball = work.cursor < first ? 1 : 2;
-    const core::SpindleBin& b = bins.bin(ball, ball == 1 ? work.cursor : work.cursor - first);
-    const core::Vec3 predicted = core::spindle_ball_mm(m.fit.params, m.geometry, ball, core::deg_to_rad(b.phi_deg));
-    work.ssr_mm2[ball - 1] += b.scatter_mm2 + static_cast<double>(b.count) * (predicted - b.mean_mm).squaredNorm();
-    ++work.cursor;
-  }
-  return work.cursor >= bins.angles(1) + bins.angles(2);
 }
 
 // The change gate's figure: the largest |tip_new - tip_stored| at V over the
@@ -105,7 +76,7 @@ MacroStep finish_build(Context& ctx, State& state, Work& work, const core::Spind
   if (variance > 0.0) {
     for (int ball = 1; ball <= 2; ++ball) {
       const std::size_t n = bins.samples(ball);
-      fit.consider(static_cast<std::size_t>(ball), work.ssr_mm2[ball - 1] / variance, n > 2 ? 3 * n - 4 : 0);
+      fit.consider(static_cast<std::size_t>(ball), work.computed.fit.ball_ssr_mm2[ball - 1] / variance, n > 2 ? 3 * n - 4 : 0);
     }
   }
   if (fit.refused()) return ctx.refuse(core::Status::kFitBeyondNoise, static_cast<double>(fit.item()), fit.ratio(), 1.0);
@@ -136,7 +107,22 @@ MacroStep finish_build(Context& ctx, State& state, Work& work, const core::Spind
 core::Result<core::SpindleCorrection> tool_tip_correction(const State& state, double phi_deg, double tool_mm) {
   if (!std::isfinite(phi_deg) || !std::isfinite(tool_mm)) return core::Status::kNotFinite;
   if (!tool_in_range(tool_mm)) return core::Status::kArgumentOutOfRange;
-  const double phi = radians(phi_deg);
+  // radians(phi_deg) bit for bit (9844 gives the same outputs) without fmod's
+  // cost (issue 18): n = trunc(phi_deg / 360) is fmod's quotient or, the
+  // division rounded up to an integer, one more, put right by the sign test;
+  // phi_deg - 360 n is exact below 2^44 deg (a multiple of phi_deg's ulp, at
+  // most 2^-8, under 360 deg), and takes phi_deg's sign as fmod's result does.
+  double reduced = phi_deg;
+  if (!(std::abs(phi_deg) < 360.0)) {
+    if (std::abs(phi_deg) < 0x1p44) {
+      reduced = phi_deg - 360.0 * std::trunc(phi_deg / 360.0);
+      if (reduced * phi_deg < 0.0) reduced += std::copysign(360.0, phi_deg);
+      reduced = std::copysign(reduced, phi_deg);
+    } else {
+      reduced = std::fmod(phi_deg, 360.0);
+    }
+  }
+  const double phi = core::deg_to_rad(reduced);
   return state.table.read_or([&](const core::SpindleModel& m) {
     return core::spindle_correction(m.axes, m.geometry.gauge_mm, tool_mm, phi);
   });
@@ -173,7 +159,7 @@ MacroStep run_build(Context& ctx, State& state) {
     }
     // The spacing gate: before the fit, which on such data would only fail to converge.
     const double given = g.ball_mm[1] - g.ball_mm[0];
-    const double spacing = (ball_mean_mm(*bins, 2) - ball_mean_mm(*bins, 1)).norm();
+    const double spacing = (bins->sums(2).mean_mm() - bins->sums(1).mean_mm()).norm();
     const double max_error = ctx.in<var::kSpindleMaxSpacingError>();
     if (bins->samples(1) > 0 && bins->samples(2) > 0 && !(std::abs(spacing - given) <= max_error)) {
       return ctx.refuse(kBallSpacingImplausible, 0.0, spacing - given, max_error);
@@ -182,8 +168,6 @@ MacroStep run_build(Context& ctx, State& state) {
     Work& work = ctx.open_work();
     work.computed.geometry = g;
     work.phase = Work::Phase::kFit;
-    work.cursor = 0;
-    work.ssr_mm2[0] = work.ssr_mm2[1] = 0.0;
     work.spacing_mm = spacing;
     work.builder.start(*bins, g, ctx.in<var::kSpindleMaxGap>());
     return more();
@@ -200,12 +184,9 @@ MacroStep run_build(Context& ctx, State& state) {
       // would be 0.9 kB on the stack of step().
       work->computed.fit = work->builder.fit();
       work->computed.axes = core::spindle_axes(work->computed.fit.params);
-      work->phase = Work::Phase::kResiduals;
+      work->phase = Work::Phase::kGates;
       return more();
     }
-    case Work::Phase::kResiduals:
-      if (add_residuals(*work, *bins)) work->phase = Work::Phase::kGates;
-      return more();
     case Work::Phase::kGates:
       break;
   }

@@ -13,8 +13,8 @@ struct Method : Shape {
   static constexpr StatusBlock kStatusBlock{1300, 1399};
   static constexpr List<core::StatusInfo> kStatuses = list_of(spindle::kStatuses);
   static constexpr List<MacroInfo> kMacros = list_of(spindle::kMacros);
-  static constexpr SessionLimit kLimits[] = {{"", "balls", 2}, {"", "repeats_per_angle", core::kMaxBinCount}};
-  static constexpr SessionInfo kSession{core::kMaxSpindleAngles, "distinct angles per ball",
+  static constexpr SessionLimit kLimits[] = {{"", "balls", 2}, {"", "samples_per_angle_bin", core::kMaxBinCount}};
+  static constexpr SessionInfo kSession{core::kSpindleBins, "angle bins of 2 deg per ball (any sampling, any number of revolutions)",
                                         "S spindle angle (#19, deg), T ball 1 or 2 (#20), ball centre X, Y, Z "
                                         "(#24..#26, mm, analyser frame)",
                                         9840, 9841, 9842, list_of(kLimits)};

@@ -14,12 +14,14 @@
 // Macro 9841: add an analyser sample: S = #19 spindle angle (deg, any number of
 //  revolutions: taken modulo 360), T = #20 ball (1 nearer the spindle, 2
 //  farther along the tool), X, Y, Z = #24..#26 the ball's centre (mm, analyser
-//  frame). Samples at an angle already in the session (within 1e-6 deg) join
-//  its bin (spindle_model.hpp convention 4). Out: #100..#103. Refused, nothing
-//  added: kArgumentOutOfRange (T not 1 or 2), kSessionFull (a ball's 361st
-//  distinct angle, or a repeat beyond 2^24 of one), kDuplicateSample (S, X,
-//  Y, Z as the first or the latest sample of its bin, bit for bit: a file, a
-//  revolution or a row given twice; convention 4 says what it cannot see).
+//  frame). The session keeps sums and 2-deg angle bins, not samples
+//  (spindle_model.hpp convention 4): any sampling (an encoder's up to 4,096 a
+//  revolution, or on time with angles that never repeat), any number of
+//  revolutions, in fixed memory. Out: #100..#103. Refused, nothing added:
+//  kArgumentOutOfRange (T not 1 or 2), kSessionFull (a bin's 2^23 + 1-th
+//  sample), kDuplicateSample (S, X, Y, Z as the first or the latest sample of
+//  its bin, bit for bit: a file, a revolution or a row given twice;
+//  convention 4 says what it cannot see).
 // Macro 9842: identify the model from the session (core::SpindleBuilder, several
 //  steps): D = #7 O1 to the gauge line (mm, > 0), U = #21 and V = #22 the ball
 //  centres below the gauge line (mm, 0 <= U < V), the gap limit #800. R = #18: 1
@@ -27,7 +29,7 @@
 //  through the keyed store and then made live; 0 identifies only (9844, 9845
 //  with R = 0 report it). Out: #100..#104 (kBuildOutputs). Status:
 //  kArgumentOutOfRange (D, U, V, R), kMissingGroup (a ball without samples),
-//  kTooFewSamples (fewer than 8 distinct angles of a ball),
+//  kTooFewSamples (fewer than 8 angle bins of a ball holding samples),
 //  kRevolutionIncomplete, kNotIdentifiable, kNoConvergence, kArgumentOutOfRange
 //  also for an axis more than 30 deg from -Z (core::kMaxSpindleTilt: the model
 //  stores only what it can load again). The session is kept either way.
@@ -73,11 +75,8 @@ static_assert(core::kSpindleModelBytes <= ModelRecord::kRecord.capacity_bytes, "
 struct Work {
   core::SpindleBuilder builder;
   core::SpindleModel computed;
-  // The gates after the fit (gates.hpp): each ball's sum of squared residuals,
-  // kBinsPerStep bins a step.
-  enum class Phase : std::uint8_t { kFit, kResiduals, kGates } phase = Phase::kFit;
-  std::size_t cursor = 0;
-  double ssr_mm2[2] = {0.0, 0.0};
+  // The gates after the fit, in a step of their own (gates.hpp).
+  enum class Phase : std::uint8_t { kFit, kGates } phase = Phase::kFit;
   double spacing_mm = 0.0;
 };
 

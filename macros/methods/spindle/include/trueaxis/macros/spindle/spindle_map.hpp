@@ -110,16 +110,16 @@ inline constexpr VarInfo kRows[] = {
 
 inline constexpr OutputInfo kSessionOutputs[] = {
   {var::kSpindleSessionSamples, "spindle_session_samples", "", "Analyser samples in the spindle session after this macro."},
-  {var::kSpindleSessionAngles1, "spindle_session_angles_1", "", "Distinct spindle angles of ball 1 (repeats of an angle share one)."},
-  {var::kSpindleSessionAngles2, "spindle_session_angles_2", "", "Distinct spindle angles of ball 2."},
-  {var::kSpindleSessionCapacity, "spindle_session_capacity", "", "Distinct angles the session holds per ball (any number of revolutions)."},
+  {var::kSpindleSessionAngles1, "spindle_session_angles_1", "", "Angle bins (2 deg) of ball 1 that hold samples."},
+  {var::kSpindleSessionAngles2, "spindle_session_angles_2", "", "Angle bins (2 deg) of ball 2 that hold samples."},
+  {var::kSpindleSessionCapacity, "spindle_session_capacity", "", "Angle bins per ball: the session keeps sums per bin, not samples (any sampling, any number of revolutions)."},
 };
 
 inline constexpr OutputInfo kBuildOutputs[] = {
   {var::kSpindleEvaluations, "spindle_evaluations", "", "Residual-and-Jacobian passes of the identification."},
-  {var::kSpindleNoiseSigma, "spindle_noise_sigma", "mm", "1-sigma probe noise per axis the intervals use (from the repeats of an angle when there are enough)."},
-  {var::kSpindleSynchronousRms, "spindle_synchronous_rms", "mm", "RMS 3-D residual of the angle means: what repeats every revolution (form error) and the model does not hold."},
-  {var::kSpindleNoiseFromRepeats, "spindle_noise_from_repeats", "", "1: the noise comes from the repeats of an angle; 0: from every residual (one revolution: conservative)."},
+  {var::kSpindleNoiseSigma, "spindle_noise_sigma", "mm", "1-sigma probe noise per axis the intervals use: what the samples leave about a local line within each 2-deg bin (asynchronous error), when there are enough."},
+  {var::kSpindleSynchronousRms, "spindle_synchronous_rms", "mm", "RMS 3-D residual beyond that noise: what repeats every revolution (form error, synchronous error motion) and the model does not hold."},
+  {var::kSpindleNoiseFromRepeats, "spindle_noise_from_repeats", "", "1: the noise comes from within the angle bins; 0: from every residual (too few samples per bin: conservative)."},
   {var::kSpindleSamplesUsed, "spindle_samples", "", "Samples the identification used."},
   {var::kSpindleFitRatio, "spindle_fit_ratio", "", "The fit gate's figure: the larger ball's chi-square statistic of its residuals (per axis #801^2 + #802^2 / 3) over its quantile at #901 (refused above 1)."},
   {var::kSpindleFitBall, "spindle_fit_ball", "", "The ball (1 or 2) of that figure."},
@@ -159,9 +159,9 @@ inline constexpr OutputInfo kModelOutputs[] = {
   {var::kSpindleParamValue, "spindle_parameter", "", "Value of parameter Q (spindle_map.hpp convention 3; mm or dimensionless)."},
   {var::kSpindleParamSigma, "spindle_parameter_sigma", "", "Its 1-sigma uncertainty."},
   {var::kSpindleRms, "spindle_rms", "mm", "RMS 3-D residual of every sample."},
-  {var::kSpindleModelSynchronousRms, "spindle_model_synchronous_rms", "mm", "RMS 3-D residual of the angle means."},
+  {var::kSpindleModelSynchronousRms, "spindle_model_synchronous_rms", "mm", "RMS 3-D residual beyond the noise (synchronous)."},
   {var::kSpindleModelNoiseSigma, "spindle_model_noise_sigma", "mm", "1-sigma noise per axis the intervals use."},
-  {var::kSpindleModelNoiseFromRepeats, "spindle_model_noise_from_repeats", "", "1: noise from the repeats of an angle; 0: from every residual."},
+  {var::kSpindleModelNoiseFromRepeats, "spindle_model_noise_from_repeats", "", "1: noise from within the angle bins; 0: from every residual."},
   {var::kSpindleModelSamples, "spindle_model_samples", "", "Samples the model was identified from."},
   {var::kSpindleModelEvaluations, "spindle_model_evaluations", "", "Residual-and-Jacobian passes of its identification."},
   {var::kSpindleModelGauge, "spindle_model_gauge", "mm", "O1 to the gauge line along the spindle, as given to 9842."},
