@@ -350,7 +350,6 @@ void SpindleBuilder::evaluate(const SpindleParams& p, bool into_solver, double s
         lm_.add(r, j);
       }
     }
-    if (into_solver) lm_.add_constant(h.ssr_mm2, 3 * (bins_->samples(k + 1) - 3));
     ssr[k] = sum + h.ssr_mm2;
   }
 }

@@ -128,16 +128,6 @@ class LevenbergMarquardt {
     m_trial_ += static_cast<std::size_t>(M);
   }
 
-  // A part of the cost no parameter moves: `rr` the sum of squares of `m`
-  // scalar residuals whose normal equations the caller has already folded
-  // into add()'s blocks (compressed least squares: spindle_model.hpp
-  // convention 4). It counts in the cost and in m (convention 6's s^2).
-  void add_constant(double rr, std::size_t m) {
-    if (!std::isfinite(rr)) finite_ = false;
-    cost_trial_ += 0.5 * rr;
-    m_trial_ += m;
-  }
-
   LmStep finish_evaluation() {
     if (done_) return {status_, false};
     ++evaluations_;

@@ -64,8 +64,11 @@
 //     collides, with probability 2^-31 per sample.
 //  5. Fit (SpindleBuilder, fit_spindle): per ball and axis the three residuals
 //     L^T z_x(p) - y_x of convention 4 with their analytic Jacobian
-//     (spindle_ball_terms; checked against central differences in the tests),
-//     and the constant Sdd_x - |y_x|^2 (LevenbergMarquardt::add_constant);
+//     (spindle_ball_terms; checked against central differences in the tests):
+//     18 residuals whose sum of squares differs from the samples' by the
+//     constant sum (Sdd_x - |y_x|^2), which moves no parameter (the solver's
+//     statistical stop then judges by the 9 degrees of freedom the harmonic
+//     fits have beyond the model: noise, as the samples' would);
 //     Levenberg-Marquardt from the start of convention 3, with the
 //     identifiability check of levenberg_marquardt.hpp convention 5. An
 //     evaluation costs the same for 16 samples or 16 million.
