@@ -41,11 +41,14 @@ Status check_bins(const SpindleBins& bins, const SpindleGeometry& g, double max_
   for (int ball = 1; ball <= 2; ++ball) {
     if (bins.angles(ball) == 0) return Status::kMissingGroup;
   }
-  for (int ball = 1; ball <= 2; ++ball) {
-    if (bins.angles(ball) < kMinSpindleSamples) return Status::kTooFewSamples;
-  }
+  // Coverage before the count: with the default gap of 45 deg, fewer than 8
+  // bins always leave a wider gap, and angles given in radians (a revolution
+  // spans 6.3 deg, 4 bins) are a part of a revolution, which its text names.
   for (int ball = 1; ball <= 2; ++ball) {
     if (!(bins.largest_gap_deg(ball) <= max_gap_deg)) return Status::kRevolutionIncomplete;
+  }
+  for (int ball = 1; ball <= 2; ++ball) {
+    if (bins.angles(ball) < kMinSpindleSamples) return Status::kTooFewSamples;
   }
   return Status::kOk;
 }

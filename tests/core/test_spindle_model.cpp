@@ -146,7 +146,7 @@ TEST_CASE("what the data cannot support is refused", "[spindle]") {
     const auto s = samples(p, 15e-6, rng, 1);
     CHECK(core::fit_spindle(s.data(), s.size(), kGeometry, fit) == Status::kMissingGroup);
   }
-  SECTION("7 samples of ball 2 (8 needed): too_few_samples; 8 are enough") {
+  SECTION("7 samples of ball 2 (8 needed): a gap first (revolution_incomplete), too_few_samples when the gap is allowed; 8 are enough") {
     auto s = samples(p, 15e-6, rng);
     std::vector<core::SpindleSample> few;
     for (const auto& x : s) {
@@ -155,7 +155,16 @@ TEST_CASE("what the data cannot support is refused", "[spindle]") {
     REQUIRE(few.size() == 72 + 8);
     CHECK(core::fit_spindle(few.data(), few.size(), kGeometry, fit) == Status::kOk);
     few.pop_back();
-    CHECK(core::fit_spindle(few.data(), few.size(), kGeometry, fit) == Status::kTooFewSamples);
+    CHECK(core::fit_spindle(few.data(), few.size(), kGeometry, fit) == Status::kRevolutionIncomplete);
+    const auto bins = bins_of(few);
+    core::SpindleBuilder builder;
+    builder.start(*bins, kGeometry, 90.0);  // a gap of 90 deg allowed: the count decides
+    CHECK(builder.step().status == Status::kTooFewSamples);
+  }
+  SECTION("angles in radians: a revolution spans 6.3 deg, revolution_incomplete") {
+    auto s = samples(p, 15e-6, rng);
+    for (auto& x : s) x.phi_deg = core::deg_to_rad(x.phi_deg);
+    CHECK(core::fit_spindle(s.data(), s.size(), kGeometry, fit) == Status::kRevolutionIncomplete);
   }
   SECTION("a ball numbered 3, or the balls in the wrong order: argument_out_of_range") {
     auto s = samples(p, 15e-6, rng);

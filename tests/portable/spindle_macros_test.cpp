@@ -293,7 +293,7 @@ TA_TEST("9842 R = 1 while locked fails with table_locked and keeps the stored mo
       Status::kTableLocked);
 }
 
-TA_TEST("9842 with one ball height fails with missing_group, with 7 angles of a ball too_few_samples") {
+TA_TEST("9842 with one ball height fails with missing_group, with 7 angles of a ball too_few_samples (#800 at 90)") {
   refused_identification(
       [](ModuleRig& rig) {
         stream_ball_2_at(rig, [](double) { return false; });
@@ -306,6 +306,7 @@ TA_TEST("9842 with one ball height fails with missing_group, with 7 angles of a 
         stream_ball_2_at(rig, [](double phi) { return std::fmod(phi, 45.0) == 0.0 && phi < 315.0; });
         rig.unlock();
         sf::arguments(rig, 1.0);
+        rig.set(v::kSpindleMaxGap, 90.0);  // the gap 270 -> 360 allowed: the count decides
       },
       Status::kTooFewSamples);
 }

@@ -232,7 +232,7 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
                     ", \"bearing_spacing_mm\": " + json_number(m.value[kBearingSpacing]) + " }\n";
   char line[200];
   std::snprintf(line, sizeof line,
-                "spindle: %.0f samples, worst theta_e %.3f\" +- %.3f\" (phi=%g), d_e up to %.2f um", build[4],
+                "spindle: %.0f samples, worst theta_e %.4f\" +- %.2g\" (phi=%g), d_e up to %.2f um", build[4],
                 theta_max, theta_max_sigma, theta_max_phi, 1000.0 * d_e_max);
   r.summary = line;
   r.ok = true;

@@ -273,7 +273,7 @@ TEST_CASE("calibrate spindle: the command with --store and --report, the page dr
   }
   CHECK((*worst)["theta_e_arcsec"].number == out["theta_e_max_arcsec"].number);
   char summary[160];
-  std::snprintf(summary, sizeof summary, "spindle: %g samples, worst theta_e %.3f\" +- %.3f\" (phi=%g), d_e up to %.2f um",
+  std::snprintf(summary, sizeof summary, "spindle: %g samples, worst theta_e %.4f\" +- %.2g\" (phi=%g), d_e up to %.2f um",
                 out["fit"]["samples"].number, (*worst)["theta_e_arcsec"].number,
                 (*worst)["theta_e_sigma_arcsec"].number, (*worst)["phi_deg"].number,
                 1000.0 * out["d_e_max_mm"].number);

@@ -111,9 +111,22 @@ TEST_CASE("calibrate spindle: every bad input has its own error and stores nothi
   }
   cases.push_back({"7 angles of ball 2",
                    kept([](double phi, int ball) { return ball == 1 || static_cast<int>(phi) % 55 == 0; }), machine,
-                   module_error(Status::kTooFewSamples) + " (macro 9842)", true});
+                   module_error(Status::kRevolutionIncomplete) + " (macro 9842)", true});  // gaps of 55 deg
   cases.push_back({"less than a revolution", kept([](double phi, int) { return phi < 300.0; }), machine,
                    module_error(Status::kRevolutionIncomplete) + " (macro 9842)", true});
+  {
+    // The angles in radians: a revolution spans 6.3 "degrees"; the refusal says radians.
+    std::vector<std::string> lines(good.begin(), good.begin() + 3);
+    for (std::size_t n = 3; n < good.size(); ++n) {
+      std::vector<std::string> x = fields_of(good[n]);
+      char rad[40];
+      std::snprintf(rad, sizeof rad, "%.17g", std::stod(x[0]) * 3.14159265358979323846 / 180.0);
+      lines.push_back(std::string(rad) + "," + x[1] + "," + x[2] + "," + x[3] + "," + x[4]);
+    }
+    REQUIRE(module_error(Status::kRevolutionIncomplete).find("radians") != std::string::npos);
+    cases.push_back({"the angles in radians", text_of(lines), machine,
+                     module_error(Status::kRevolutionIncomplete) + " (macro 9842)", true});
+  }
   cases.push_back({"an empty samples file", "", machine, at(1, "no header row"), true});
   cases.push_back({"no samples file", "", machine, "", false});  // the path is replaced below
   // MACHINE: line 1 a comment, 2 the header, 3..7 the five names in docs/INTERFACE.md's order.

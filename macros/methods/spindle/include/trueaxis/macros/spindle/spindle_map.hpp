@@ -173,7 +173,7 @@ inline constexpr OutputInfo kModelOutputs[] = {
 inline constexpr core::StatusInfo kStatuses[] = {
   {core::Status::kNotIdentifiable, "not_identifiable", "The data do not determine every parameter of the model: a combination of them leaves the measurements unchanged. Measure more (for the spindle: the ball at two heights, over a whole revolution)."},
   {kBallSpacingImplausible, "ball_spacing_implausible", "The balls' mean centres are not V - U apart within #803 (#9013 the measured spacing minus V - U, mm): were the samples given in metres instead of millimetres (the spacing reads 1000 times short), or a ball distance (U, V) typed wrong? Nothing was published or stored."},
-  {core::Status::kRevolutionIncomplete, "revolution_incomplete", "The spindle angles of a ball leave a gap wider than 45 degrees: measure the ball over a whole revolution."},
+  {core::Status::kRevolutionIncomplete, "revolution_incomplete", "The spindle angles of a ball leave a gap wider than #800 (45 degrees by default): measure the ball over a whole revolution. Were the angles given in radians? A revolution in radians spans only 6.3 degrees."},
 };
 // clang-format on
 
