@@ -283,17 +283,19 @@ SpindleNoise SpindleBins::noise() const {
   return sum;
 }
 
-Result<SpindleParams> spindle_start(const SpindleBins& bins, const SpindleGeometry& g, double max_gap_deg) {
+Result<SpindleParams> spindle_start(const SpindleBins& bins, const SpindleGeometry& g, double max_gap_deg,
+                                    SpindleHarmonics* harmonics) {
   const Status status = check_bins(bins, g, max_gap_deg);
   if (status != Status::kOk) return status;
+  SpindleHarmonics own[2];
+  SpindleHarmonics* h = harmonics != nullptr ? harmonics : own;
   Vec3 mean[2];
   Vec3 v[2];
   for (int k = 0; k < 2; ++k) {
-    SpindleHarmonics h;
-    const Status fitted = spindle_harmonics(bins.sums(k + 1), h);
+    const Status fitted = spindle_harmonics(bins.sums(k + 1), h[k]);
     if (fitted != Status::kOk) return fitted;
-    mean[k] = h.centre_mm;
-    v[k] = h.v;
+    mean[k] = h[k].centre_mm;
+    v[k] = h[k].v;
   }
   const Vec3 d = mean[1] - mean[0];
   if (!(d.norm() > 0.0)) return Status::kNotIdentifiable;
@@ -360,11 +362,8 @@ void SpindleBuilder::evaluate(const SpindleParams& p, bool into_solver, double s
 SpindleStep SpindleBuilder::step() {
   switch (phase_) {
     case Phase::kStart: {
-      const Result<SpindleParams> p0 = spindle_start(*bins_, geometry_, max_gap_deg_);
+      const Result<SpindleParams> p0 = spindle_start(*bins_, geometry_, max_gap_deg_, harmonics_);
       if (!p0.ok()) return fail(p0.status());
-      for (int k = 0; k < 2; ++k) {
-        if (spindle_harmonics(bins_->sums(k + 1), harmonics_[k]) != Status::kOk) return fail(Status::kNotIdentifiable);
-      }
       lm_.start(p0.value(), options_);
       phase_ = Phase::kNoise;
       return {Status::kOk, true};

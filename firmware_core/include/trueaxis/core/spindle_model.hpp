@@ -257,9 +257,12 @@ class SpindleBins {
   std::size_t angles_[2] = {0, 0};
 };
 
-// Convention 3 from the harmonic fits, after the checks of conventions 4 and 7.
+// Convention 3 from the harmonic fits, after the checks of conventions 4 and 7;
+// the two balls' harmonic fits into `harmonics` when given (the builder's
+// residuals use them).
 [[nodiscard]] Result<SpindleParams> spindle_start(const SpindleBins& bins, const SpindleGeometry& g,
-                                                  double max_gap_deg = kMaxSpindleGapDeg);
+                                                  double max_gap_deg = kMaxSpindleGapDeg,
+                                                  SpindleHarmonics* harmonics = nullptr);
 
 struct SpindleStep {
   Status status = Status::kOk;
