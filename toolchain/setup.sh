@@ -10,6 +10,8 @@ packages=(
   qemu-system-arm
   mbpoll python3 python3-matplotlib
   clang libclang-rt-14-dev llvm  # toolchain/fuzz.sh: libFuzzer, ASan/UBSan runtimes, llvm-symbolizer
+  # integrations/linuxcnc: LinuxCNC (rs274, linuxcnc, halcompile) and the remap's Modbus client
+  linuxcnc-uspace linuxcnc-uspace-dev python3-pymodbus python3-serial python3-serial-asyncio
 )
 
 missing=()

@@ -1,0 +1,210 @@
+"""G65 P<macro> <letters> in LinuxCNC: a Fanuc-style call of a trueaxis module
+macro (integrations/linuxcnc/README.md; docs/INTERFACE.md "Additions").
+
+The remap (trueaxis.ini: REMAP=G65 ... python=g65):
+1. waits for the motion queue to empty (the call is a queue buster, as a Fanuc
+   macro call that reads system variables is), so the module acts in program
+   order;
+2. in LinuxCNC's preview interpreters (self.task 0) does no device I/O and
+   leaves #100..#199 as they are, unless [TRUEAXIS] PREVIEW = 1;
+3. writes the module's argument variables (#1..#26 of the 21 G65 letters)
+   from the call's letters (letters not given: 0),
+   and, for a macro whose map entry reads work offsets, LinuxCNC's own values
+   of those offsets (#5221..#5326, converted from machine units to mm) where
+   they differ from the module's;
+4. runs the macro to its end and copies the module's #100..#199 into
+   LinuxCNC's #100..#199, bit for bit; on a module error aborts the program
+   with the module's code, name and text (and a gate's #9012..#9014).
+
+Letters. LinuxCNC executes F, S, T and M in any block, and B, U, V, W are axis
+words only on machines with those axes, so those eight letters never go on
+the G65 line: set #<_ta_b>, #<_ta_f>, #<_ta_m>, #<_ta_s>, #<_ta_t>, #<_ta_u>,
+#<_ta_v>, #<_ta_w> before the call (`#<_ta_s> = 30` then `G65 P9843 Z100`).
+The call reads them and sets them back to 0, as the module clears its #1..#26
+after every macro. A G65 block holding one of them is refused before anything
+is written. Every value is in mm and degrees: the call is refused under G20.
+
+`G65 P0` gives the module's macro interface back (#9009 = 0): a program that
+ran a session ends with it. Otherwise the remap keeps its one connection, and
+with it the interface, from its first call on (the module lets it go 30 s
+after the last write).
+"""
+import os
+import shlex
+
+from interpreter import INTERP_ERROR, INTERP_EXECUTE_FINISH, INTERP_OK
+
+from trueaxis_module import LETTER_VARIABLE, Module, RegisterMap, TrueaxisError
+
+LINE_LETTERS = "acdehijkqrxyz"  # the G65 line's letters besides P (trueaxis.ini argspec)
+NAMED_LETTERS = "bfmstuvw"      # as #<_ta_LETTER>
+RESULTS_FIRST, RESULTS_COUNT = 100, 100
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def _ini_path():
+    """The machine's ini: $INI_FILE_NAME (set by `linuxcnc`), else the standalone
+    interpreter's `rs274 -i FILE`."""
+    path = os.environ.get("INI_FILE_NAME")
+    if path:
+        return path
+    try:
+        with open("/proc/self/cmdline", "rb") as f:
+            argv = f.read().decode("utf-8", "replace").split("\0")
+        return argv[argv.index("-i") + 1]
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def read_settings(path):
+    """[TRUEAXIS] of the ini at `path` as a dict of upper-case keys (the last
+    value of a repeated key); paths in it are relative to the ini's folder."""
+    settings, section = {}, None
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            line = line.strip()
+            if not line or line.startswith("#") or line.startswith(";"):
+                continue
+            if line.startswith("[") and line.endswith("]"):
+                section = line[1:-1].strip()
+            elif section == "TRUEAXIS" and "=" in line:
+                key, value = line.split("=", 1)
+                settings[key.strip().upper()] = value.strip()
+    settings["_DIR"] = os.path.dirname(os.path.abspath(path))
+    return settings
+
+
+class Remap:
+    """The remap's state over a LinuxCNC session: settings, map, one client."""
+
+    def __init__(self, settings):
+        def number(key, default, kind=float):
+            try:
+                return kind(settings.get(key, default))
+            except ValueError:
+                raise TrueaxisError(f"[TRUEAXIS] {key} = {settings[key]!r} is not a number")
+
+        where = settings.get("_DIR", HERE)
+        map_path = settings.get("MAP", os.path.join(HERE, "..", "..", "..", "macros", "register_map.json"))
+        self.map = RegisterMap(os.path.join(where, map_path))
+        self.preview = number("PREVIEW", 0, int) == 1
+        self.module = Module(host=settings.get("HOST", "127.0.0.1"), port=number("PORT", 502, int),
+                             serial=settings.get("SERIAL"), baud=number("BAUD", 19200, int),
+                             parity=settings.get("PARITY", "N"), unit=number("UNIT", 1, int),
+                             timeout_s=number("REQUEST_TIMEOUT", 1.0), macro_timeout_s=number("TIMEOUT", 30.0),
+                             wait_s=number("WAIT", 10.0))
+
+    def call(self, macro, arguments, offsets):
+        """Runs `macro` with the arguments {number: value} (every G65 letter's
+        variable) and the work offsets {number: mm or deg}; returns the
+        module's #100..#199."""
+        module = self.module
+        if macro == 0:
+            module.release()
+            return None
+        module.take()
+        for first, values in _runs(arguments):
+            module.write(first, values)
+        for first, values in _runs(offsets):
+            present = module.read(first, len(values))
+            if present != values:
+                module.write(first, values)
+        module.run(macro, self.map)
+        return module.read(RESULTS_FIRST, RESULTS_COUNT)
+
+
+def _runs(offsets):
+    """{number: value} as runs of consecutive numbers: [(first, [values])]."""
+    runs = []
+    for number in sorted(offsets):
+        if runs and runs[-1][0] + len(runs[-1][1]) == number:
+            runs[-1][1].append(offsets[number])
+        else:
+            runs.append((number, [offsets[number]]))
+    return runs
+
+
+_remap = None
+
+
+def _state():
+    global _remap
+    if _remap is None:
+        path = _ini_path()
+        if path is None or not os.path.isfile(path):
+            raise TrueaxisError("no ini file to read [TRUEAXIS] from (INI_FILE_NAME or rs274 -i)")
+        _remap = Remap(read_settings(path))
+    return _remap
+
+
+def _refused_letters(block):
+    """The letters of NAMED_LETTERS present in the G65 block."""
+    found = [c.upper() for c in "bfstuvw" if getattr(block, c + "_flag", False)]
+    if any(m != -1 for m in block.m_modes):
+        found.append("M")
+    return found
+
+
+def _named_arguments(params):
+    """{letter: value} of the #<_ta_LETTER> that exist, each set back to 0."""
+    values = {}
+    for letter in NAMED_LETTERS:
+        name = "_ta_" + letter
+        try:
+            values[letter] = float(params[name])
+        except (KeyError, NameError, TypeError, RuntimeError):
+            continue
+        params[name] = 0.0
+    return values
+
+
+def g65(self, **words):
+    """The G65 remap handler (a generator: it waits for motion with
+    INTERP_EXECUTE_FINISH)."""
+    try:
+        block = self.blocks[self.remap_level]
+        refused = _refused_letters(block)
+        if refused:
+            letters = ", ".join(refused)
+            raise TrueaxisError(f"{letters} on a G65 line: LinuxCNC acts on {letters} in any block; set "
+                                + ", ".join(f"#<_ta_{c.lower()}>" for c in refused) + " before the call instead")
+        macro = words.get("p")
+        if macro is None or macro != int(macro) or not 0 <= macro <= 9999:
+            raise TrueaxisError(f"P must be a macro number 0..9999 (got {macro})")
+        macro = int(macro)
+        named = _named_arguments(self.params)
+        remap = _state()
+        if self.task == 0 and not remap.preview:
+            yield INTERP_OK
+            return
+    except TrueaxisError as e:
+        self.set_errormsg(f"trueaxis G65: {e}")
+        yield INTERP_ERROR
+        return
+
+    yield INTERP_EXECUTE_FINISH
+
+    try:
+        if int(self.params["_metric"]) != 1:
+            raise TrueaxisError("G20 is active: the module takes mm (program G21 before the call)")
+        arguments = {number: 0.0 for number in LETTER_VARIABLE.values()}
+        for letter, value in list(words.items()) + list(named.items()):
+            if letter != "p":
+                arguments[LETTER_VARIABLE[letter]] = float(value)
+        offsets = {}
+        import emccanon  # LinuxCNC's canon: machine units per mm
+        per_mm = emccanon.GET_EXTERNAL_LENGTH_UNITS()
+        for first, count in remap.map.work_offsets.get(macro, []):
+            for number in range(first, first + count):
+                axis = (number - 5221) % 20  # 0..2 X, Y, Z (length); 3..5 A, B, C (deg)
+                value = float(self.params[number])
+                offsets[number] = value / per_mm if axis < 3 else value
+        results = remap.call(macro, arguments, offsets)
+    except TrueaxisError as e:
+        self.set_errormsg(f"trueaxis G65 P{macro}: {e}")
+        yield INTERP_ERROR
+        return
+    if results is not None:
+        for i, value in enumerate(results):
+            self.params[RESULTS_FIRST + i] = value
+    yield INTERP_OK

@@ -1,0 +1,269 @@
+#!/usr/bin/python3
+"""G65 through LinuxCNC's standalone interpreter: the remap of
+integrations/linuxcnc against trueaxis-sim, its golden outputs and its errors.
+
+usage: test_g65_rs274.py BIN_DIR [--regenerate]
+
+Each case starts nothing but `rs274 -i INI -n 2 -g PROGRAM` against one
+trueaxis-sim on 127.0.0.1 port 0 (its own --nv file in a temporary folder),
+with an ini made from integrations/linuxcnc/trueaxis.ini (paths made absolute,
+PORT the simulator's, PREVIEW = 1 unless a case says) plus the tests' own
+[PYTHON] TOPLEVEL (python/: oword.py's o<dump_results>).
+
+Golden cases (rs274/NAME.ngc, output compared line by line with
+rs274/NAME.expected; --regenerate writes the .expected files):
+  level_3pt  G65 P9810 on three offsets in G57..G59 (the remap converts them
+             from the interpreter's machine units, inches in rs274, to mm);
+             LinuxCNC's #100..#199 afterwards (o<dump_results>, repr) equal
+             the module's read by trueaxis-var (17 digits), bit for bit
+  preview    PREVIEW = 0 in a preview interpreter: no device I/O (#9003 and
+             #100 as they were)
+  level_no_trip  o<trueaxis_level> where the probe never trips (rs274's
+             probe): its moves, LOGAPPEND, and its stop (exit 1) with the
+             program's message, no macro run
+Error cases: each program must stop (exit 1) with the module's code, name and
+text from the register map on one line, or the remap's own sentence.
+Exit 0 when every check holds, 1 when one fails.
+"""
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
+RS274 = "/usr/bin/rs274"
+
+
+class Sim:
+    """trueaxis-sim on 127.0.0.1 port 0."""
+
+    def __init__(self, bin_dir, folder):
+        self.process = subprocess.Popen([os.path.join(bin_dir, "trueaxis-sim"), "--port", "0",
+                                         "--nv", os.path.join(folder, "sim.nv")],
+                                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        line = self.process.stdout.readline()
+        found = re.search(r"listening on [0-9.]+:(\d+)", line)
+        if not found:
+            self.process.kill()
+            sys.exit(f"test_g65_rs274: trueaxis-sim said {line!r}")
+        self.port = int(found.group(1))
+        self.var = [os.path.join(bin_dir, "trueaxis-var"), "--port", str(self.port)]
+
+    def get(self, *numbers):
+        done = subprocess.run(self.var + ["get"] + [str(n) for n in numbers], capture_output=True, text=True,
+                              check=True)
+        return {int(m.group(1)): float(m.group(2)) for m in re.finditer(r"#(\d+) = (\S+)", done.stdout)}
+
+    def set(self, **values):
+        subprocess.run(self.var + ["set"] + [f"{k[1:]}={v}" for k, v in values.items()], capture_output=True,
+                       text=True, check=True)
+
+    def stop(self):
+        self.process.terminate()
+        self.process.wait(timeout=10)
+
+
+def make_ini(folder, port, preview=1, extra=None):
+    """The shipped trueaxis.ini with absolute paths, the tests' TOPLEVEL and the
+    simulator's port."""
+    text = open(os.path.join(ROOT, "integrations", "linuxcnc", "trueaxis.ini"), encoding="utf-8").read()
+    settings = {"PORT": str(port), "PREVIEW": str(preview), **(extra or {})}
+    out = []
+    for line in text.splitlines():
+        key = line.split("=", 1)[0].strip()
+        if key in ("SUBROUTINE_PATH", "PATH_APPEND", "MAP"):
+            line = f"{key} = {os.path.join(ROOT, line.split('=', 1)[1].strip())}"
+        elif key == "TOPLEVEL":
+            line = f"TOPLEVEL = {os.path.join(HERE, 'python', 'toplevel.py')}"
+        elif key in settings:
+            line = f"{key} = {settings.pop(key)}"
+        out.append(line)
+        if line.strip() == "[RS274NGC]":
+            out.append(f"PARAMETER_FILE = {os.path.join(folder, 'rs274.var')}")
+        if line.startswith("PATH_APPEND"):
+            out.append(f"PATH_APPEND = {os.path.join(HERE, 'python')}")
+        if line.strip() == "[TRUEAXIS]":
+            out += [f"{k} = {v}" for k, v in settings.items()]
+    make_ini.count = getattr(make_ini, "count", 0) + 1
+    path = os.path.join(folder, f"test{make_ini.count}.ini")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write("\n".join(out) + "\n")
+    return path
+
+
+def rs274(ini, program, folder, timeout=60):
+    """(exit code, output) of the standalone interpreter on `program` (a path
+    or G-code text)."""
+    if "\n" in program:
+        path = os.path.join(folder, "case.ngc")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(program)
+        program = path
+    env = dict(os.environ, TRUEAXIS_DUMP=os.path.join(folder, "dump.txt"), PYTHONDONTWRITEBYTECODE="1")
+    done = subprocess.run([RS274, "-i", ini, "-n", "2", "-g", program], capture_output=True, text=True,
+                          cwd=folder, env=env, timeout=timeout)
+    return done.returncode, done.stdout + done.stderr
+
+
+class Checks:
+    def __init__(self):
+        self.failures = 0
+
+    def check(self, ok, what, detail=""):
+        print(f"{'ok  ' if ok else 'FAIL'} {what}" + (f"\n     {detail}" if not ok and detail else ""))
+        self.failures += 0 if ok else 1
+
+
+def golden(checks, name, code, output, regenerate, expected_code=0):
+    path = os.path.join(HERE, "rs274", name + ".expected")
+    if regenerate:
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(output)
+    expected = open(path, encoding="utf-8").read()
+    checks.check(code == expected_code and output == expected, f"{name}: exit {expected_code} and the golden output",
+                 f"exit {code}; output:\n{output}")
+
+
+def main(argv):
+    if len(argv) < 2 or not os.path.isdir(argv[1]):
+        print("usage: test_g65_rs274.py BIN_DIR [--regenerate]", file=sys.stderr)
+        return 2
+    regenerate = "--regenerate" in argv
+    if not os.access(RS274, os.X_OK):
+        print("test_g65_rs274: no /usr/bin/rs274: LinuxCNC is not installed (bash toolchain/setup.sh)",
+              file=sys.stderr)
+        return 1
+    errors = {e["code"]: e for e in json.load(open(os.path.join(ROOT, "macros", "register_map.json")))["errors"]}
+    checks = Checks()
+    folder = tempfile.mkdtemp(prefix="trueaxis-rs274-")
+    sim = Sim(argv[1], folder)
+    try:
+        run_cases(checks, sim, folder, errors, regenerate)
+    finally:
+        sim.stop()
+        shutil.rmtree(folder, ignore_errors=True)
+    print(f"test_g65_rs274: {checks.failures} failure(s)")
+    return 1 if checks.failures else 0
+
+
+def module_error(code, errors):
+    return f"error {code} {errors[code]['name']}: {errors[code]['message']}"
+
+
+# A rigidity session through G-code loops: 3 A poses of c_count C positions,
+# a ball 100 mm off the C axis turning with C (an ideal cradle).
+RIGIDITY = """G21
+G65 P9830
+#<pose> = 0
+o100 while [#<pose> LT 3]
+  #<k> = 0
+  o101 while [#<k> LT {c_count}]
+    #<c> = [90 * #<k>]
+    #<a> = [{first_a} + 20 * #<pose>]
+    G65 P9831 A#<a> C#<c> X[100 * COS[#<c>]] Y[100 * SIN[#<c>] * COS[#<a>]] Z[100 * SIN[#<c>] * SIN[#<a>]]
+    #<k> = [#<k> + 1]
+  o101 endwhile
+  #<pose> = [#<pose> + 1]
+o100 endwhile
+G65 P9832
+M2
+"""
+
+
+def run_cases(checks, sim, folder, errors, regenerate):
+    ini = make_ini(folder, sim.port)
+
+    # 1. G65 P9810: golden, and LinuxCNC's #100..#199 equal the module's bit for bit.
+    code, output = rs274(ini, os.path.join(HERE, "rs274", "level_3pt.ngc"), folder)
+    golden(checks, "level_3pt", code, output, regenerate)
+    module = sim.get("100..199")
+    dumped = {}
+    if os.path.exists(os.path.join(folder, "dump.txt")):
+        for line in open(os.path.join(folder, "dump.txt"), encoding="utf-8"):
+            number, value = line.split(" = ")
+            dumped[int(number[1:])] = float(value)
+    same = len(dumped) == 100 and all(dumped[n] == module[n] for n in range(100, 200))
+    differ = [n for n in range(100, 200) if dumped.get(n) != module.get(n)]
+    checks.check(same, "level_3pt: LinuxCNC's #100..#199 equal the module's, bit for bit",
+                 f"differ at {differ[:5]}: {[(dumped.get(n), module.get(n)) for n in differ[:3]]}")
+    import math
+    p2 = sim.get("5301..5303")
+    checks.check(abs(module[107] - 12.5) < 1e-9 and abs(p2[5301] - 50) < 1e-9
+                 and abs(p2[5303] - (40 - 50 * math.tan(math.radians(12.5)))) < 1e-9,
+                 "level_3pt: the module got G58 in mm (rs274 keeps offsets in inches) and a tilt of 12.5 deg",
+                 f"#107 = {module[107]!r}, G58 = {p2}")
+    checks.check(sim.get(9009)[9009] == 0, "level_3pt: G65 P0 gave the macro interface back")
+
+    # 2. A preview interpreter (PREVIEW = 0) does no device I/O.
+    before = sim.get(9003)[9003]
+    code, output = rs274(make_ini(folder, sim.port, preview=0), os.path.join(HERE, "rs274", "preview.ngc"), folder)
+    golden(checks, "preview", code, output, regenerate)
+    checks.check(sim.get(9003)[9003] == before, "preview: no macro ran in the module")
+
+    # 3. The leveling program stops when a probe does not trip, before any macro.
+    before = sim.get(9003)[9003]
+    code, output = rs274(ini, os.path.join(HERE, "rs274", "level_no_trip.ngc"), folder)
+    golden(checks, "level_no_trip", code, output, regenerate, expected_code=1)
+    checks.check(sim.get(9003)[9003] == before, "level_no_trip: no macro ran in the module")
+
+    # 4. The module's errors abort the program with its code, name and text.
+    points = "G21\nG10 L2 P4 X0 Y0 Z40\nG10 L2 P5 X{} Y0 Z{}\nG10 L2 P6 X{} Y{} Z40\n"
+    cases = [
+        (200, points.format(0, 40, 0, 0) + "G65 P9810 A0 C0\nM2\n"),         # P1 = P2 = P3
+        (201, points.format(50, 40, 100, 0) + "G65 P9810 A0 C0\nM2\n"),      # on one line
+        (204, points.format(50, 30, 0, 50) + "G65 P9810 A0 C0 K-1\nM2\n"),   # facing down: 169 deg
+        (104, "G21\nG65 P9812\nG65 P9813 X0 Y0 Z40\nG65 P9814\nM2\n"),
+        (400, "G21\nG65 P9899\nM2\n"),
+        (209, RIGIDITY.format(first_a=10, c_count=4)),   # no pose at A = 0
+        (210, RIGIDITY.format(first_a=0, c_count=3)),    # 3 C positions a pose
+        (208, "G21\nG65 P9830\nG65 P9831 A0 C0 X1 Y0 Z0\nG65 P9831 A0 C90 X0 Y1 Z0\nG65 P9832\nM2\n"),
+    ]
+    for expected, program in cases:
+        code, output = rs274(ini, program, folder)
+        text = module_error(expected, errors)
+        checks.check(code == 1 and text in output, f"error {expected} {errors[expected]['name']}: the program stops "
+                     "with the module's code, name and text", f"exit {code}; output:\n{output[-600:]}")
+
+    # 5. Letters LinuxCNC acts on are refused on the G65 line, before anything is written.
+    for letter, word in (("S", "S30"), ("T", "T1"), ("F", "F100"), ("M", "M5")):
+        before = sim.get(9003)[9003]
+        code, output = rs274(ini, f"G21\nG65 P9843 Z100 {word}\nM2\n", folder)
+        checks.check(code == 1 and f"set #<_ta_{letter.lower()}> before the call instead" in output
+                     and sim.get(9003)[9003] == before, f"{letter} on the G65 line: refused, naming #<_ta_{letter.lower()}>",
+                     f"exit {code}; output:\n{output[-600:]}")
+
+    # 6. ... and arrive as #<_ta_s>, #<_ta_t>: the simulator holds the macro (sim_hold)
+    # so its arguments stay to be read; the remap's time-out names [TRUEAXIS] TIMEOUT.
+    sim.set(_12009=1)
+    held = make_ini(folder, sim.port, extra={"TIMEOUT": "1"})
+    code, output = rs274(held, "G21\n#<_ta_s> = 30.25\n#<_ta_t> = 2\nG65 P9843 Z100\nM2\n", folder)
+    args = sim.get(19, 20, 26)
+    sim.set(_12009=0)
+    checks.check(code == 1 and "did not finish within 1 s ([TRUEAXIS] TIMEOUT" in output,
+                 "a macro that does not finish: the program stops naming [TRUEAXIS] TIMEOUT", output[-600:])
+    checks.check(args == {19: 30.25, 20: 2.0, 26: 100.0}, "#<_ta_s>, #<_ta_t> and Z arrive as #19, #20, #26",
+                 f"{args}")
+    time.sleep(0.2)
+    code, output = rs274(ini, "G21\n#<_ta_s> = 30\nG65 P9812\n(DEBUG, after: #<_ta_s>)\nM2\n", folder)
+    checks.check(code == 0 and "after: 0.000000" in output, "a call sets #<_ta_s> back to 0", output[-600:])
+
+    # 7. Inches are refused; a busy controller is named.
+    code, output = rs274(ini, "G20\nG65 P9812\nM2\n", folder)
+    checks.check(code == 1 and "G20 is active: the module takes mm" in output, "G20: refused", output[-600:])
+    from pymodbus.client import ModbusTcpClient
+    other = ModbusTcpClient("127.0.0.1", port=sim.port)
+    other.connect()
+    other.write_registers(4 * 9009, [0x3FF0, 0, 0, 0], slave=1)  # #9009 = 1: another client holds it
+    code, output = rs274(make_ini(folder, sim.port, extra={"WAIT": "0.5"}), "G21\nG65 P9812\nM2\n", folder)
+    other.close()
+    checks.check(code == 1 and "controller busy: another client holds the macro interface" in output,
+                 "another client holds the interface: the program stops naming it", output[-600:])
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
