@@ -156,7 +156,8 @@ def module_error(code, errors):
 
 
 # A rigidity session through G-code loops: 3 A poses of c_count C positions,
-# a ball 100 mm off the C axis turning with C (an ideal cradle).
+# a ball 100 mm off the C axis and 50 mm above the table, turning with C
+# and A (an ideal cradle: Rx(A) Rz(C)).
 RIGIDITY = """G21
 G65 P9830
 #<pose> = 0
@@ -165,12 +166,12 @@ o100 while [#<pose> LT 3]
   o101 while [#<k> LT {c_count}]
     #<c> = [90 * #<k>]
     #<a> = [{first_a} + 20 * #<pose>]
-    G65 P9831 A#<a> C#<c> X[100 * COS[#<c>]] Y[100 * SIN[#<c>] * COS[#<a>]] Z[100 * SIN[#<c>] * SIN[#<a>]]
+    G65 P9831 A#<a> C#<c> X[100 * COS[#<c>]] Y[100 * SIN[#<c>] * COS[#<a>] - 50 * SIN[#<a>]] Z[100 * SIN[#<c>] * SIN[#<a>] + 50 * COS[#<a>]]
     #<k> = [#<k> + 1]
   o101 endwhile
   #<pose> = [#<pose> + 1]
 o100 endwhile
-G65 P9832
+{build}
 M2
 """
 
@@ -219,8 +220,9 @@ def run_cases(checks, sim, folder, errors, regenerate):
         (204, points.format(50, 30, 0, 50) + "G65 P9810 A0 C0 K-1\nM2\n"),   # facing down: 169 deg
         (104, "G21\nG65 P9812\nG65 P9813 X0 Y0 Z40\nG65 P9814\nM2\n"),
         (400, "G21\nG65 P9899\nM2\n"),
-        (209, RIGIDITY.format(first_a=10, c_count=4)),   # no pose at A = 0
-        (210, RIGIDITY.format(first_a=0, c_count=3)),    # 3 C positions a pose
+        (209, RIGIDITY.format(first_a=10, c_count=4, build="G65 P9832")),  # no pose at A = 0
+        (210, RIGIDITY.format(first_a=0, c_count=3, build="G65 P9832")),   # 3 C positions a pose
+        (403, RIGIDITY.format(first_a=0, c_count=4, build="G65 P9832 R1")),  # a store, locked
         (208, "G21\nG65 P9830\nG65 P9831 A0 C0 X1 Y0 Z0\nG65 P9831 A0 C90 X0 Y1 Z0\nG65 P9832\nM2\n"),
     ]
     for expected, program in cases:
@@ -229,7 +231,15 @@ def run_cases(checks, sim, folder, errors, regenerate):
         checks.check(code == 1 and text in output, f"error {expected} {errors[expected]['name']}: the program stops "
                      "with the module's code, name and text", f"exit {code}; output:\n{output[-600:]}")
 
-    # 5. Letters LinuxCNC acts on are refused on the G65 line, before anything is written.
+    # 5. #<_ta_unlock> stores a table: unlocked for that macro alone.
+    code, output = rs274(ini, RIGIDITY.format(first_a=0, c_count=4, build="#<_ta_unlock> = 2718\nG65 P9832 R1\n"
+                                              "(DEBUG, unlock after: #<_ta_unlock>)\nG65 P9833 A20 Q0 R0\n"
+                                              "(DEBUG, stored: #103)"), folder)
+    checks.check(code == 0 and "unlock after: 0.000000" in output and "stored: 0.000000" in output
+                 and sim.get(9004)[9004] == 0, "#<_ta_unlock> = 2718 stores the rigidity table, locked again after",
+                 f"exit {code}; #9004 = {sim.get(9004)}; output:\n{output[-600:]}")
+
+    # 6. Letters LinuxCNC acts on are refused on the G65 line, before anything is written.
     for letter, word in (("S", "S30"), ("T", "T1"), ("F", "F100"), ("M", "M5")):
         before = sim.get(9003)[9003]
         code, output = rs274(ini, f"G21\nG65 P9843 Z100 {word}\nM2\n", folder)
@@ -237,7 +247,7 @@ def run_cases(checks, sim, folder, errors, regenerate):
                      and sim.get(9003)[9003] == before, f"{letter} on the G65 line: refused, naming #<_ta_{letter.lower()}>",
                      f"exit {code}; output:\n{output[-600:]}")
 
-    # 6. ... and arrive as #<_ta_s>, #<_ta_t>: the simulator holds the macro (sim_hold)
+    # 7. ... and arrive as #<_ta_s>, #<_ta_t>: the simulator holds the macro (sim_hold)
     # so its arguments stay to be read; the remap's time-out names [TRUEAXIS] TIMEOUT.
     sim.set(_12009=1)
     held = make_ini(folder, sim.port, extra={"TIMEOUT": "1"})
@@ -252,7 +262,7 @@ def run_cases(checks, sim, folder, errors, regenerate):
     code, output = rs274(ini, "G21\n#<_ta_s> = 30\nG65 P9812\n(DEBUG, after: #<_ta_s>)\nM2\n", folder)
     checks.check(code == 0 and "after: 0.000000" in output, "a call sets #<_ta_s> back to 0", output[-600:])
 
-    # 7. Inches are refused; a busy controller is named.
+    # 8. Inches are refused; a busy controller is named.
     code, output = rs274(ini, "G20\nG65 P9812\nM2\n", folder)
     checks.check(code == 1 and "G20 is active: the module takes mm" in output, "G20: refused", output[-600:])
     from pymodbus.client import ModbusTcpClient

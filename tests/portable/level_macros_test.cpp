@@ -11,6 +11,7 @@
 #include "portable_test.hpp"
 #include "split_mix64.hpp"
 #include "trueaxis/core/plane_fit.hpp"
+#include "trueaxis/core/sphere_fit.hpp"
 #include "trueaxis/macros/module.hpp"
 
 TA_METHOD_TESTED("level");
@@ -349,6 +350,70 @@ TA_TEST("the leveling session refuses a point at its capacity and keeps the othe
   TA_CHECK_EQ(rig.refuse(9814), Status::kTooFewSamples);
 }
 
+namespace {
+
+// Five touches of a ball of radius 13 (a 25 mm ball, a 1 mm stylus tip) at
+// (120, -40, 75): the pole and four 30 deg below the equator.
+void put_ball_touches(ModuleRig& rig, double radius = 13.0) {
+  const Vec3 centre(120.0, -40.0, 75.0);
+  const double c = std::cos(trueaxis::core::kPi / 6.0);
+  const double s = std::sin(trueaxis::core::kPi / 6.0);
+  const Vec3 dirs[5] = {Vec3(0, 0, 1), Vec3(c, 0, -s), Vec3(0, c, -s), Vec3(-c, 0, -s), Vec3(0, -c, -s)};
+  rig.done(9812);
+  for (const Vec3& d : dirs) add(rig, centre + radius * d);
+}
+
+}  // namespace
+
+TA_TEST("9815 finds the ball's centre from the session's touches, with the core fit's sigmas") {
+  ModuleRig rig;
+  put_ball_touches(rig);
+  TA_REQUIRE(rig.done(9815));
+  TA_CHECK_NEAR(rig.get(v::kBallCentreX), 120.0, 1e-10);
+  TA_CHECK_NEAR(rig.get(v::kBallCentreY), -40.0, 1e-10);
+  TA_CHECK_NEAR(rig.get(v::kBallCentreZ), 75.0, 1e-10);
+  TA_CHECK_NEAR(rig.get(v::kBallRadius), 13.0, 1e-10);
+  TA_CHECK_EQ(rig.get(v::kBallPointCount), 5.0);
+  TA_CHECK(rig.get(v::kBallRmsResidual) < 1e-10);
+  // The sigmas are the core fit's with #506 (0.5 um by default) as the touches' noise.
+  const Vec3 touches[5] = {Vec3(120, -40, 88), Vec3(120 + 13 * std::cos(trueaxis::core::kPi / 6), -40, 68.5),
+                           Vec3(120, -40 + 13 * std::cos(trueaxis::core::kPi / 6), 68.5),
+                           Vec3(120 - 13 * std::cos(trueaxis::core::kPi / 6), -40, 68.5),
+                           Vec3(120, -40 - 13 * std::cos(trueaxis::core::kPi / 6), 68.5)};
+  const auto direct = trueaxis::core::fit_sphere(touches, 5, 0.0, 0.0005);
+  TA_REQUIRE(direct.ok());
+  TA_CHECK_NEAR(rig.get(v::kBallCentreSigmaX), direct.value().centre_sigma_mm.x(), 1e-12);
+  TA_CHECK_NEAR(rig.get(v::kBallCentreSigmaZ), direct.value().centre_sigma_mm.z(), 1e-12);
+  TA_CHECK_NEAR(rig.get(v::kBallRadiusSigma), direct.value().radius_sigma_mm, 1e-12);
+  TA_CHECK(rig.get(v::kBallCentreSigmaZ) > 0.0);
+  // R fixes the radius: a sphere of 13.002 through touches at 13 puts the centre
+  // 2 um lower along the mean touch direction's opposite, and reports R.
+  put_ball_touches(rig);
+  rig.set(v::kArgR, 13.002);
+  TA_REQUIRE(rig.done(9815));
+  TA_CHECK_EQ(rig.get(v::kBallRadius), 13.002);
+  TA_CHECK_EQ(rig.get(v::kBallRadiusSigma), 0.0);
+  TA_CHECK(rig.get(v::kBallRmsResidual) > 1e-4);
+}
+
+TA_TEST("9815 refuses three touches, touches on one circle and a negative R, keeping the session") {
+  ModuleRig rig;
+  TA_REQUIRE(rig.done(9812));
+  add(rig, Vec3(10, 0, 5));
+  add(rig, Vec3(0, 10, 5));
+  add(rig, Vec3(-10, 0, 5));
+  TA_CHECK_EQ(rig.refuse(9815), Status::kTooFewSamples);
+  add(rig, Vec3(0, -10, 5));
+  TA_CHECK_EQ(rig.refuse(9815), m::level::kTouchesCoplanar);
+  TA_CHECK_EQ(rig.get(v::kLevelSessionCount), 4.0);  // results as they were: 9813 put the count in #100
+  add(rig, Vec3(0, 0, 15));
+  rig.set(v::kArgR, -1.0);
+  TA_CHECK_EQ(rig.refuse(9815), Status::kArgumentOutOfRange);
+  TA_REQUIRE(rig.done(9815));  // the five touches are still there
+  TA_CHECK_NEAR(rig.get(v::kBallCentreZ), 5.0, 1e-10);
+  TA_CHECK_NEAR(rig.get(v::kBallRadius), 10.0, 1e-10);
+}
+
 // ---- recipes (method_tests.hpp) ------------------------------------------------------------
 
 namespace {
@@ -377,6 +442,8 @@ void level_session_of_three(ModuleRig& rig) {
   add(rig, Vec3(0, 100, 10));
 }
 
+void level_ball_touches(ModuleRig& rig) { put_ball_touches(rig); }
+
 }  // namespace
 
 TA_RECIPE(9810, nullptr, level_pose);
@@ -384,3 +451,4 @@ TA_RECIPE(9811, nullptr, level_point_list);
 TA_RECIPE(9812, nullptr, nullptr);
 TA_RECIPE(9813, nullptr, level_session_point);
 TA_RECIPE(9814, level_session_of_three, nullptr);
+TA_RECIPE(9815, level_ball_touches, nullptr);

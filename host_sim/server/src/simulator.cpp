@@ -70,6 +70,19 @@ double Simulator::read_one(std::uint16_t number) const {
     case simvar::kTrueCDirX:
     case simvar::kTrueCDirY:
     case simvar::kTrueCDirZ: return m.c_axis_at(a).direction[number - simvar::kTrueCDirX];
+    case simvar::kFaceNormalX:
+    case simvar::kFaceNormalY:
+    case simvar::kFaceNormalZ: return m.face_at(a, c).normal[number - simvar::kFaceNormalX];
+    case simvar::kFaceOffset: {
+      const Plane face = m.face_at(a, c);
+      return face.normal.dot(face.point_mm);
+    }
+    case simvar::kBallMachineX:
+    case simvar::kBallMachineY:
+    case simvar::kBallMachineZ: {
+      const core::Vec3 ball(v[simvar::kBallX - simvar::kFirst], v[simvar::kBallY - simvar::kFirst], ball_z);
+      return m.machine_T_table(a, c).apply(ball)[number - simvar::kBallMachineX];
+    }
     default: return v[number - simvar::kFirst];
   }
 }

@@ -24,6 +24,11 @@ The call reads them and sets them back to 0, as the module clears its #1..#26
 after every macro. A G65 block holding one of them is refused before anything
 is written. Every value is in mm and degrees: the call is refused under G20.
 
+A macro that stores a table (9832, 9823, 9842 with R = 1) needs the module
+unlocked: `#<_ta_unlock> = CODE` before the call writes CODE to #9004 just
+before the macro and 0 just after it, whatever its end; the code is never
+kept.
+
 `G65 P0` gives the module's macro interface back (#9009 = 0): a program that
 ran a session ends with it. Otherwise the remap keeps its one connection, and
 with it the interface, from its first call on (the module lets it go 30 s
@@ -34,10 +39,10 @@ import shlex
 
 from interpreter import INTERP_ERROR, INTERP_EXECUTE_FINISH, INTERP_OK
 
-from trueaxis_module import LETTER_VARIABLE, Module, RegisterMap, TrueaxisError
+from trueaxis_module import LETTER_VARIABLE, UNLOCK, Module, RegisterMap, TrueaxisError
 
 LINE_LETTERS = "acdehijkqrxyz"  # the G65 line's letters besides P (trueaxis.ini argspec)
-NAMED_LETTERS = "bfmstuvw"      # as #<_ta_LETTER>
+NAMED_LETTERS = tuple("bfmstuvw")  # as #<_ta_LETTER>
 RESULTS_FIRST, RESULTS_COUNT = 100, 100
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -94,7 +99,7 @@ class Remap:
                              timeout_s=number("REQUEST_TIMEOUT", 1.0), macro_timeout_s=number("TIMEOUT", 30.0),
                              wait_s=number("WAIT", 10.0))
 
-    def call(self, macro, arguments, offsets):
+    def call(self, macro, arguments, offsets, unlock=0.0):
         """Runs `macro` with the arguments {number: value} (every G65 letter's
         variable) and the work offsets {number: mm or deg}; returns the
         module's #100..#199."""
@@ -109,7 +114,13 @@ class Remap:
             present = module.read(first, len(values))
             if present != values:
                 module.write(first, values)
-        module.run(macro, self.map)
+        if unlock:
+            module.write(UNLOCK, [unlock])
+        try:
+            module.run(macro, self.map)
+        finally:
+            if unlock:
+                module.write(UNLOCK, [0])
         return module.read(RESULTS_FIRST, RESULTS_COUNT)
 
 
@@ -146,9 +157,10 @@ def _refused_letters(block):
 
 
 def _named_arguments(params):
-    """{letter: value} of the #<_ta_LETTER> that exist, each set back to 0."""
+    """{letter: value} of the #<_ta_LETTER> that exist, and "unlock" for
+    #<_ta_unlock>; each set back to 0."""
     values = {}
-    for letter in NAMED_LETTERS:
+    for letter in NAMED_LETTERS + ("unlock",):
         name = "_ta_" + letter
         try:
             values[letter] = float(params[name])
@@ -188,6 +200,7 @@ def g65(self, **words):
         if int(self.params["_metric"]) != 1:
             raise TrueaxisError("G20 is active: the module takes mm (program G21 before the call)")
         arguments = {number: 0.0 for number in LETTER_VARIABLE.values()}
+        unlock = named.pop("unlock", 0.0)
         for letter, value in list(words.items()) + list(named.items()):
             if letter != "p":
                 arguments[LETTER_VARIABLE[letter]] = float(value)
@@ -199,7 +212,7 @@ def g65(self, **words):
                 axis = (number - 5221) % 20  # 0..2 X, Y, Z (length); 3..5 A, B, C (deg)
                 value = float(self.params[number])
                 offsets[number] = value / per_mm if axis < 3 else value
-        results = remap.call(macro, arguments, offsets)
+        results = remap.call(macro, arguments, offsets, unlock)
     except TrueaxisError as e:
         self.set_errormsg(f"trueaxis G65 P{macro}: {e}")
         yield INTERP_ERROR

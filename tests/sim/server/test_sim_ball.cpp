@@ -1,5 +1,5 @@
 // The calibration ball and the machine's errors over the simulator's variables
-// (#12020..#12047, simulator.hpp contracts 4-5), without a socket.
+// (#12020..#12054, simulator.hpp contracts 4-5), without a socket.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -185,4 +185,39 @@ TEST_CASE("bad ball, sigma, measure and error values are refused and change noth
   (void)fresh.measure_at(10.0, 20.0);
   CHECK(b.measure_at(10.0, 20.0) == fresh.measure_at(10.0, 20.0));
   CHECK(first != b.last_ball());
+}
+
+TEST_CASE("the face's plane and the ball's centre for an outside probe follow the table and the errors") {
+  // #12048..#12054 (the LinuxCNC machine's virtual probe): on the ideal machine,
+  // Rx(A) Rz(C) of the table-frame face and ball, computed here independently.
+  Bench b;
+  REQUIRE(b.write(simvar::kAxisA, {30.0, 45.0}) == AccessFault::kNone);
+  const double a = 30.0 * M_PI / 180.0;
+  const double c = 45.0 * M_PI / 180.0;
+  auto turn = [&](const Vec3& p) {
+    const Vec3 q(std::cos(c) * p.x() - std::sin(c) * p.y(), std::sin(c) * p.x() + std::cos(c) * p.y(), p.z());
+    return Vec3(q.x(), std::cos(a) * q.y() - std::sin(a) * q.z(), std::sin(a) * q.y() + std::cos(a) * q.z());
+  };
+  const double t = 12.5 * M_PI / 180.0;
+  const double az = 30.0 * M_PI / 180.0;
+  const Vec3 n = turn(Vec3(std::sin(t) * std::cos(az), std::sin(t) * std::sin(az), std::cos(t)));
+  CHECK(b.simulator.value(simvar::kFaceNormalX) == Approx(n.x()).margin(1e-15));
+  CHECK(b.simulator.value(simvar::kFaceNormalY) == Approx(n.y()).margin(1e-15));
+  CHECK(b.simulator.value(simvar::kFaceNormalZ) == Approx(n.z()).margin(1e-15));
+  CHECK(b.simulator.value(simvar::kFaceOffset) == Approx(n.dot(turn(Vec3(0, 0, 40)))).margin(1e-12));
+  const Vec3 ball = turn(Vec3(200, 0, 50));
+  CHECK(b.simulator.value(simvar::kBallMachineX) == Approx(ball.x()).margin(1e-12));
+  CHECK(b.simulator.value(simvar::kBallMachineY) == Approx(ball.y()).margin(1e-12));
+  CHECK(b.simulator.value(simvar::kBallMachineZ) == Approx(ball.z()).margin(1e-12));
+  // The realistic machine: the ball the instrument measures (1 um noise) and the
+  // probe's face are the true machine's, tens of micrometres off the ideal.
+  REQUIRE(b.write(simvar::kErrors, {1.0}) == AccessFault::kNone);
+  const Vec3 real(b.simulator.value(simvar::kBallMachineX), b.simulator.value(simvar::kBallMachineY),
+                  b.simulator.value(simvar::kBallMachineZ));
+  CHECK((real - ball).norm() > 0.02);
+  const Vec3 measured = b.measure_at(30.0, 45.0);
+  CHECK((measured - real).norm() < 0.006);
+  const CradleMachine m(FaceConfig{}, trueaxis::sim::realistic_errors());
+  const auto face = m.face_at(30.0, 45.0);
+  CHECK(b.simulator.value(simvar::kFaceOffset) == face.normal.dot(face.point_mm));
 }

@@ -4,6 +4,7 @@
 
 #include "trueaxis/core/leveling.hpp"
 #include "trueaxis/core/rigidity_leveling.hpp"
+#include "trueaxis/core/sphere_fit.hpp"
 
 namespace trueaxis::macros::level {
 
@@ -112,6 +113,28 @@ MacroStep run_session_compute(Context& ctx, State& state) {
   const Session<core::Vec3, kSessionCapacity>& session = state.points;
   if (session.size() < 3) return done(core::Status::kTooFewSamples);
   return level_and_report(ctx, session.data(), session.size());
+}
+
+MacroStep run_session_ball(Context& ctx, State& state) {
+  const Session<core::Vec3, kSessionCapacity>& session = state.points;
+  if (session.size() < 4) return done(core::Status::kTooFewSamples);
+  const core::Result<core::SphereFit> r =
+      core::fit_sphere(session.data(), session.size(), ctx.in<var::kArgR>(), ctx.in<var::kProbeSigma>());
+  if (r.status() == core::Status::kNotIdentifiable) return done(kTouchesCoplanar);
+  if (!r.ok()) return done(r.status());
+  const core::SphereFit& fit = r.value();
+  ctx.out<var::kBallCentreX>(fit.centre_mm.x());
+  ctx.out<var::kBallCentreY>(fit.centre_mm.y());
+  ctx.out<var::kBallCentreZ>(fit.centre_mm.z());
+  ctx.out<var::kBallRadius>(fit.radius_mm);
+  ctx.out<var::kBallCentreSigmaX>(fit.centre_sigma_mm.x());
+  ctx.out<var::kBallCentreSigmaY>(fit.centre_sigma_mm.y());
+  ctx.out<var::kBallCentreSigmaZ>(fit.centre_sigma_mm.z());
+  ctx.out<var::kBallRadiusSigma>(fit.radius_sigma_mm);
+  ctx.out<var::kBallRmsResidual>(fit.rms_residual_mm);
+  ctx.out<var::kBallMaxResidual>(fit.max_residual_mm);
+  ctx.out<var::kBallPointCount>(static_cast<double>(fit.count));
+  return done(core::Status::kOk);
 }
 
 }  // namespace trueaxis::macros::level

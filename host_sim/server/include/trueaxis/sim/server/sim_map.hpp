@@ -4,8 +4,10 @@
 // integrator's PLC program can never come to depend on them. #12000..#12013:
 // table, probe and face (M1); #12020..#12047: calibration ball, the machine's
 // geometric errors and their ground truth (M3; calibration_ball.hpp,
-// cradle_machine.hpp convention 3, cradle_errors.hpp). #12014..#12019 are not
-// defined.
+// cradle_machine.hpp convention 3, cradle_errors.hpp); #12048..#12054: the
+// face's plane and the ball's centre in the machine frame at the table's
+// present pose, for a virtual probe outside the simulator (LinuxCNC's,
+// integrations/linuxcnc/sim). #12014..#12019 are not defined.
 #pragma once
 
 #include "trueaxis/macros/var_info.hpp"
@@ -56,7 +58,14 @@ inline constexpr std::uint16_t kTrueCCentreZ = 12044;
 inline constexpr std::uint16_t kTrueCDirX = 12045;
 inline constexpr std::uint16_t kTrueCDirY = 12046;
 inline constexpr std::uint16_t kTrueCDirZ = 12047;
-inline constexpr std::uint16_t kLast = 12047;
+inline constexpr std::uint16_t kFaceNormalX = 12048;
+inline constexpr std::uint16_t kFaceNormalY = 12049;
+inline constexpr std::uint16_t kFaceNormalZ = 12050;
+inline constexpr std::uint16_t kFaceOffset = 12051;
+inline constexpr std::uint16_t kBallMachineX = 12052;
+inline constexpr std::uint16_t kBallMachineY = 12053;
+inline constexpr std::uint16_t kBallMachineZ = 12054;
+inline constexpr std::uint16_t kLast = 12054;
 }  // namespace simvar
 
 namespace detail {
@@ -111,6 +120,13 @@ inline constexpr macros::VarInfo kSimMap[] = {
   {12045, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -1.0, 1.0, 0.0, "sim_true_c_dir_x", "", "Simulator ground truth: X of the C axis' unit direction at the present A (right-handed for increasing C)."},
   {12046, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -1.0, 1.0, 0.0, "sim_true_c_dir_y", "", "Simulator ground truth: Y of the C axis' unit direction at the present A."},
   {12047, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -1.0, 1.0, 1.0, "sim_true_c_dir_z", "", "Simulator ground truth: Z of the C axis' unit direction at the present A."},
+  {12048, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -1.0, 1.0, 0.0, "sim_face_normal_x", "", "Simulator ground truth: X of the face's outward unit normal in the machine frame with the table at (sim_axis_a, sim_axis_c): what a virtual probe (LinuxCNC's) trips on."},
+  {12049, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -1.0, 1.0, 0.0, "sim_face_normal_y", "", "Simulator ground truth: Y of that normal."},
+  {12050, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -1.0, 1.0, 1.0, "sim_face_normal_z", "", "Simulator ground truth: Z of that normal."},
+  {12051, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 40.0, "sim_face_offset", "mm", "Simulator ground truth: the face's plane n . p = this, machine frame, table at (sim_axis_a, sim_axis_c)."},
+  {12052, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 200.0, "sim_ball_machine_x", "mm", "Simulator ground truth: X of the calibration ball's centre in the machine frame with the table at (sim_axis_a, sim_axis_c), no noise."},
+  {12053, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 0.0, "sim_ball_machine_y", "mm", "Simulator ground truth: Y of that centre."},
+  {12054, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 50.0, "sim_ball_machine_z", "mm", "Simulator ground truth: Z of that centre."},
 };
 // clang-format on
 

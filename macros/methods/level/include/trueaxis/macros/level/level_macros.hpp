@@ -26,6 +26,14 @@
 //  kSessionCapacity points (nothing added).
 // Macro 9814: level through the session's points, as 9811 (A, C, I, J, K as
 //  9810). kTooFewSamples with fewer than 3 points. The session is kept.
+// Macro 9815: the centre of a ball from the session's points, probe touches
+//  on it (core::fit_sphere: least squares, geometric distances), with R = #18
+//  the sphere's radius when known (the ball's plus the stylus tip's; 0 leaves
+//  it free) and #506 the touches' noise for the sigmas. Out: #100..#110
+//  (kBallOutputs). kTooFewSamples with fewer than 4 points; kTouchesCoplanar
+//  (1000) for touches in one plane; kArgumentOutOfRange for R < 0. The session is
+//  kept. It serves every controller's ball measurement (M3's samples), so no
+//  controller fits a sphere in its own macro language.
 #pragma once
 
 #include "trueaxis/core/types.hpp"
@@ -54,6 +62,7 @@ MacroStep run_level_points(Context& ctx, State& state);
 MacroStep run_session_clear(Context& ctx, State& state);
 MacroStep run_session_add(Context& ctx, State& state);
 MacroStep run_session_compute(Context& ctx, State& state);
+MacroStep run_session_ball(Context& ctx, State& state);
 
 // clang-format off
 inline constexpr InputRef kPoseInputs[] = {
@@ -79,6 +88,10 @@ inline constexpr InputRef kPointsInputs[] = {
   {var::kAMin, 9, "Configuration: travel limits, axis signs, probe repeatability, direction limit, axes."},
   {var::kPointList, var::kPointListCount, "Points 1..Q (mm, machine frame)."},
 };
+inline constexpr InputRef kBallInputs[] = {
+  {var::kArgR, 1, "The sphere's radius (mm: the ball's plus the stylus tip's), 0 to fit it."},
+  {var::kProbeSigma, 1, "Configuration: probe repeatability, for the sigmas."},
+};
 inline constexpr InputRef kAddInputs[] = {{var::kArgX, 3, "The point X, Y, Z (mm, machine frame)."}};
 
 inline constexpr MacroInfo kMacros[] = {
@@ -96,6 +109,9 @@ inline constexpr MacroInfo kMacros[] = {
   macro<&run_session_compute>(9814, "level_session_compute",
         "N-point auto-level through the session's points (as 9811); the session is kept.",
         kPoseInputs, kLevelOutputs),
+  macro<&run_session_ball>(9815, "level_session_ball",
+        "Ball centre: least-squares sphere through the session's points (4 or more probe touches); the session is kept.",
+        kBallInputs, kBallOutputs),
 };
 // clang-format on
 

@@ -5,13 +5,14 @@
 // Conventions
 //  1. Configuration #500..#507 (block #500..#599), the point list of 9811
 //     #1001..#1096 (block #1000..#1999).
-//  2. Outputs #100..#118 of 9810, 9811 and 9814. Interface version 1 named the
+//  2. Outputs #100..#118 of 9810, 9811 and 9814; #100..#110 of 9815 (the
+//     ball through the session's touches). Interface version 1 named the
 //     result variables #100..#116 after them (level_c ...); the map keeps those
 //     names (the descriptor's kNamedResults: the first kNamedLevelOutputs).
 //     #117, #118 (the tilt in the machine frame at the probe pose and its sigma,
 //     issue 17 item 5) came later and are named only in the macros' outputs.
-//  3. Status codes: block 1000..1099; the two it owned before the block
-//     (203, 204) keep their numbers.
+//  3. Status codes: block 1000..1099 (1000 touches_coplanar, 9815); the two
+//     it owned before the block (203, 204) keep their numbers.
 #pragma once
 
 #include <cstddef>
@@ -19,6 +20,7 @@
 
 #include "trueaxis/core/leveling.hpp"
 #include "trueaxis/core/plane_fit.hpp"
+#include "trueaxis/core/sphere_fit.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 
 namespace trueaxis::macros {
@@ -43,6 +45,18 @@ inline constexpr std::uint16_t kLevelOtherReachable = 115;
 inline constexpr std::uint16_t kLevelAxesUsed = 116;
 inline constexpr std::uint16_t kLevelMachineTilt = 117;
 inline constexpr std::uint16_t kLevelMachineTiltSigma = 118;
+
+inline constexpr std::uint16_t kBallCentreX = 100;  // 9815
+inline constexpr std::uint16_t kBallCentreY = 101;
+inline constexpr std::uint16_t kBallCentreZ = 102;
+inline constexpr std::uint16_t kBallRadius = 103;
+inline constexpr std::uint16_t kBallCentreSigmaX = 104;
+inline constexpr std::uint16_t kBallCentreSigmaY = 105;
+inline constexpr std::uint16_t kBallCentreSigmaZ = 106;
+inline constexpr std::uint16_t kBallRadiusSigma = 107;
+inline constexpr std::uint16_t kBallRmsResidual = 108;
+inline constexpr std::uint16_t kBallMaxResidual = 109;
+inline constexpr std::uint16_t kBallPointCount = 110;
 
 inline constexpr std::uint16_t kLevelSessionCount = 100;     // 9812, 9813
 inline constexpr std::uint16_t kLevelSessionCapacity = 101;  // 9812, 9813
@@ -111,14 +125,33 @@ inline constexpr OutputInfo kLevelOutputs[] = {
 inline constexpr std::size_t kNamedLevelOutputs = 17;
 static_assert(kLevelOutputs[kNamedLevelOutputs - 1].number == var::kLevelAxesUsed, "named results end at #116");
 
+// What 9815 puts in #100..#110 (sphere_fit.hpp).
+inline constexpr OutputInfo kBallOutputs[] = {
+  {var::kBallCentreX, "ball_centre_x", "mm", "Ball: X of the centre of the sphere through the session's touches."},
+  {var::kBallCentreY, "ball_centre_y", "mm", "Ball: Y of the centre."},
+  {var::kBallCentreZ, "ball_centre_z", "mm", "Ball: Z of the centre."},
+  {var::kBallRadius, "ball_radius", "mm", "Ball: the sphere's radius (the ball's plus the stylus tip's; R when R > 0)."},
+  {var::kBallCentreSigmaX, "ball_centre_sigma_x", "mm", "Ball: 1 sigma of the centre's X from the probe repeatability (#506)."},
+  {var::kBallCentreSigmaY, "ball_centre_sigma_y", "mm", "Ball: 1 sigma of the centre's Y."},
+  {var::kBallCentreSigmaZ, "ball_centre_sigma_z", "mm", "Ball: 1 sigma of the centre's Z."},
+  {var::kBallRadiusSigma, "ball_radius_sigma", "mm", "Ball: 1 sigma of the radius (0 when R fixed it)."},
+  {var::kBallRmsResidual, "ball_rms_residual", "mm", "Ball: root mean square of the touches' distances from the sphere."},
+  {var::kBallMaxResidual, "ball_max_residual", "mm", "Ball: the largest distance of a touch from the sphere."},
+  {var::kBallPointCount, "ball_point_count", "", "Ball: number of touches used."},
+};
+
 // What 9812 and 9813 put in #100, #101.
 inline constexpr OutputInfo kSessionOutputs[] = {
   {var::kLevelSessionCount, "level_session_count", "", "Points in the leveling session after this macro."},
   {var::kLevelSessionCapacity, "level_session_capacity", "", "Points the leveling session holds at most."},
 };
+// Its status codes (block 1000..1099).
+inline constexpr core::Status kTouchesCoplanar = static_cast<core::Status>(1000);
+
 inline constexpr core::StatusInfo kStatuses[] = {
   {core::Status::kOrientationAmbiguous, "orientation_ambiguous", "The face is perpendicular to the orientation hint: give its outward direction in I, J, K."},
   {core::Status::kUnreachable, "unreachable", "Neither leveling solution lies inside the rotary axes' travel limits."},
+  {kTouchesCoplanar, "touches_coplanar", "Macro 9815: the touches lie in one plane (on one circle of the ball), so they do not determine its centre: touch the ball also at its top or on another circle."},
 };
 // clang-format on
 
