@@ -14,6 +14,10 @@ packages=(
   linuxcnc-uspace linuxcnc-uspace-dev python3-pymodbus python3-serial python3-serial-asyncio
 )
 
+# LinuxCNC refuses to run as root: its headless tests (tests/linuxcnc) run it as
+# this user, which has no password and no rights beyond its own home.
+ci_user=trueaxis-ci
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
@@ -21,7 +25,20 @@ for p in "${packages[@]}"; do
   fi
 done
 
+make_ci_user() {
+  if ! id -u "$ci_user" >/dev/null 2>&1; then
+    if [ "$(id -u)" -eq 0 ]; then
+      useradd --create-home --shell /usr/sbin/nologin "$ci_user"
+    elif command -v sudo >/dev/null; then
+      sudo useradd --create-home --shell /usr/sbin/nologin "$ci_user"
+    else
+      echo "setup: cannot create the user $ci_user (needs root): the LinuxCNC tests will fail" >&2
+    fi
+  fi
+}
+
 if [ "${#missing[@]}" -eq 0 ]; then
+  make_ci_user
   exit 0
 fi
 
@@ -31,3 +48,4 @@ if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -q
 "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+make_ci_user

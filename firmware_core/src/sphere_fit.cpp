@@ -96,9 +96,12 @@ Result<SphereFit> fit_sphere(const Vec3* points_mm, std::size_t count, double ra
     if (it >= kSphereMaxIterations) return Status::kNoConvergence;
   }
 
-  // Convention 4 at the solution (the last J^T J is within a step of it).
+  // Convention 4 at the solution (the last J^T J is within a step of it): the
+  // diagonal of its inverse, a column at a time (a vector right-hand side keeps
+  // Eigen's solver off the heap).
   const Eigen::LDLT<Mat4> ldlt(jtj);
-  const Mat4 cov = ldlt.solve(Mat4::Identity()) * (sigma_mm * sigma_mm);
+  Vec4 variance = Vec4::Zero();
+  for (int k = 0; k < 4; ++k) variance(k) = ldlt.solve(Vec4::Unit(k))(k) * (sigma_mm * sigma_mm);
   double sum_sq = 0.0;
   double worst = 0.0;
   for (std::size_t i = 0; i < count; ++i) {
@@ -108,8 +111,8 @@ Result<SphereFit> fit_sphere(const Vec3* points_mm, std::size_t count, double ra
   }
   fit.centre_mm = centroid + c;
   fit.radius_mm = r;
-  fit.centre_sigma_mm = Vec3(std::sqrt(cov(0, 0)), std::sqrt(cov(1, 1)), std::sqrt(cov(2, 2)));
-  fit.radius_sigma_mm = fixed ? 0.0 : std::sqrt(cov(3, 3));
+  fit.centre_sigma_mm = Vec3(std::sqrt(variance(0)), std::sqrt(variance(1)), std::sqrt(variance(2)));
+  fit.radius_sigma_mm = fixed ? 0.0 : std::sqrt(variance(3));
   fit.rms_residual_mm = std::sqrt(sum_sq / static_cast<double>(count));
   fit.max_residual_mm = worst;
   fit.count = count;

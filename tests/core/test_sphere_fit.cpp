@@ -102,15 +102,18 @@ TEST_CASE("the noisy fit agrees with a long-double variable-projection fit", "[s
 }
 
 TEST_CASE("the centre's sigma follows the touches' noise (Monte Carlo)", "[sphere][sigma]") {
-  // A probing pattern: the pole and four touches 30 deg below the equator,
-  // noise along the normal; free and fixed radius.
+  // The LinuxCNC rigidity program's pattern (trueaxis_probe_ball.ngc): the pole
+  // and four touches on the equator; and the pole and four 30 deg below it.
+  // Noise along the normal; free and fixed radius.
   const Vec3 centre(120.0, -40.0, 75.0);
   const double radius = 13.0;  // a 25 mm ball and a 1 mm stylus tip
-  std::array<Vec3, 5> dirs = {Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(-1, 0, 0), Vec3(0, -1, 0)};
-  for (std::size_t k = 1; k < 5; ++k) dirs[k] = (dirs[k] * std::cos(M_PI / 6) - Vec3(0, 0, std::sin(M_PI / 6)));
   const double sigma = 0.0005;
-  for (const bool fixed : {false, true}) {
-    t::Rng rng(fixed ? 54 : 53);
+  for (const int pattern : {0, 1, 2, 3}) {
+    const bool fixed = pattern % 2 == 1;
+    const double below = pattern < 2 ? 0.0 : M_PI / 6;
+    std::array<Vec3, 5> dirs = {Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(-1, 0, 0), Vec3(0, -1, 0)};
+    for (std::size_t k = 1; k < 5; ++k) dirs[k] = dirs[k] * std::cos(below) - Vec3(0, 0, std::sin(below));
+    t::Rng rng(53 + static_cast<std::uint64_t>(pattern));
     const int runs = 4000;
     Vec3 sum_sq = Vec3::Zero();
     Vec3 reported = Vec3::Zero();
@@ -124,7 +127,7 @@ TEST_CASE("the centre's sigma follows the touches' noise (Monte Carlo)", "[spher
       reported = fit.value().centre_sigma_mm;
     }
     const Vec3 ratio = reported.cwiseQuotient((sum_sq / runs).cwiseSqrt());
-    INFO("fixed radius " << fixed << ": reported / observed " << ratio(0) << " " << ratio(1) << " " << ratio(2));
+    INFO("pattern " << pattern << ": reported / observed " << ratio(0) << " " << ratio(1) << " " << ratio(2));
     for (int a = 0; a < 3; ++a) {
       CHECK(ratio(a) > 0.93);
       CHECK(ratio(a) < 1.07);

@@ -21,6 +21,8 @@ rs274/NAME.expected; --regenerate writes the .expected files):
   level_no_trip  o<trueaxis_level> where the probe never trips (rs274's
              probe): its moves, LOGAPPEND, and its stop (exit 1) with the
              program's message, no macro run
+  rigidity_no_trip  o<trueaxis_rigidity> likewise: the sessions opened, the
+             table at the first pose, the probe above the ball, its stop
 Error cases: each program must stop (exit 1) with the module's code, name and
 text from the register map on one line, or the remap's own sentence.
 Exit 0 when every check holds, 1 when one fails.
@@ -211,6 +213,9 @@ def run_cases(checks, sim, folder, errors, regenerate):
     code, output = rs274(ini, os.path.join(HERE, "rs274", "level_no_trip.ngc"), folder)
     golden(checks, "level_no_trip", code, output, regenerate, expected_code=1)
     checks.check(sim.get(9003)[9003] == before, "level_no_trip: no macro ran in the module")
+
+    code, output = rs274(ini, os.path.join(HERE, "rs274", "rigidity_no_trip.ngc"), folder)
+    golden(checks, "rigidity_no_trip", code, output, regenerate, expected_code=1)
 
     # 4. The module's errors abort the program with its code, name and text.
     points = "G21\nG10 L2 P4 X0 Y0 Z40\nG10 L2 P5 X{} Y0 Z{}\nG10 L2 P6 X{} Y{} Z40\n"

@@ -1,0 +1,88 @@
+#!/usr/bin/python3
+"""The simulated machine's link to trueaxis-sim: a userspace HAL component that
+places the virtual probe's face and ball (trueaxis_sim.hal) where trueaxis-sim's
+own cradle model puts them, with its true geometric errors (one model of the
+machine: no second copy of its geometry here).
+
+usage: trueaxis_sim_bridge.py HOST PORT BALL_RADIUS_MM
+
+Pins (component trueaxis-sim-bridge):
+  a, c (float in)                  the table's commanded A and C, deg (joints 3, 4)
+  face-enable, ball-enable (bit in) which of the two the probe trips on (the
+                                   HAL file nets them to M64/M65 P0, P1); a
+                                   disabled one never trips
+  face-nx, face-ny, face-nz, face-d (float out)  the face's outward unit normal
+                                   and n . p on it, machine frame
+  ball-x, ball-y, ball-z, ball-r2 (float out)    the ball's centre, machine frame,
+                                   and the square of BALL_RADIUS_MM (the ball's
+                                   plus the stylus tip's radius)
+  pose-a, pose-c (float out)       the pose the outputs are for
+Every 5 ms: when A, C or an enable has changed, it writes A and C to the
+simulator (#12000, #12001: sim variables, outside the module's macro
+interface) and reads #12048..#12054 back. Exit when the HAL component is
+asked to (SIGTERM) or the simulator stops answering.
+"""
+import signal
+import struct
+import sys
+import time
+
+import hal
+from pymodbus.client import ModbusTcpClient
+
+NEVER = -1.0e9
+
+
+def main(argv):
+    host, port, radius = argv[1], int(argv[2]), float(argv[3])
+    client = ModbusTcpClient(host, port=port, timeout=2)
+    if not client.connect():
+        sys.exit(f"trueaxis_sim_bridge: no trueaxis-sim at {host}:{port}")
+    h = hal.component("trueaxis-sim-bridge")
+    for name in ("a", "c"):
+        h.newpin(name, hal.HAL_FLOAT, hal.HAL_IN)
+    for name in ("face-enable", "ball-enable"):
+        h.newpin(name, hal.HAL_BIT, hal.HAL_IN)
+    for name in ("face-nx", "face-ny", "face-nz", "face-d", "ball-x", "ball-y", "ball-z", "ball-r2",
+                 "pose-a", "pose-c"):
+        h.newpin(name, hal.HAL_FLOAT, hal.HAL_OUT)
+    h["face-d"] = NEVER   # nothing trips before the first answer
+    h["ball-r2"] = -1.0
+    h.ready()
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
+
+    def write(first, values):
+        words = [w for v in values for w in struct.unpack(">4H", struct.pack(">d", v))]
+        reply = client.write_registers(4 * first, words, slave=1)
+        if reply.isError():
+            sys.exit(f"trueaxis_sim_bridge: writing #{first} refused: {reply}")
+
+    def read(first, count):
+        reply = client.read_holding_registers(4 * first, 4 * count, slave=1)
+        if reply.isError():
+            sys.exit(f"trueaxis_sim_bridge: reading #{first} refused: {reply}")
+        r = reply.registers
+        return [struct.unpack(">d", struct.pack(">4H", *r[i:i + 4]))[0] for i in range(0, len(r), 4)]
+
+    last = None
+    try:
+        while True:
+            now = (h["a"], h["c"], h["face-enable"], h["ball-enable"])
+            if now != last:
+                write(12000, [now[0], now[1]])
+                nx, ny, nz, d, bx, by, bz = read(12048, 7)
+                h["face-nx"], h["face-ny"], h["face-nz"] = nx, ny, nz
+                h["face-d"] = d if now[2] else NEVER
+                h["ball-x"], h["ball-y"], h["ball-z"] = bx, by, bz
+                h["ball-r2"] = radius * radius if now[3] else -1.0
+                h["pose-a"], h["pose-c"] = now[0], now[1]
+                last = now
+            time.sleep(0.005)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        client.close()
+
+
+if __name__ == "__main__":
+    main(sys.argv)

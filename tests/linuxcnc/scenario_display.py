@@ -1,0 +1,91 @@
+#!/usr/bin/python3
+"""The display of a headless LinuxCNC run (linuxcnc -r, [DISPLAY] DISPLAY): runs
+the MDI commands of a scenario and writes what happened, then exits, which
+ends LinuxCNC.
+
+usage (by linuxcnc): scenario_display.py -ini INI
+Environment: TRUEAXIS_SCENARIO, a JSON file {"commands": [MDI lines...],
+"timeout": seconds each, "out": result file}. The result file: {"steps": [{
+"command", "ok", "errors": [texts], "seconds", "position": [x, y, z, a, c]}],
+"homed": bool, "error": text of a failure outside the steps or null}.
+Stops at the first command that fails.
+"""
+import json
+import os
+import sys
+import time
+
+import linuxcnc
+
+
+def wait_for(predicate, stat, timeout, what):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            stat.poll()
+        except SystemError:  # the task's status buffer not there yet
+            time.sleep(0.2)
+            continue
+        if predicate(stat):
+            return
+        time.sleep(0.05)
+    raise TimeoutError(f"timed out after {timeout} s waiting for {what}")
+
+
+def drain(errors):
+    texts = []
+    while True:
+        e = errors.poll()
+        if not e:
+            return texts
+        kind, text = e
+        texts.append((kind in (linuxcnc.NML_ERROR, linuxcnc.OPERATOR_ERROR), text))
+
+
+def main():
+    plan = json.load(open(os.environ["TRUEAXIS_SCENARIO"]))
+    out = {"steps": [], "homed": False, "error": None}
+    c, s, errors = linuxcnc.command(), linuxcnc.stat(), linuxcnc.error_channel()
+    try:
+        wait_for(lambda st: True, s, 30, "the task")
+        c.state(linuxcnc.STATE_ESTOP_RESET)
+        c.state(linuxcnc.STATE_ON)
+        wait_for(lambda st: st.task_state == linuxcnc.STATE_ON, s, 30, "machine on")
+        c.mode(linuxcnc.MODE_MANUAL)
+        c.wait_complete()
+        c.home(-1)
+        wait_for(lambda st: all(st.homed[i] for i in range(5)), s, 60, "homing")
+        out["homed"] = True
+        c.mode(linuxcnc.MODE_MDI)
+        c.wait_complete()
+        drain(errors)
+        for command in plan["commands"]:
+            started = time.monotonic()
+            c.mdi(command)
+            c.wait_complete(plan.get("timeout", 300))
+            wait_for(lambda st: st.interp_state == linuxcnc.INTERP_IDLE and st.queue == 0 and not getattr(st, "queued_mdi_commands", 0),
+                     s, plan.get("timeout", 300), f"'{command}'")
+            time.sleep(0.1)
+            drained = drain(errors)
+            texts = [t for error, t in drained if error]
+            s.poll()
+            step = {"command": command, "ok": not texts, "errors": texts,
+                    "messages": [t for error, t in drained if not error],
+                    "probed": list(s.probed_position)[:6], "probe_tripped": bool(s.probe_tripped),
+                    "seconds": round(time.monotonic() - started, 3),
+                    "position": [s.actual_position[i] for i in (0, 1, 2, 3, 5)]}
+            if plan.get("show"):  # diagnosis: HAL pins after each step
+                import subprocess
+                step["hal"] = subprocess.run(["halcmd", "show", "pin"] + plan["show"], capture_output=True,
+                                             text=True).stdout
+            out["steps"].append(step)
+            if texts:
+                break
+    except Exception as e:  # reported to the test, which fails on it
+        out["error"] = f"{type(e).__name__}: {e}"
+    with open(plan["out"], "w", encoding="utf-8") as f:
+        json.dump(out, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
