@@ -1,6 +1,7 @@
 #include "trueaxis/core/sphere_fit.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
@@ -62,7 +63,7 @@ Result<SphereFit> fit_sphere(const Vec3* points_mm, std::size_t count, double ra
   const bool fixed = radius_mm > 0.0;
   Vec3 c;
   double r = 0.0;
-  if (!algebraic(q, count, c, r)) return Status::kNotIdentifiable;
+  if (!algebraic(q, count, c, r)) return Status::kNoConvergence;
   if (fixed) r = radius_mm;
 
   SphereFit fit;
@@ -73,7 +74,7 @@ Result<SphereFit> fit_sphere(const Vec3* points_mm, std::size_t count, double ra
     for (std::size_t i = 0; i < count; ++i) {
       const Vec3 d = q[i] - c;
       const double len = d.norm();
-      if (!(len > 0.0)) return Status::kNotIdentifiable;
+      if (!(len > 0.0)) return Status::kNoConvergence;
       const Vec4 j(-d.x() / len, -d.y() / len, -d.z() / len, -1.0);
       const double e = len - r;
       jtj.noalias() += j * j.transpose();
@@ -86,13 +87,13 @@ Result<SphereFit> fit_sphere(const Vec3* points_mm, std::size_t count, double ra
       jte(3) = 0.0;
     }
     const Eigen::LDLT<Mat4> ldlt(jtj);
-    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return Status::kNotIdentifiable;
+    if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return Status::kNoConvergence;
     const Vec4 step = -ldlt.solve(jte);
-    if (!all_finite(Vec3(step.head<3>())) || !std::isfinite(step(3))) return Status::kNotIdentifiable;
+    if (!all_finite(Vec3(step.head<3>())) || !std::isfinite(step(3))) return Status::kNoConvergence;
     c += step.head<3>();
     if (!fixed) r += step(3);
     fit.iterations = it;
-    if (step.head<3>().norm() < kSphereStepTolerance_mm + 1e-15 * c.norm()) break;
+    if (step.head<3>().norm() < kSphereStepTolerance * std::max(r, 1.0)) break;
     if (it >= kSphereMaxIterations) return Status::kNoConvergence;
   }
 

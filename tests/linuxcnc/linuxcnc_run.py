@@ -75,6 +75,16 @@ class Machine:
         with open(self.ini, "w", encoding="utf-8") as f:
             f.write(text)
 
+    def add_ini_lines(self, section, lines):
+        """Adds lines at the top of [section] of the machine's ini (the copy)."""
+        text = open(self.ini, encoding="utf-8").read()
+        head = f"[{section}]\n"
+        if head not in text:
+            raise ValueError(f"no [{section}] in {self.ini}")
+        text = text.replace(head, head + "".join(line + "\n" for line in lines), 1)
+        with open(self.ini, "w", encoding="utf-8") as f:
+            f.write(text)
+
     def run(self, commands, timeout_s=300, name="run", show=None):
         """Starts LinuxCNC, runs the MDI commands, stops it: the display's result,
         with "log" (LinuxCNC's output) and "seconds" added."""

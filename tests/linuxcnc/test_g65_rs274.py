@@ -18,11 +18,12 @@ rs274/NAME.expected; --regenerate writes the .expected files):
              the module's read by trueaxis-var (17 digits), bit for bit
   preview    PREVIEW = 0 in a preview interpreter: no device I/O (#9003 and
              #100 as they were)
-  level_no_trip  o<trueaxis_level> where the probe never trips (rs274's
-             probe): its moves, LOGAPPEND, and its stop (exit 1) with the
-             program's message, no macro run
-  rigidity_no_trip  o<trueaxis_rigidity> likewise: the sessions opened, the
-             table at the first pose, the probe above the ball, its stop
+  level_flow o<trueaxis_level> in rs274, a preview interpreter whose probe
+             never trips: every move, each touch taken at its target (a
+             level face at Z 20), 9810 once, the interface given back
+  rigidity_flow  o<trueaxis_rigidity> likewise: every pose and touch, 9815
+             finding the nominal centres, 9831 twelve times, 9832 building
+             an ideal cradle's table
 Error cases: each program must stop (exit 1) with the module's code, name and
 text from the register map on one line, or the remap's own sentence.
 Exit 0 when every check holds, 1 when one fails.
@@ -208,14 +209,19 @@ def run_cases(checks, sim, folder, errors, regenerate):
     golden(checks, "preview", code, output, regenerate)
     checks.check(sim.get(9003)[9003] == before, "preview: no macro ran in the module")
 
-    # 3. The leveling program stops when a probe does not trip, before any macro.
+    # 3. The operator programs run through in a preview interpreter (the probe
+    # never trips; each touch is taken at its target), G65 talking (PREVIEW = 1).
     before = sim.get(9003)[9003]
-    code, output = rs274(ini, os.path.join(HERE, "rs274", "level_no_trip.ngc"), folder)
-    golden(checks, "level_no_trip", code, output, regenerate, expected_code=1)
-    checks.check(sim.get(9003)[9003] == before, "level_no_trip: no macro ran in the module")
-
-    code, output = rs274(ini, os.path.join(HERE, "rs274", "rigidity_no_trip.ngc"), folder)
-    golden(checks, "rigidity_no_trip", code, output, regenerate, expected_code=1)
+    code, output = rs274(ini, os.path.join(HERE, "rs274", "level_flow.ngc"), folder)
+    golden(checks, "level_flow", code, output, regenerate)
+    after = sim.get(9003, 107, 5283, 5303, 5323)
+    checks.check(after[9003] == before + 1 and after[107] == 0.0 and after[5283] == after[5303] == after[5323] == 20.0,
+                 "level_flow: one 9810, on the three touches at Z 20 (a level face)", str(after))
+    code, output = rs274(ini, os.path.join(HERE, "rs274", "rigidity_flow.ngc"), folder)
+    golden(checks, "rigidity_flow", code, output, regenerate)
+    built = sim.get(100, 101, 109)
+    checks.check(built[100] == 3.0 and built[101] < 1e-6 and built[109] < 1e-9,
+                 "rigidity_flow: 9832 built 3 poses of an ideal cradle from the fitted centres", str(built))
 
     # 4. The module's errors abort the program with its code, name and text.
     points = "G21\nG10 L2 P4 X0 Y0 Z40\nG10 L2 P5 X{} Y0 Z{}\nG10 L2 P6 X{} Y{} Z40\n"
@@ -237,12 +243,15 @@ def run_cases(checks, sim, folder, errors, regenerate):
                      "with the module's code, name and text", f"exit {code}; output:\n{output[-600:]}")
 
     # 5. #<_ta_unlock> stores a table: unlocked for that macro alone.
+    # The same program stores again without the code: the module must be locked
+    # again (403) while the remap's connection is still open.
     code, output = rs274(ini, RIGIDITY.format(first_a=0, c_count=4, build="#<_ta_unlock> = 2718\nG65 P9832 R1\n"
                                               "(DEBUG, unlock after: #<_ta_unlock>)\nG65 P9833 A20 Q0 R0\n"
-                                              "(DEBUG, stored: #103)"), folder)
-    checks.check(code == 0 and "unlock after: 0.000000" in output and "stored: 0.000000" in output
-                 and sim.get(9004)[9004] == 0, "#<_ta_unlock> = 2718 stores the rigidity table, locked again after",
-                 f"exit {code}; #9004 = {sim.get(9004)}; output:\n{output[-600:]}")
+                                              "(DEBUG, stored: #103)\nG65 P9832 R1"), folder)
+    checks.check(code == 1 and "unlock after: 0.000000" in output and "stored: 0.000000" in output
+                 and module_error(403, errors) in output,
+                 "#<_ta_unlock> = 2718 stores the rigidity table, and the module is locked again after it (403)",
+                 f"exit {code}; output:\n{output[-600:]}")
 
     # 6. Letters LinuxCNC acts on are refused on the G65 line, before anything is written.
     for letter, word in (("S", "S30"), ("T", "T1"), ("F", "F100"), ("M", "M5")):

@@ -2,7 +2,7 @@
 """The operator's programs in full LinuxCNC, headless, on the simulated cradle
 (integrations/linuxcnc/sim), against trueaxis-sim's ground truth.
 
-usage: test_scenarios.py BIN_DIR leveling|rigidity [--keep]
+usage: test_scenarios.py BIN_DIR leveling|rigidity|a_comp [--keep]
 
 leveling  (scenario a) a face tilted 12.5 deg on the ideal machine:
           o<trueaxis_level> probes three points with G38.2, runs 9810, turns
@@ -21,6 +21,14 @@ rigidity  (scenario b) the realistic cradle (cradle_errors.hpp), a face tilted
           stored; on the calibrated axes the true tilt left is within 3 sigma
           of the module's figure and below the ideal axes' (as
           toolchain/demo_rigidity.sh shows with the module alone).
+a_comp    (item 5) the realistic cradle's ball measured at A 0..60 every 20
+          (trueaxis-measure-ball), trueaxis-calibrate rigidity --linuxcnc-comp
+          writes M3's A positioning error as the A joint's COMP_FILE (type 1);
+          LinuxCNC turns the table to each measured A without and with it.
+          Checks: the file's lines; the cradle's true A (the simulator's turn
+          at the motor's A) minus the commanded A within 3 sigma of the
+          table's a_positioning_error_sigma with the compensation, 10 sigma or
+          more without.
 Prints the operator's view. Exit 0 when every check holds, 1 when one fails.
 """
 import math
@@ -125,9 +133,70 @@ def scenario_rigidity(checks, machine):
     checks.check(abs(calibrated["a"] - 40.0) < 0.05, "rigidity: the table stands near A = 40 deg", str(calibrated))
 
 
+def bridge_pose_a(step):
+    """The motor A the bridge last sent to the simulator (halcmd show pin)."""
+    for line in step.get("hal", "").splitlines():
+        parts = line.split()
+        if parts and parts[-1] == "trueaxis-sim-bridge.pose-a":
+            return float(parts[-2])
+    return None
+
+
+def scenario_a_comp(checks, machine):
+    """(item 5) M3's A positioning error into LinuxCNC's joint compensation."""
+    import json
+    import subprocess
+    csv = os.path.join(machine.folder, "ball.csv")
+    comp = os.path.join(machine.machine_dir, "trueaxis_a.comp")
+    port = ["--port", str(machine.port)]
+    subprocess.run([os.path.join(machine.bin_dir, "trueaxis-measure-ball")] + port +
+                   ["--out", csv, "--a-from", "0", "--a-to", "60", "--a-step", "20", "--c-step", "10"],
+                   check=True, capture_output=True)
+    out = os.path.join(machine.folder, "out.json")
+    done = subprocess.run([os.path.join(machine.bin_dir, "trueaxis-calibrate"), "rigidity", "--in", csv, "--json",
+                           out, "--linuxcnc-comp", comp] + port, capture_output=True, text=True)
+    checks.check(done.returncode == 0 and os.path.exists(comp), "a_comp: trueaxis-calibrate rigidity --linuxcnc-comp",
+                 done.stderr)
+    if done.returncode != 0:
+        return
+    poses = json.load(open(out, encoding="utf-8"))["poses"]
+    lines = open(comp, encoding="utf-8").read().splitlines()
+    table = [tuple(float(v) for v in line.split()) for line in lines]
+    checks.check(len(table) == len(poses) and all(
+        abs(t[0] - p["a_deg"]) < 1e-6 and abs(t[1] + p["a_positioning_error_arcsec"] / 3600) < 1e-9 and t[1] == t[2]
+        for t, p in zip(table, poses)) and [t[0] for t in table] == sorted(t[0] for t in table),
+        "a_comp: one line a pose, ascending: A, then the trim -e (deg) both ways", "\n".join(lines))
+    targets = [p["a_deg"] for p in poses if p["a_deg"] > 0]
+    sigma = {p["a_deg"]: p["a_positioning_error_sigma_arcsec"] for p in poses}
+    commands = ["G21 G90"] + [f"G53 G0 A{a:g}" for a in targets]
+    errors = {}
+    for label in ("without", "with"):
+        if label == "with":
+            machine.add_ini_lines("JOINT_3", ["COMP_FILE = trueaxis_a.comp", "COMP_FILE_TYPE = 1"])
+        result = machine.run(commands, timeout_s=120, name=f"a_comp_{label}", show=["trueaxis-sim-bridge"])
+        if not steps_ok(checks, result, f"a_comp {label} the compensation"):
+            return
+        errors[label] = []
+        for a, step in zip(targets, result["steps"][1:]):
+            motor = bridge_pose_a(step)
+            machine.set(f"12000={motor!r}")
+            true_error = machine.get(12032)[12032]  # the true turn at the motor's A, minus it (arcsec)
+            errors[label].append((motor - a) * ARCSEC + true_error)
+            if os.environ.get("TRUEAXIS_VERBOSE"):
+                print(f"  {label}: A {a:g}: motor {motor!r}, true error at the motor {true_error!r}")
+    print("operator's view: the cradle's true A minus the commanded A (arcsec), the table's 1 sigma")
+    for a, without, with_comp in zip(targets, errors["without"], errors["with"]):
+        print(f"  A {a:5.1f}: without the compensation {without:8.3f}, with {with_comp:7.3f}, 1 sigma {sigma[a]:.3f}")
+    checks.check(all(abs(e) <= 3 * sigma[a] for a, e in zip(targets, errors["with"])),
+                 "a_comp: with the compensation the true A is the commanded one within 3 sigma of the table",
+                 str(errors["with"]))
+    checks.check(all(abs(e) >= 10 * sigma[a] for a, e in zip(targets, errors["without"])),
+                 "a_comp: without it the error is 10 sigma or more", str(errors["without"]))
+
+
 def main(argv):
-    if len(argv) < 3 or argv[2] not in ("leveling", "rigidity") or not os.path.isdir(argv[1]):
-        print("usage: test_scenarios.py BIN_DIR leveling|rigidity [--keep]", file=sys.stderr)
+    if len(argv) < 3 or argv[2] not in SCENARIOS or not os.path.isdir(argv[1]):
+        print("usage: test_scenarios.py BIN_DIR leveling|rigidity|a_comp [--keep]", file=sys.stderr)
         return 2
     if shutil.which("linuxcnc") is None:
         print("test_scenarios: no linuxcnc: LinuxCNC is not installed (bash toolchain/setup.sh)", file=sys.stderr)
@@ -139,7 +208,7 @@ def main(argv):
     else:
         machine = Machine(argv[1], folder, errors="realistic", face_tilt=40)
     try:
-        (scenario_leveling if argv[2] == "leveling" else scenario_rigidity)(checks, machine)
+        SCENARIOS[argv[2]](checks, machine)
     finally:
         machine.stop()
         if "--keep" in argv:
@@ -149,6 +218,8 @@ def main(argv):
     print(f"test_scenarios {argv[2]}: {checks.failures} failure(s)")
     return 1 if checks.failures else 0
 
+
+SCENARIOS = {"leveling": scenario_leveling, "rigidity": scenario_rigidity, "a_comp": scenario_a_comp}
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv))

@@ -1,6 +1,6 @@
 // trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
 //                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
-//                   [--accept-change] [--wait SECONDS]
+//                   [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE]
 // The integrator's command (docs/INTERFACE.md, "The integrator's command"):
 // reads the samples, streams them to the module over Modbus (default
 // 127.0.0.1:502), runs the method's macros there and writes what the module
@@ -46,7 +46,7 @@ using trueaxis::sim::FlowResult;
 constexpr const char* kUsage =
     "usage: trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]\n"
     "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n"
-    "                          [--accept-change] [--wait SECONDS]\n";
+    "                          [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE]\n";
 
 int fail(const std::string& line) {
   std::fprintf(stderr, "trueaxis-calibrate: %s\n", line.c_str());
@@ -88,6 +88,8 @@ void print_help() {
               "                         unlock, store, lock again\n"
               "  --port PORT, --host ADDR  the module's Modbus TCP server (default 127.0.0.1:502)\n"
               "  --unlock-code CODE     the machine's unlock code (#900) for --store, 1..9999 (default 2718)\n"
+              "  --linuxcnc-comp FILE   rigidity: also M3's A positioning error as a LinuxCNC joint\n"
+              "                         compensation file for the A joint (COMP_FILE_TYPE = 1)\n"
               "  --accept-change        with --store: store even a result that differs from the stored\n"
               "                         calibration by more than the method's change limit (its build\n"
               "                         macro's M = 1); check the machine first\n"
@@ -178,6 +180,8 @@ int main(int argc, char** argv) {
       o.machine_path = argv[++i];
     } else if (arg == "--report" && has_value) {
       o.report_dir = argv[++i];
+    } else if (arg == "--linuxcnc-comp" && has_value) {
+      o.linuxcnc_comp_path = argv[++i];
     } else if (arg == "--accept-change") {
       o.accept_change = true;
     } else if (arg == "--unlock-code" && has_value) {
@@ -203,6 +207,9 @@ int main(int argc, char** argv) {
   }
   if (o.in_path.empty() || o.json_path.empty()) return usage_error("--in and --json are required");
   if (o.accept_change && !o.store) return usage_error("--accept-change goes with --store");
+  if (!o.linuxcnc_comp_path.empty() && o.method != "rigidity") {
+    return usage_error("--linuxcnc-comp goes with rigidity (M3's A positioning error)");
+  }
 
   trueaxis::sim::VariableClient client;
   if (!client.connect(o.host, o.port)) {
@@ -229,14 +236,20 @@ int main(int argc, char** argv) {
   // into place last, after the store: on any failure neither is there and
   // nothing is stored.
   const std::string tmp = o.json_path + ".tmp";
+  const std::string comp_tmp = o.linuxcnc_comp_path.empty() ? "" : o.linuxcnc_comp_path + ".tmp";
   std::string report_tmp;
-  const auto fail_clean = [&tmp, &report_tmp](const std::string& line) {
+  const auto fail_clean = [&tmp, &comp_tmp, &report_tmp](const std::string& line) {
     std::remove(tmp.c_str());
+    if (!comp_tmp.empty()) std::remove(comp_tmp.c_str());
     remove_tree(report_tmp);
     return fail(line);
   };
   if (!write_text_file(tmp, r.json)) return fail_clean(o.json_path + ": cannot be written");
+  if (!comp_tmp.empty() && !write_text_file(comp_tmp, r.linuxcnc_comp)) {
+    return fail_clean(o.linuxcnc_comp_path + ": cannot be written");
+  }
   std::string summary = r.summary + "; wrote " + o.json_path;
+  if (!comp_tmp.empty()) summary += ", " + o.linuxcnc_comp_path;
   if (!o.report_dir.empty()) {
     std::string dir = o.report_dir;
     while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
@@ -271,6 +284,9 @@ int main(int argc, char** argv) {
     return fail_clean(o.report_dir + ": the report could not be moved into place");
   }
   report_tmp.clear();
+  if (!comp_tmp.empty() && std::rename(comp_tmp.c_str(), o.linuxcnc_comp_path.c_str()) != 0) {
+    return fail_clean(o.linuxcnc_comp_path + ": cannot be written");
+  }
   if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
   std::printf("%s\n", summary.c_str());
   return 0;

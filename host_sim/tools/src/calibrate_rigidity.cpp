@@ -106,6 +106,7 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
   double reference_a_deg = 0.0;
   double worst[3] = {-1.0, 0.0, 0.0};  // rigidity, its sigma, A (arcsec, arcsec, deg)
   std::string pose_json;
+  std::string comp;
   for (int q = 1; q <= poses; ++q) {
     const double args[2] = {static_cast<double>(q), 0.0};  // Q = pose, R = 0: the table just built
     if (!transport(client, client.write(var::kArgQ, 2, args), r)) return r;
@@ -118,6 +119,13 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
       worst[1] = p[8];
       worst[2] = p[0];
     }
+    // LinuxCNC's joint compensation, COMP_FILE_TYPE 1: "nominal forward-trim
+    // reverse-trim" a line, ascending (the poses come in A order), the motor
+    // commanded at A + trim. The cradle turns e (arcsec) more than commanded,
+    // so the trim is -e, the same both ways (M3 sees no reversal error).
+    char line[96];
+    std::snprintf(line, sizeof line, "%.6f %.9f %.9f\n", p[0], -p[9] / 3600.0, -p[9] / 3600.0);
+    comp += line;
     pose_json += q > 1 ? ",\n" : "\n";
     pose_json += "    { \"a_deg\": " + json_number(p[0]) + ", \"rotation_vector_arcsec\": " + json_vec3(p + 1) +
                  ",\n      \"rotation_vector_sigma_arcsec\": " + json_vec3(p + 4) +
@@ -130,6 +138,7 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
   }
   // docs/INTERFACE.md writes the reference A as 0.0; keep that form when it is exactly 0.
   const std::string reference = reference_a_deg == 0.0 ? "0.0" : json_number(reference_a_deg);
+  r.linuxcnc_comp = comp;
   r.json = "{\n  \"method\": \"rigidity\",\n  \"reference_a_deg\": " + reference + ",\n" +
            "  \"a_axis\": { \"point_mm\": " + json_vec3(summary + 3) + ", \"direction\": " + json_vec3(summary + 6) +
            " },\n  \"poses\": [" + pose_json + "\n  ]\n}\n";

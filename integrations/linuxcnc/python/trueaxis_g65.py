@@ -22,7 +22,8 @@ the G65 line: set #<_ta_b>, #<_ta_f>, #<_ta_m>, #<_ta_s>, #<_ta_t>, #<_ta_u>,
 #<_ta_v>, #<_ta_w> before the call (`#<_ta_s> = 30` then `G65 P9843 Z100`).
 The call reads them and sets them back to 0, as the module clears its #1..#26
 after every macro. A G65 block holding one of them is refused before anything
-is written. Every value is in mm and degrees: the call is refused under G20.
+is written. Every value is in mm and degrees: the call is refused under G20
+(G65 P0 excepted).
 
 A macro that stores a table (9832, 9823, 9842 with R = 1) needs the module
 unlocked: `#<_ta_unlock> = CODE` before the call writes CODE to #9004 just
@@ -30,7 +31,7 @@ before the macro and 0 just after it, whatever its end; the code is never
 kept.
 
 `G65 P0` gives the module's macro interface back (#9009 = 0): a program that
-ran a session ends with it. Otherwise the remap keeps its one connection, and
+ran a session ends with it; a call that fails gives it back too. Otherwise the remap keeps its one connection, and
 with it the interface, from its first call on (the module lets it go 30 s
 after the last write).
 """
@@ -120,8 +121,21 @@ class Remap:
             module.run(macro, self.map)
         finally:
             if unlock:
-                module.write(UNLOCK, [0])
+                try:
+                    module.write(UNLOCK, [0])
+                except TrueaxisError:
+                    module.close()  # the module locks a closed connection's unlock
+                    raise
         return module.read(RESULTS_FIRST, RESULTS_COUNT)
+
+
+    def release_after_failure(self):
+        """A program that stops gives the macro interface back at once, so
+        another client need not wait 30 s; quietly, as the stop has its message."""
+        try:
+            self.module.release()
+        except Exception:
+            self.module.close()
 
 
 def _runs(offsets):
@@ -193,11 +207,15 @@ def g65(self, **words):
         self.set_errormsg(f"trueaxis G65: {e}")
         yield INTERP_ERROR
         return
+    except Exception as e:  # anything else still stops the program with one line
+        self.set_errormsg(f"trueaxis G65: {type(e).__name__}: {e}")
+        yield INTERP_ERROR
+        return
 
     yield INTERP_EXECUTE_FINISH
 
     try:
-        if int(self.params["_metric"]) != 1:
+        if macro != 0 and int(self.params["_metric"]) != 1:
             raise TrueaxisError("G20 is active: the module takes mm (program G21 before the call)")
         arguments = {number: 0.0 for number in LETTER_VARIABLE.values()}
         unlock = named.pop("unlock", 0.0)
@@ -213,8 +231,10 @@ def g65(self, **words):
                 value = float(self.params[number])
                 offsets[number] = value / per_mm if axis < 3 else value
         results = remap.call(macro, arguments, offsets, unlock)
-    except TrueaxisError as e:
-        self.set_errormsg(f"trueaxis G65 P{macro}: {e}")
+    except Exception as e:  # TrueaxisError, or anything else: one line
+        text = str(e) if isinstance(e, TrueaxisError) else f"{type(e).__name__}: {e}"
+        remap.release_after_failure()
+        self.set_errormsg(f"trueaxis G65 P{macro}: {text}")
         yield INTERP_ERROR
         return
     if results is not None:

@@ -31,6 +31,10 @@ EXCEPTION_BUSY = 6
 VARS_PER_REQUEST = 31  # 124 registers a read, within function 3's 125
 WRITE_VARS_PER_REQUEST = 30  # 120 registers a write, within function 16's 123
 
+# Why the module refused a register access: #9007's codes (the JSON map's
+# access_faults), by name, for the remap's messages.
+ACCESS_FAULTS = {}
+
 # The G65 letters and the argument variable each fills (docs/INTERFACE.md "Variable ranges").
 LETTER_VARIABLE = {
     "a": 1, "b": 2, "c": 3, "i": 4, "j": 5, "k": 6, "d": 7, "e": 8, "f": 9, "h": 11, "m": 13,
@@ -73,6 +77,8 @@ class RegisterMap:
             with open(path, encoding="utf-8") as f:
                 data = json.load(f)
             self.errors = {e["code"]: (e["name"], e["message"]) for e in data["errors"]}
+            for fault in data.get("access_faults", []):
+                ACCESS_FAULTS[int(fault["code"])] = fault["name"]
             self.work_offsets = {}
             for macro in data["macros"]:
                 ranges = [(i["number"], i.get("count", 1)) for i in macro["inputs"]
@@ -120,7 +126,10 @@ class Module:
         except Exception as e:  # pymodbus raises its own ConnectionException, IOError, ...
             self.close()
             raise TrueaxisError(f"the module at {self.where} stopped answering: {e}") from e
-        if reply is None or not reply.isError():
+        if reply is None:
+            self.close()
+            raise TrueaxisError(f"the module at {self.where} did not answer")
+        if not reply.isError():
             return reply
         code = getattr(reply, "exception_code", None)
         if code is None:  # a transport failure reported as a response object
@@ -160,8 +169,8 @@ class Module:
                                             f"(waited {self.wait_s:g} s; [TRUEAXIS] WAIT)")
                     time.sleep(0.1)
                     continue
-                fault = self.read(ACCESS_FAULT, 1)[0]
-                why = "the module is busy with a macro" if code == EXCEPTION_BUSY else f"#9007 access fault {fault:g}"
+                fault = int(self.read(ACCESS_FAULT, 1)[0])
+                why = f"#9007 access fault {fault} {ACCESS_FAULTS.get(fault, '')}".rstrip()
                 raise TrueaxisError(f"writing #{first}..#{first + n - 1} was refused with Modbus exception "
                                     f"{code:02d} ({why})")
             first, values = first + n, values[n:]

@@ -11,7 +11,9 @@
 //     sum (|p_i - c| - r)^2. It starts from the algebraic fit (linear least
 //     squares of |q|^2 = 2 q.c + k on the points q centred on their centroid)
 //     and takes Gauss-Newton steps on the geometric residuals until a step
-//     moves the centre by less than kSphereStepTolerance_mm (at most
+//     moves the centre by less than kSphereStepTolerance times the radius (or
+//     1 mm, the larger): 1e-9 of it, far below any probe's noise and above the
+//     rounding that an ill-conditioned cap leaves in a step (at most
 //     kSphereMaxIterations, else kNoConvergence).
 //  3. radius_mm > 0 fixes the radius (3 unknowns); 0 leaves it free (4).
 //  4. Uncertainty: the touches' noise along the surface normal, sigma_mm
@@ -22,7 +24,9 @@
 //     kPointsCoincident; touches in one plane (the smallest singular value of
 //     the centred points below kCollinearRatio times the largest) do not
 //     determine a ball, nor (with a fixed radius) the side of the plane it
-//     is on: kNotIdentifiable.
+//     is on: kNotIdentifiable (only these). A fit that cannot proceed
+//     otherwise (a touch at the centre, no positive-definite J^T J) is
+//     kNoConvergence.
 // Status codes also: kTooFewPoints (< 4), kTooManyPoints, kNotFinite (a
 // point, the radius or sigma), kArgumentOutOfRange (radius or sigma < 0).
 #pragma once
@@ -36,7 +40,7 @@
 namespace trueaxis::core {
 
 inline constexpr std::size_t kMaxSpherePoints = 32;
-inline constexpr double kSphereStepTolerance_mm = 1e-12;
+inline constexpr double kSphereStepTolerance = 1e-9;  // of max(radius, 1 mm)
 inline constexpr int kSphereMaxIterations = 50;
 
 struct SphereFit {

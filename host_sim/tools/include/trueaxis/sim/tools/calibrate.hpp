@@ -41,6 +41,7 @@ struct CalibrateOptions {
   std::string json_path;
   std::string machine_path;  // "" when absent
   std::string report_dir;    // "" when absent
+  std::string linuxcnc_comp_path;  // --linuxcnc-comp (rigidity): "" when absent
   bool store = false;
   bool accept_change = false;  // --accept-change: the store's M = 1 (gates.hpp, change)
   double unlock_code = macros::kUnlockCode;  // --unlock-code: the machine's own (#900)
@@ -61,6 +62,9 @@ struct FlowResult {
   std::string json;           // the OUT.json text, when ok
   std::string report_extras;  // JSON of the module's figures beyond OUT.json, for the report
   std::string summary;        // contract 3, when ok
+  // M3 (rigidity): the A positioning error as a LinuxCNC joint compensation
+  // file for the A joint, COMP_FILE_TYPE 1 (rigidity_comp_file); "" otherwise.
+  std::string linuxcnc_comp;
   // The build macro's arguments besides R, written again by the store (the
   // module clears the arguments after every macro); empty when it takes none.
   std::vector<MacroArgument> build_arguments;
