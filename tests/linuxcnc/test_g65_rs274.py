@@ -242,6 +242,17 @@ def run_cases(checks, sim, folder, errors, regenerate):
         checks.check(code == 1 and text in output, f"error {expected} {errors[expected]['name']}: the program stops "
                      "with the module's code, name and text", f"exit {code}; output:\n{output[-600:]}")
 
+    # ... and every 2xx code the map lists reaches the program as "error N name:
+    # text" (the remap's lookup in the map, without a module to raise each).
+    sys.path.insert(0, os.path.join(ROOT, "integrations", "linuxcnc", "python"))
+    from trueaxis_module import ModuleError, RegisterMap
+    register_map = RegisterMap(os.path.join(ROOT, "macros", "register_map.json"))
+    codes = [c for c in errors if 200 <= c < 300]
+    lines = {c: str(ModuleError(9810, c, *register_map.error(c))) for c in codes}
+    checks.check(len(codes) >= 23 and all(module_error(c, errors) in lines[c] for c in codes),
+                 f"each of the map's {len(codes)} 2xx codes is named in the stop's line with its text",
+                 str([c for c in codes if module_error(c, errors) not in lines[c]]))
+
     # 5. #<_ta_unlock> stores a table: unlocked for that macro alone.
     # The same program stores again without the code: the module must be locked
     # again (403) while the remap's connection is still open.
