@@ -22,13 +22,17 @@ simulator (#12000, #12001: sim variables, outside the module's macro
 interface) and reads #12048..#12054 back. Exit when the HAL component is
 asked to (SIGTERM) or the simulator stops answering.
 """
+import os
 import signal
-import struct
 import sys
 import time
 
 import hal
 from pymodbus.client import ModbusTcpClient
+
+# The variables' encoding is the remap's (docs/INTERFACE.md "Encoding"): one copy.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "python"))
+from trueaxis_module import decode, encode  # noqa: E402
 
 NEVER = -1.0e9
 
@@ -52,7 +56,7 @@ def main(argv):
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(0))
 
     def write(first, values):
-        words = [w for v in values for w in struct.unpack(">4H", struct.pack(">d", v))]
+        words = [w for v in values for w in encode(v)]
         reply = client.write_registers(4 * first, words, slave=1)
         if reply.isError():
             sys.exit(f"trueaxis_sim_bridge: writing #{first} refused: {reply}")
@@ -61,8 +65,7 @@ def main(argv):
         reply = client.read_holding_registers(4 * first, 4 * count, slave=1)
         if reply.isError():
             sys.exit(f"trueaxis_sim_bridge: reading #{first} refused: {reply}")
-        r = reply.registers
-        return [struct.unpack(">d", struct.pack(">4H", *r[i:i + 4]))[0] for i in range(0, len(r), 4)]
+        return decode(reply.registers)
 
     last = None
     try:
