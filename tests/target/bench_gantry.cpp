@@ -235,6 +235,12 @@ int main() {
   print("macro 9825: ", steps, " step, ");
   print("", longest, " instructions\n");
   within = within && ok && longest <= m::Module::kStepBoundInstructions;
+  // The check (9827) of the build against the same frames stored: 8 figures, one step.
+  ok = run(module, clock, overhead, 9827, longest, steps) && module.value(var::kCheckFigures) == 2.0 * kSubMachines &&
+       module.value(var::kCheckVerdict) == 0.0;
+  print("macro 9827 (4 sub-machines, 8 figures): ", steps, " step, ");
+  print("", longest, " instructions\n");
+  within = within && ok && longest <= m::Module::kStepBoundInstructions;
 
   std::uint64_t worst = 0;
   for (int id = 1; id <= kSubMachines; ++id) {

@@ -116,6 +116,13 @@ int main() {
   print("macro 9833 (linear): ", steps, " step, ");
   print("", longest, " instructions\n");
   within = within && ok && longest <= m::Module::kStepBoundInstructions;
+  // The check (9836) of the 16-pose build against the same table stored: 30
+  // figures, each found among the poses, in one step.
+  ok = run(module, clock, overhead, 9836, longest, steps) && module.value(var::kCheckFigures) == 30.0 &&
+       module.value(var::kCheckVerdict) == 0.0;
+  print("macro 9836 (16 poses, 30 figures): ", steps, " step, ");
+  print("", longest, " instructions\n");
+  within = within && ok && longest <= m::Module::kStepBoundInstructions;
 
   // A in the middle of every bracket, on the first and the last pose, and one
   // ulp inside the last: the largest of each A's median.

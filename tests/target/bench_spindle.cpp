@@ -131,6 +131,12 @@ int main() {
   print("macro 9843: ", steps, " step, ");
   print("", longest, " instructions\n");
   within = within && ok && longest <= m::Module::kStepBoundInstructions;
+  // The check (9846) of the last identification against the same model stored: 6 figures, one step.
+  const bool checked = run(module, clock, overhead, 9846, longest, steps) && module.value(var::kCheckFigures) == 6.0 &&
+                       module.value(var::kCheckVerdict) == 0.0;
+  print("macro 9846 (6 figures): ", steps, " step, ");
+  print("", longest, " instructions\n");
+  within = within && checked && longest <= m::Module::kStepBoundInstructions;
 
   std::uint64_t worst = 0;
   for (int deg = -720; deg <= 720; deg += 45) {

@@ -94,7 +94,8 @@ RigidTransform CradleMachine::machine_T_table(double a_deg, double c_deg) const 
   const double alpha = core::deg_to_rad(a_deg) + arcsec_to_rad(a_drive_error_arcsec(a_deg));
   const Mat3 r_a = q_ * rot_x(alpha) * q_.transpose();
   const Vec3 d_rad = arcsec_to_rad(errors_.k_gravity_arcsec * std::sin(alpha)) * b_.col(0) +
-                     arcsec_to_rad(errors_.k_stiffness_arcsec * std::sin(2.0 * alpha)) * b_.col(1);
+                     arcsec_to_rad(errors_.k_stiffness_arcsec * std::sin(2.0 * alpha) +
+                                   (a_deg == errors_.local_a_deg ? errors_.local_arcsec : 0.0)) * b_.col(1);
   const Mat3 r_def = rotation_from_vector(d_rad);
   RigidTransform machine_T;
   machine_T.rotation = r_a * r_def * b_ * rot_z(core::deg_to_rad(c_deg));

@@ -1,4 +1,5 @@
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <utility>
 
@@ -99,6 +100,23 @@ std::string json_number(double v) {
   return buf;
 }
 
+std::string json_string(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04x", static_cast<unsigned>(static_cast<unsigned char>(c)));
+      out += buf;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
 std::string json_vec3(const double* v) {
   return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
 }
@@ -110,6 +128,72 @@ std::string refused_sample(VariableClient& client, const std::string& where) {
   const int exception = client.exception();
   const std::string why = client.failure_text();
   return exception == 2 || exception == 3 ? where + ": the module refused the sample: " + why : why;
+}
+
+namespace {
+// A number, or null when it is not finite (JSON has no NaN; the figure then fails, check.hpp).
+std::string json_value(double v) { return std::isfinite(v) ? json_number(v) : "null"; }
+}  // namespace
+
+bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResult& r, macros::Verdict& verdict) {
+  namespace var = macros::var;
+  const macros::CheckInfo info = check_of(method.name);
+  if (info.macro == 0) {
+    r.error = std::string(method.name) + " has no check in this module";
+    return false;
+  }
+  const auto run_q = [&](double q, double* out) {
+    if (!transport(client, client.write_one(var::kArgQ, q), r)) return false;
+    if (!run_or_fail(client, info.macro, "", r)) {
+      if (module_refused(r, static_cast<int>(core::Status::kNoTable))) {
+        r.error += ": no stored calibration to check against (store one first: trueaxis-calibrate " +
+                   std::string(method.name) + " --store)";
+      }
+      return false;
+    }
+    return transport(client, client.read(var::kCheckVerdict, 12, out), r);
+  };
+  double v[12];  // #100..#111 (check.hpp convention 3)
+  if (!run_q(0.0, v)) return false;
+  verdict = static_cast<macros::Verdict>(static_cast<int>(v[0]));
+  const int count = static_cast<int>(v[1]);
+  const int worst = static_cast<int>(v[2]);
+  std::string figures;
+  std::string worst_line;
+  for (int q = 1; q <= count; ++q) {
+    double f[12];
+    if (!run_q(q, f)) return false;
+    const std::size_t kind = static_cast<std::size_t>(f[5]);
+    const bool known = kind >= 1 && kind <= info.figures.size;
+    const std::string kind_name = known ? info.figures[kind - 1].name : "figure_" + std::to_string(kind);
+    const std::string unit = known ? info.figures[kind - 1].unit : "";
+    const int item = static_cast<int>(f[6]);
+    const std::string name = item > 0 ? kind_name + "_" + std::to_string(item) : kind_name;
+    const macros::Verdict fv = static_cast<macros::Verdict>(static_cast<int>(f[4]));
+    figures += q > 1 ? ",\n" : "\n";
+    figures += "      { \"name\": \"" + name + "\", \"kind\": \"" + kind_name + "\", \"item\": " +
+               std::to_string(item) + ", \"unit\": \"" + unit + "\", \"verdict\": \"" + macros::verdict_name(fv) +
+               "\",\n        \"stored\": " + json_value(f[7]) + ", \"measured\": " + json_value(f[8]) +
+               ", \"deviation\": " + json_value(f[9]) + ", \"sigma\": " + json_value(f[10]) +
+               ", \"tolerance\": " + json_value(f[11]) + " }";
+    if (q == worst) {
+      char line[200];
+      std::snprintf(line, sizeof line, "worst %s: %.4g +- %.2g %s against %g", name.c_str(), f[9], f[10],
+                    unit.c_str(), f[11]);
+      worst_line = line;
+    }
+  }
+  const std::size_t close = r.json.rfind('}');
+  if (close == std::string::npos) {
+    r.error = "internal: OUT.json has no closing brace";
+    return false;
+  }
+  std::size_t end = close;
+  while (end > 0 && (r.json[end - 1] == '\n' || r.json[end - 1] == ' ')) --end;
+  r.json = r.json.substr(0, end) + ",\n  \"check\": { \"verdict\": \"" + macros::verdict_name(verdict) +
+           "\", \"worst\": " + std::to_string(worst) + ", \"figures\": [" + figures + "\n  ] }\n}\n";
+  r.summary += "; check: " + std::string(macros::verdict_name(verdict)) + " (" + worst_line + ")";
+  return true;
 }
 
 }  // namespace trueaxis::sim

@@ -1,6 +1,7 @@
 // trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
 //                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
 //                   [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE]
+//                   [--check] [--operator NAME]
 // The integrator's command (docs/INTERFACE.md, "The integrator's command"):
 // reads the samples, streams them to the module over Modbus (default
 // 127.0.0.1:502), runs the method's macros there and writes what the module
@@ -17,10 +18,13 @@
 // grants its macro interface to one client at a time (macros/module.hpp
 // contract 8): while another client holds it, the command says so on stderr
 // and waits, at most --wait seconds (default 120), then fails with that
-// sentence.
+// sentence. --check compares the result with the stored calibration instead
+// of storing it (check.hpp): OUT.json gains a "check" object, and the command
+// exits 3 when the verdict is fail (0 on pass or warn).
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 #include <string>
 
@@ -46,7 +50,8 @@ using trueaxis::sim::FlowResult;
 constexpr const char* kUsage =
     "usage: trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]\n"
     "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n"
-    "                          [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE]\n";
+    "                          [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE]\n"
+    "                          [--check] [--operator NAME]\n";
 
 int fail(const std::string& line) {
   std::fprintf(stderr, "trueaxis-calibrate: %s\n", line.c_str());
@@ -74,6 +79,36 @@ bool make_report(const CalibrateMethod& method, const std::string& dir, const st
   return waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
+// The JSON register map of this build (trueaxis-map --json) into `path`, for
+// the report's record: the map the report was made with, and its hash.
+bool write_map(const std::string& path) {
+  const char* args[] = {TRUEAXIS_MAP_BINARY, "--json", nullptr};
+  posix_spawn_file_actions_t out;
+  posix_spawn_file_actions_init(&out);
+  posix_spawn_file_actions_addopen(&out, 1, path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&out, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, TRUEAXIS_MAP_BINARY, &out, nullptr, const_cast<char* const*>(args), environ);
+  posix_spawn_file_actions_destroy(&out);
+  if (spawned != 0) return false;
+  int status = 0;
+  return waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+// True when `text` is UTF-8 without control characters (an --operator NAME).
+bool printable_utf8(const std::string& text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    const std::size_t n = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    if (n == 0 || c < 0x20 || c == 0x7F || i + n > text.size()) return false;
+    for (std::size_t k = 1; k < n; ++k) {
+      if ((static_cast<unsigned char>(text[i + k]) >> 6) != 0x2) return false;
+    }
+    i += n;
+  }
+  return true;
+}
+
 void print_help() {
   std::printf("%s\n", kUsage);
   std::printf("Calibrates in the module over Modbus TCP and writes what it computed into OUT.json.\n"
@@ -93,11 +128,17 @@ void print_help() {
               "  --accept-change        with --store: store even a result that differs from the stored\n"
               "                         calibration by more than the method's change limit (its build\n"
               "                         macro's M = 1); check the machine first\n"
+              "  --check                compare with the stored calibration instead of storing: OUT.json's\n"
+              "                         \"check\" holds every stored figure's deviation with its sigma and a\n"
+              "                         verdict (pass, warn, fail) against the tolerances configured in the\n"
+              "                         module; exit 3 on fail\n"
+              "  --operator NAME        who measured: shown in the report\n"
               "  --wait SECONDS         how long to wait while another client holds the controller's\n"
               "                         macro interface, 0..3600 (default 120)\n"
               "  --help, --version      this text (METHOD --help: the method's files); the version line\n"
               "Exit 0 with one summary line on stdout; 1 with one line on stderr on any failure, and\n"
-              "then no OUT.json and nothing stored.\n");
+              "then no OUT.json and nothing stored; 3 when --check's verdict is fail (OUT.json and the\n"
+              "report written).\n");
 }
 
 void print_method_help(const CalibrateMethod& m) {
@@ -137,6 +178,33 @@ std::string stored_text(const char* method) {
   return spec != nullptr ? "stored (record " + std::to_string(spec->key) + " " + spec->name + ")" : "stored";
 }
 
+// The report's record (host_sim/report/trueaxis_report.py): who, when, with
+// what, the verdict; added to the module's figures beyond OUT.json.
+std::string with_record(const std::string& extras, const CalibrateOptions& o, const std::string& verdict,
+                        double machine_id, double interface_version) {
+  using trueaxis::sim::json_string;
+  char when[64];
+  const std::time_t now = std::time(nullptr);
+  std::tm local{};
+  localtime_r(&now, &local);
+  std::strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%S%z", &local);
+  std::string inputs = json_string(o.in_path);
+  if (!o.machine_path.empty()) inputs += ", " + json_string(o.machine_path);
+  const std::string record =
+      "\"record\": { \"verdict\": " + json_string(verdict) + ", \"date\": " + json_string(when) +
+      ", \"version\": " + json_string(trueaxis::sim::version_line("trueaxis-calibrate")) +
+      ", \"interface_version\": " + trueaxis::sim::json_number(interface_version) + ", \"machine_id\": " +
+      trueaxis::sim::json_number(machine_id) + ", \"operator\": " + json_string(o.operator_name) + ", \"inputs\": [" + inputs + "], \"out_json\": " +
+      json_string(o.json_path) + ", \"report_dir\": " + json_string(o.report_dir) +
+      ", \"register_map\": \"register_map.json\" }";
+  const std::size_t close = extras.rfind('}');
+  if (close == std::string::npos) return "{ " + record + " }\n";
+  std::size_t end = close;
+  while (end > 0 && (extras[end - 1] == ' ' || extras[end - 1] == '\n')) --end;
+  const bool empty = end > 0 && extras[end - 1] == '{';
+  return extras.substr(0, end) + (empty ? " " : ", ") + record + " }\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -172,6 +240,11 @@ int main(int argc, char** argv) {
     const bool has_value = i + 1 < argc;
     if (arg == "--store") {
       o.store = true;
+    } else if (arg == "--check") {
+      o.check = true;
+    } else if (arg == "--operator" && has_value) {
+      o.operator_name = argv[++i];
+      if (!printable_utf8(o.operator_name)) return usage_error("--operator takes a name in UTF-8 without control characters");
     } else if (arg == "--in" && has_value) {
       o.in_path = argv[++i];
     } else if (arg == "--json" && has_value) {
@@ -207,6 +280,9 @@ int main(int argc, char** argv) {
   }
   if (o.in_path.empty() || o.json_path.empty()) return usage_error("--in and --json are required");
   if (o.accept_change && !o.store) return usage_error("--accept-change goes with --store");
+  if (o.check && o.store) {
+    return usage_error("--check compares with the stored calibration and stores nothing: not with --store");
+  }
   if (!o.linuxcnc_comp_path.empty() && o.method != "rigidity") {
     return usage_error("--linuxcnc-comp goes with rigidity (M3's A positioning error)");
   }
@@ -226,6 +302,15 @@ int main(int argc, char** argv) {
   }
   FlowResult r = method->calibrate(client, o);
   if (!r.ok) return fail(r.error);
+  trueaxis::macros::Verdict verdict = trueaxis::macros::Verdict::kPass;
+  if (o.check && !trueaxis::sim::check_built(client, *method, r, verdict)) return fail(r.error);
+  // For the record only: a module without #902 (older firmware) reads as not set.
+  double machine_id = 0.0;
+  double interface_version = 0.0;
+  if (!client.read_one(trueaxis::macros::var::kMachineId, machine_id)) machine_id = 0.0;
+  if (!client.read_one(trueaxis::macros::var::kInterfaceVersion, interface_version)) interface_version = 0.0;
+  r.report_extras = with_record(r.report_extras, o, o.check ? trueaxis::macros::verdict_name(verdict) : "",
+                                machine_id, interface_version);
   // The macros this run has counted: the store checks that no other client ran
   // one since (the interface is free after 30 s without a write, and the
   // report is made meanwhile), so that what it stores is built from this run's session.
@@ -258,7 +343,7 @@ int main(int argc, char** argv) {
     const bool usable = ::stat(dir.c_str(), &st) != 0 ? errno == ENOENT : S_ISDIR(st.st_mode);
     if (usable && ::mkdtemp(templ.data()) != nullptr) report_tmp = templ;
     if (report_tmp.empty() || !write_text_file(report_tmp + "/module_figures.json", r.report_extras) ||
-        !make_report(*method, report_tmp, tmp)) {
+        !write_map(report_tmp + "/register_map.json") || !make_report(*method, report_tmp, tmp)) {
       return fail_clean(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
     }
     summary += ", report " + o.report_dir + "/index.html";
@@ -289,5 +374,5 @@ int main(int argc, char** argv) {
   }
   if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
   std::printf("%s\n", summary.c_str());
-  return 0;
+  return o.check && verdict == trueaxis::macros::Verdict::kFail ? 3 : 0;
 }

@@ -59,6 +59,14 @@ const macros::RecordSpec* stored_record(const char* name) {
   return nullptr;
 }
 
+macros::CheckInfo check_of(const char* name) {
+  using Built = macros::BuiltMethods;
+  for (std::size_t i = 0; i < Built::kCount; ++i) {
+    if (std::string(Built::kNames[i]) == name) return Built::kChecks[i];
+  }
+  return {};
+}
+
 const CalibrateMethod* find_calibrate_method(const std::string& name) {
   for (const CalibrateMethod& m : calibrate_methods()) {
     if (name == m.name) return &m;

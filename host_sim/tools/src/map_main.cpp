@@ -170,6 +170,16 @@ void print_json() {
       }
       std::printf("]");
     }
+    const m::CheckInfo& check = Built::kChecks[method];
+    if (check.macro != 0) {
+      std::printf(",\n     \"check\": {\"macro\": %u, \"figures\": [", check.macro);
+      for (std::size_t k = 0; k < check.figures.size; ++k) {
+        const m::CheckFigureInfo& f = check.figures[k];
+        std::printf("%s\n       {\"kind\": %u, \"name\": \"%s\", \"unit\": \"%s\", \"what\": \"%s\"}", k ? "," : "",
+                    f.kind, f.name, f.unit, escaped(f.what).c_str());
+      }
+      std::printf("]}");
+    }
     std::printf("}");
     first = false;
   }
@@ -277,6 +287,20 @@ void print_markdown() {
       }
       std::printf("| %s | %s | %d | %s | %s |\n", Built::kNames[method], g.name, static_cast<int>(g.status),
                   thresholds.c_str(), g.what);
+    }
+  }
+  std::printf("\n## Checks\n\nA method's check macro compares the result it built last (R = 0) with its stored "
+              "table and stores nothing (check.hpp): per figure its deviation with its 1-sigma and a verdict against "
+              "the configured tolerance, fail when |deviation| > tolerance, warn when |deviation| + 2 sigma > "
+              "tolerance, else pass. Q = 0 publishes the worst figure in #104 .. #111, Q = k figure k; #105 is the "
+              "kind below.\n\n| method | macro | kind | figure | unit | what |\n|---|---|---|---|---|---|\n");
+  for (std::size_t method = 0; method < Built::kCount; ++method) {
+    const m::CheckInfo& check = Built::kChecks[method];
+    for (const m::CheckFigureInfo& f : check.figures) {
+      std::string what = f.what;  // a '|' would end the Markdown cell
+      for (std::size_t at = what.find('|'); at != std::string::npos; at = what.find('|', at + 2)) what.insert(at, "\\");
+      std::printf("| %s | %u | %u | %s | %s | %s |\n", Built::kNames[method], check.macro, f.kind, f.name, f.unit,
+                  what.c_str());
     }
   }
   std::printf("\n## Macros\n\nEvery macro runs in steps of at most %u Cortex-M7 instructions "

@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <vector>
 
+#include "virtual_streams.hpp"
 #include "module_rig.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/sim/instruments/calibration_ball.hpp"
@@ -69,24 +70,11 @@ void report(const char* method, const Tally& t, double change_limit, const char*
 
 TEST_CASE("M3: 1,000 realistic calibrations, each stored over the last: at most 1 refused by the gates", "[gates][mc]") {
   const sim::CradleMachine machine(sim::FaceConfig{}, sim::realistic_errors());
-  const std::vector<double> poses = {-90, -60, -30, 0, 30, 60, 90};
-  sim::CalibrationBall ball;  // 1 um per axis, #601's default
   Rig rig;
   Tally tally;
   for (int run = 0; run < kRuns; ++run) {
     sim::SimRng rng(7000 + static_cast<std::uint64_t>(run));
-    REQUIRE(rig.run(9830) == 2.0);
-    for (double a : poses) {
-      for (int k = 0; k < 36; ++k) {
-        const double c = 10.0 * k;
-        const Vec3 p = ball.measure(machine.machine_T_table(a, c), rng);
-        const double ac[3] = {a, 0.0, c};
-        const double xyz[3] = {p.x(), p.y(), p.z()};
-        REQUIRE(rig.module().write(v::kArgA, 3, ac) == F::kNone);
-        REQUIRE(rig.module().write(v::kArgX, 3, xyz) == F::kNone);
-        REQUIRE(rig.run(9831) == 2.0);
-      }
-    }
+    trueaxis::test::stream_rigidity(rig, machine, rng);  // 7 poses x 36 C, 1 um
     rig.set(v::kUnlock, m::kUnlockCode);
     rig.set(v::kArgR, 1.0);
     const double status = rig.run(9832);
@@ -124,39 +112,6 @@ TEST_CASE("M4: 1,000 realistic analyser sessions, each stored over the last: at 
   report("M4 spindle", tally, m::spindle::kDefaultMaxChangeMm, "mm");
 }
 
-namespace {
-
-// A samples group name as (T, Q, D) (gantry_map.hpp convention 3).
-void group_of(const std::string& name, double& t, double& q, double& d) {
-  namespace g = trueaxis::macros::gantry;
-  t = 0.0;
-  d = 0.0;
-  if (name == "bed") {
-    q = static_cast<double>(g::GroupKind::kBed);
-  } else if (name == "side_1") {
-    q = static_cast<double>(g::GroupKind::kSide1);
-  } else if (name == "side_2") {
-    q = static_cast<double>(g::GroupKind::kSide2);
-  } else if (name.rfind("gantry_", 0) == 0) {
-    q = static_cast<double>(g::GroupKind::kGantryPass);
-    d = std::atoi(name.c_str() + 7);
-  } else {
-    const std::size_t us = name.find('_');
-    t = std::atoi(name.substr(2, us - 2).c_str());
-    const std::string rest = name.substr(us + 1);
-    if (rest == "c") {
-      q = static_cast<double>(g::GroupKind::kCCircle);
-    } else if (rest == "a") {
-      q = static_cast<double>(g::GroupKind::kACircle);
-    } else {
-      q = static_cast<double>(static_cast<int>(g::GroupKind::kXPass) + (rest[0] - 'x'));
-      d = std::atoi(rest.c_str() + 2);
-    }
-  }
-}
-
-}  // namespace
-
 TEST_CASE("M2: 1,000 realistic gantry calibrations, each stored over the last: at most 1 refused by the gates", "[gates][mc]") {
   const sim::GantryMachine machine(sim::realistic_gantry());
   const sim::LaserTracker tracker = sim::place_tracker(machine, sim::TrackerPlacement{});
@@ -166,25 +121,7 @@ TEST_CASE("M2: 1,000 realistic gantry calibrations, each stored over the last: a
   double worst_angle = 0.0;
   for (int run = 0; run < kRuns; ++run) {
     sim::SimRng rng(static_cast<std::uint64_t>(31000 + run));
-    const std::vector<sim::TrackerSample> samples = sim::measure_gantry(machine, tracker, plan, rng);
-    REQUIRE(rig.run(9820) == 2.0);
-    for (const sim::TrackerSample& s : samples) {
-      double t = 0.0, q = 0.0, d = 0.0;
-      group_of(s.group, t, q, d);
-      rig.set(v::kArgT, t);
-      rig.set(v::kArgQ, q);
-      rig.set(v::kArgD, d);
-      const double xyz[3] = {s.p_mm.x(), s.p_mm.y(), s.p_mm.z()};
-      REQUIRE(rig.module().write(v::kArgX, 3, xyz) == F::kNone);
-      REQUIRE(rig.run(9821) == 2.0);
-    }
-    for (std::size_t i = 0; i < machine.sub_machine_count(); ++i) {
-      const sim::SubMachineConfig& c = machine.config().sub_machines[i];
-      rig.set(v::kArgT, c.id);
-      rig.set(v::kArgD, c.swing_mm);
-      rig.set3(v::kArgI, tracker.tracker_T_machine().rotation * c.tool_nominal);
-      REQUIRE(rig.run(9822) == 2.0);
-    }
+    trueaxis::test::stream_gantry(rig, machine, tracker, sim::measure_gantry(machine, tracker, plan, rng));
     rig.set(v::kUnlock, m::kUnlockCode);
     rig.set(v::kArgR, 1.0);
     const double status = rig.run(9823);

@@ -1,6 +1,6 @@
 // The gates: what a method's compute macro checks before it publishes or
 // stores a result, so that nothing wrong reaches the machine whichever client
-// runs it (calibrate command, HMI, G-code). docs/METHODS.md "Gates".
+// runs it (calibrate command, HMI, G-code). docs/INTERFACE.md "Gates".
 //
 // Conventions
 //  1. Three kinds, each refused with its own code and the item, value and

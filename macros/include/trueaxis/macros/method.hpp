@@ -18,6 +18,7 @@
 //     static void provide(State&, Services&);        optional: what it offers other methods (services.hpp)
 //     static constexpr List<OutputInfo> kNamedResults;  optional: names of #100.. (interface version 1, M1 only)
 //     static constexpr List<GateInfo> kGates;        optional: its gates, for the map (gates.hpp)
+//     static constexpr CheckInfo kCheck;             optional: its check macro and figures (check.hpp)
 //   };
 //
 // Conventions
@@ -39,6 +40,7 @@
 #include <cstdint>
 
 #include "trueaxis/core/status.hpp"
+#include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/gates.hpp"
 #include "trueaxis/macros/list.hpp"
 #include "trueaxis/macros/method_context.hpp"

@@ -106,6 +106,20 @@ constexpr List<GateInfo> gates_of() {
 }
 
 template <typename M, typename = void>
+struct HasCheck : std::false_type {};
+template <typename M>
+struct HasCheck<M, std::void_t<decltype(M::kCheck)>> : std::true_type {};
+
+template <typename M>
+constexpr CheckInfo check_of() {
+  if constexpr (HasCheck<M>::value) {
+    return M::kCheck;
+  } else {
+    return {};
+  }
+}
+
+template <typename M, typename = void>
 struct HasProvide : std::false_type {};
 template <typename M>
 struct HasProvide<M, std::void_t<decltype(M::provide(std::declval<typename M::State&>(), std::declval<Services&>()))>>
@@ -142,6 +156,8 @@ struct MethodSet<MethodList<Ms...>> {
   static constexpr std::array<RecordSpec, kCount> kTableRecordOf{{detail::table_record_of<Ms>()...}};
   static constexpr std::array<List<OutputInfo>, kCount> kNamedResults{{detail::named_results_of<Ms>()...}};
   static constexpr std::array<List<GateInfo>, kCount> kGates{{detail::gates_of<Ms>()...}};
+  // Each method's check (check.hpp; macro 0 when it has none).
+  static constexpr std::array<CheckInfo, kCount> kChecks{{detail::check_of<Ms>()...}};
 
   // Each method's own slots follow the platform's, in list order
   // (platform_map.hpp convention 7); kSlotBase[kCount] is the module's total.

@@ -8,8 +8,9 @@
 //  3. #500 .. #999   configuration; persistent; writable only while unlocked.
 //                    Each method owns a block (its descriptor's kBlock,
 //                    method.hpp); #900 and #901 are the platform's (the
-//                    unlock code, the gates' confidence), #902 .. #999 is
-//                    free for further methods.
+//                    unlock code, the gates' confidence), #902 too (the
+//                    machine's identity); #903 .. #999 is free for further
+//                    methods.
 //  4. #1000 .. #4999 macro-input data of the methods (point lists), one block
 //                    per method; volatile, cleared after every macro.
 //  5. #5221 .. #5326 work offsets G54 .. G59 (+0 X .. +5 C); persistent.
@@ -77,6 +78,7 @@ inline constexpr std::uint16_t kWorkOffsetAxes = 6;     // X Y Z A B C
 
 inline constexpr std::uint16_t kUnlockCodeSetting = 900;
 inline constexpr std::uint16_t kGateConfidence = 901;
+inline constexpr std::uint16_t kMachineId = 902;
 
 inline constexpr std::uint16_t kCmd = 9000;
 inline constexpr std::uint16_t kStatus = 9001;
@@ -160,6 +162,8 @@ inline constexpr VarInfo kPlatformRows[] = {
   {var::kUnlockCodeSetting, 1, Access::kConfig, ValueKind::kInteger, 1.0, 9999.0, kUnlockCode, "unlock_code", "", "The code #9004 takes: set it while unlocked (persistent); it reads 0. The default 2718 is published, for commissioning only. An unlock closes by itself 300 s after the last write that succeeded, and when the connection that opened it closes."},
 
   {var::kGateConfidence, 1, Access::kConfig, ValueKind::kReal, 0.999, 0.999999999, kDefaultGateConfidence, "gate_confidence", "", "The fit-quality gate's confidence (every method that compares its residuals with its instrument's stated noise): a fit whose weighted sum of squared residuals exceeds the chi-square quantile at this confidence is refused (fit_beyond_noise). The default 0.999999 refuses pure noise once in a million computations."},
+
+  {var::kMachineId, 1, Access::kConfig, ValueKind::kInteger, 0.0, 999999999.0, 0.0, "machine_id", "", "The machine's identity (its serial number, set by the integrator): every calibration report shows it beside the operator and the date. 0: not set."},
 
   rows::offset(var::kG54 + 0, "g54_x", "mm"), rows::offset(var::kG54 + 1, "g54_y", "mm"), rows::offset(var::kG54 + 2, "g54_z", "mm"),
   rows::offset(var::kG54 + 3, "g54_a", "deg"), rows::offset(var::kG54 + 4, "g54_b", "deg"), rows::offset(var::kG54 + 5, "g54_c", "deg"),

@@ -40,9 +40,10 @@ inline constexpr core::StatusInfo kPlatformStatuses[] = {
   {core::Status::kTableDamaged, "table_damaged", "The stored calibration table failed its integrity check (CRC) at start and was not loaded: calibrate and store it again."},
   {core::Status::kSessionClosed, "session_closed", "Another method's calibration session has replaced this one since it was opened (the methods share one session memory): clear the session (its clear macro) and send its samples again."},
   {core::Status::kResultReplaced, "result_replaced", "Another method's computation has replaced this method's last one since (the methods share one working memory): compute again (R = 0), or query the stored table (R = 1)."},
+  {core::Status::kMethodNotBuilt, "method_not_built", "The method this needs is not built into this controller's module (for example leveling on the calibrated axes needs the rigidity method)."},
+  {core::Status::kNothingToCheck, "nothing_to_check", "The check found nothing to compare: the stored table shares no pose, sub-machine or parameter with the measurement just built. Measure at the stored table's poses (or sub-machines), then check again."},
   {core::Status::kFitBeyondNoise, "fit_beyond_noise", "The fit's residuals are far beyond the instrument's stated noise (a chi-square test at #901's confidence; #9012 names the pose or group with the largest, #9013 its statistic over the quantile): nothing was published or stored. Likely causes: a file in metres where millimetres are due, a nominal size typed wrong (a ball distance), another machine's or another session's data mixed in, or the instrument's noise configured too small."},
   {core::Status::kChangeBeyondLimit, "change_beyond_limit", "The new calibration differs from the stored one by more than the configured change limit (#9013 the change, #9014 the limit, #9012 where): nothing was stored. Check the machine (a collision? a wrong file or setup?); to store it all the same, run the macro again with M = 1."},
-  {core::Status::kMethodNotBuilt, "method_not_built", "The method this needs is not built into this controller's module (for example leveling on the calibrated axes needs the rigidity method)."},
 };
 // clang-format on
 

@@ -4,6 +4,7 @@
 
 #include "trueaxis/core/residual_noise.hpp"
 #include "trueaxis/macros/arguments.hpp"
+#include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/gates.hpp"
 
 namespace trueaxis::macros::gantry {
@@ -140,6 +141,13 @@ double bed_span_mm(const core::PointSpan& bed) {
 // The change gate's figures: the largest move of a sub-machine's origin and
 // turn of its axes from the stored frames of the same id (global frame); the
 // turn from |R - R_stored|_F = 2 sqrt(2) sin(angle / 2).
+// The angle (arcsec) that turns rotation `from` into `to`.
+double turn_arcsec(const core::Mat3& to, const core::Mat3& from) {
+  const double chord = (to - from).norm() / (2.0 * std::sqrt(2.0));
+  const double half = std::fmin(1.0, chord);  // sin(angle / 2); atan2 keeps to the firmware's libm
+  return 2.0 * std::atan2(half, std::sqrt(1.0 - half * half)) * core::kArcsecPerRad;
+}
+
 struct Change {
   double origin_mm = 0.0;
   double origin_id = 0.0;
@@ -155,9 +163,7 @@ Change change_against(const State& state, const core::GantryFrames& f) {
       const core::StoredSubMachine& was = t.sub_machines[now.id - 1];
       if (!was.present) continue;
       const double moved = (now.global_T_sub.t - was.global_T_sub.t).norm();
-      const double chord = (now.global_T_sub.R - was.global_T_sub.R).norm() / (2.0 * std::sqrt(2.0));
-      const double half = std::fmin(1.0, chord);  // sin(angle / 2); atan2 keeps to the firmware's libm
-      const double turned = 2.0 * std::atan2(half, std::sqrt(1.0 - half * half)) * core::kArcsecPerRad;
+      const double turned = turn_arcsec(now.global_T_sub.R, was.global_T_sub.R);
       if (c.origin_id == 0.0 || moved > c.origin_mm) {
         c.origin_mm = moved;
         c.origin_id = now.id;
@@ -398,6 +404,53 @@ MacroStep run_sub(Context& ctx, State& state) {
   return with_frames(ctx, state, stored, [&](const core::GantryTable& table) {
     const core::StoredSubMachine& s = table.sub_machines[id - 1];
     return s.present ? report_sub(ctx, s) : done(core::Status::kNoTable);
+  });
+}
+
+}  // namespace trueaxis::macros::gantry
+
+namespace trueaxis::macros::gantry {
+
+MacroStep run_check(Context& ctx, State& state) {
+  if (!state.built) return done(core::Status::kNoTable);
+  const Work* work = ctx.work();
+  if (work == nullptr) return done(core::Status::kResultReplaced);
+  const core::GantryFrames& built = work->frames;
+  const double origin_tolerance = ctx.in<var::kGantryCheckOrigin>();
+  const double angle_tolerance = ctx.in<var::kGantryCheckAngle>();
+  return state.table.read_or([&](const core::GantryTable& stored) {
+    // The computation's sub-machines the stored frames hold, in id order.
+    const auto in_both = [&](std::size_t i) {
+      const int id = built.sub_machines[i].id;
+      return id >= 1 && id <= static_cast<int>(core::kMaxSubMachines) && stored.sub_machines[id - 1].present;
+    };
+    std::size_t subs = 0;
+    for (std::size_t i = 0; i < built.sub_machine_count; ++i) subs += in_both(i) ? 1U : 0U;
+    return publish_check(ctx, 2 * subs, [&](std::size_t k) {
+      CheckFigure f;
+      std::size_t n = 0;
+      for (std::size_t i = 0; i < built.sub_machine_count; ++i) {
+        if (!in_both(i) || k / 2 != n++) continue;
+        const core::StoredSubMachine now = core::stored_sub_machine(built.sub_machines[i]);
+        const core::StoredSubMachine& was = stored.sub_machines[built.sub_machines[i].id - 1];
+        f.item = static_cast<std::uint16_t>(built.sub_machines[i].id);
+        if (k % 2 == 0) {
+          f.kind = kCheckOrigin;
+          f.stored = was.global_T_sub.t.norm();
+          f.measured = now.global_T_sub.t.norm();
+          f.deviation = (now.global_T_sub.t - was.global_T_sub.t).norm();
+          f.sigma = std::sqrt((now.origin_sigma_mm * now.origin_sigma_mm + was.origin_sigma_mm * was.origin_sigma_mm) / 3.0);
+          f.tolerance = origin_tolerance;
+        } else {
+          f.kind = kCheckAngle;
+          f.measured = f.deviation = turn_arcsec(now.global_T_sub.R, was.global_T_sub.R);
+          f.sigma = std::sqrt((now.angle_sigma_arcsec.squaredNorm() + was.angle_sigma_arcsec.squaredNorm()) / 3.0);
+          f.tolerance = angle_tolerance;
+        }
+        break;
+      }
+      return f;
+    });
   });
 }
 

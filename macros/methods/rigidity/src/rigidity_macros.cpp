@@ -4,6 +4,7 @@
 
 #include "trueaxis/core/residual_noise.hpp"
 #include "trueaxis/macros/arguments.hpp"
+#include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/gates.hpp"
 
 namespace trueaxis::macros::rigidity {
@@ -246,6 +247,81 @@ MacroStep run_convert(Context& ctx, State& state) {
   ctx.out3<var::kConvertPointX>(actual_T_theory.point(point));
   ctx.out3<var::kConvertDirectionX>(actual_T_theory.direction(direction));
   return done(core::Status::kOk);
+}
+
+}  // namespace trueaxis::macros::rigidity
+
+namespace trueaxis::macros::rigidity {
+
+namespace {
+
+// The stored table's pose at a commanded A (within kPoseAToleranceDeg), or
+// nullptr: a check judges only the poses the calibration measured (between
+// them the table is an interpolation, whose own error is not a machine's
+// change).
+const core::RigidityPose* stored_at(const core::RigidityTable& t, double a_deg) {
+  for (std::size_t i = 0; i < t.pose_count; ++i) {
+    if (std::abs(t.poses[i].a_deg - a_deg) <= core::kPoseAToleranceDeg) return &t.poses[i];
+  }
+  return nullptr;
+}
+
+// The poses of `built` that are judged (check.hpp): not the reference, at a stored pose's A.
+bool judged(const core::RigidityTable& built, std::size_t i, const core::RigidityTable& stored) {
+  return i != built.reference && stored_at(stored, built.poses[i].a_deg) != nullptr;
+}
+
+// Figure k (0-based) of the check: two per judged pose, in A order.
+CheckFigure check_figure(const core::RigidityTable& built, const core::RigidityTable& stored, std::size_t k,
+                         double rotation_tolerance, double a_error_tolerance) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < built.pose_count; ++i) {
+    if (!judged(built, i, stored)) continue;
+    if (k / 2 != n++) continue;
+    const core::RigidityPose& p = built.poses[i];
+    const core::RigidityPose& s = *stored_at(stored, p.a_deg);
+    CheckFigure f;
+    f.item = static_cast<std::uint16_t>(i + 1);
+    if (k % 2 == 0) {
+      const core::Vec3 d = p.rotvec_rad - s.rotvec_rad;
+      const core::Vec3 var = p.rotvec_sigma_rad.cwiseAbs2() + s.rotvec_sigma_rad.cwiseAbs2();
+      const double length = d.norm();
+      f.kind = kCheckRotation;
+      f.stored = s.rotvec_rad.norm() * kArcsecPerRad;
+      f.measured = p.rotvec_rad.norm() * kArcsecPerRad;
+      f.deviation = length * kArcsecPerRad;
+      // Along the difference's direction; the largest axis' while there is none.
+      f.sigma = (length > 0.0 ? std::sqrt(d.cwiseAbs2().dot(var)) / length : std::sqrt(var.maxCoeff())) * kArcsecPerRad;
+      f.tolerance = rotation_tolerance;
+    } else {
+      f.kind = kCheckAError;
+      f.stored = s.a_error_rad * kArcsecPerRad;
+      f.measured = p.a_error_rad * kArcsecPerRad;
+      f.deviation = f.measured - f.stored;
+      f.sigma = std::hypot(p.a_error_sigma_rad, s.a_error_sigma_rad) * kArcsecPerRad;
+      f.tolerance = a_error_tolerance;
+    }
+    return f;
+  }
+  return {};
+}
+
+}  // namespace
+
+MacroStep run_check(Context& ctx, State& state) {
+  if (!state.built) return done(core::Status::kNoTable);
+  const Work* work = ctx.work();
+  if (work == nullptr) return done(core::Status::kResultReplaced);
+  const core::RigidityTable& built = work->builder.table();
+  const double rotation_tolerance = ctx.in<var::kRigidityCheckRotation>();
+  const double a_error_tolerance = ctx.in<var::kRigidityCheckAError>();
+  return state.table.read_or([&](const core::RigidityTable& stored) {
+    std::size_t poses = 0;
+    for (std::size_t i = 0; i < built.pose_count; ++i) poses += judged(built, i, stored) ? 1U : 0U;
+    return publish_check(ctx, 2 * poses, [&](std::size_t k) {
+      return check_figure(built, stored, k, rotation_tolerance, a_error_tolerance);
+    });
+  });
 }
 
 }  // namespace trueaxis::macros::rigidity

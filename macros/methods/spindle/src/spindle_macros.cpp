@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "trueaxis/macros/arguments.hpp"
+#include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/gates.hpp"
 
 namespace trueaxis::macros::spindle {
@@ -246,6 +247,37 @@ MacroStep run_model(Context& ctx, State& state) {
     ctx.out<var::kSpindleModelBall2>(m.geometry.ball_mm[1]);
     ctx.out<var::kSpindleModelEigenRatio>(f.smallest_eigenvalue_ratio);
     return done(core::Status::kOk);
+  });
+}
+
+}  // namespace trueaxis::macros::spindle
+
+namespace trueaxis::macros::spindle {
+
+MacroStep run_check(Context& ctx, State& state) {
+  if (!state.built) return done(core::Status::kNoTable);
+  const Work* work = ctx.work();
+  if (work == nullptr) return done(core::Status::kResultReplaced);
+  const core::SpindleFit& built = work->computed.fit;
+  const double tilt_tolerance = ctx.in<var::kSpindleCheckTilt>();
+  const double offset_tolerance = ctx.in<var::kSpindleCheckOffset>();
+  return state.table.read_or([&](const core::SpindleModel& stored) {
+    // Figure k: parameter 4 + k (a_x .. w_y, spindle_model.hpp convention 1).
+    return publish_check(ctx, 6, [&](std::size_t k) {
+      const Eigen::Index p = static_cast<Eigen::Index>(k) + 3;
+      const bool offset = k == 2 || k == 3;
+      const double scale = offset ? 1.0 : core::kArcsecPerRad;
+      CheckFigure f;
+      f.kind = static_cast<std::uint16_t>(k + 1);
+      f.stored = stored.fit.params(p) * scale;
+      f.measured = built.params(p) * scale;
+      f.deviation = f.measured - f.stored;
+      // A variance rounded below 0 counts as 0; a NaN stays NaN (and fails, check.hpp).
+      const auto variance = [](double v) { return v < 0.0 ? 0.0 : v; };
+      f.sigma = std::sqrt(variance(stored.fit.covariance(p, p)) + variance(built.covariance(p, p))) * scale;
+      f.tolerance = offset ? offset_tolerance : tilt_tolerance;
+      return f;
+    });
   });
 }
 

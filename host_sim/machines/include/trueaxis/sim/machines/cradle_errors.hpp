@@ -57,6 +57,10 @@ struct CradleErrors {
   double k_gravity_arcsec = 0.0;               // model 4: about table X, times sin(alpha)
   double k_stiffness_arcsec = 0.0;             // model 4: about table Y, times sin(2 alpha)
   double pivot_z_mm = -100.0;                  // model 4: pivot on the C axis, table Z
+  // Model 4's drift for the check (check.hpp): a deflection only the commanded
+  // A = local_a_deg shows (a clamp worked loose at that tilt), about table Y.
+  double local_a_deg = 0.0;
+  double local_arcsec = 0.0;
 };
 
 // The realistic set (issue 5): A axis 10 um / -15 um off the machine origin and

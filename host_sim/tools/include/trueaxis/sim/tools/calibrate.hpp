@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/macros/records.hpp"
 #include "trueaxis/sim/tools/client.hpp"
@@ -43,6 +44,8 @@ struct CalibrateOptions {
   std::string report_dir;    // "" when absent
   std::string linuxcnc_comp_path;  // --linuxcnc-comp (rigidity): "" when absent
   bool store = false;
+  bool check = false;          // --check: compare with the stored calibration (check.hpp), store nothing
+  std::string operator_name;   // --operator NAME: who measured, for the report
   bool accept_change = false;  // --accept-change: the store's M = 1 (gates.hpp, change)
   double unlock_code = macros::kUnlockCode;  // --unlock-code: the machine's own (#900)
   std::string host = "127.0.0.1";
@@ -108,6 +111,8 @@ bool transport(VariableClient& client, bool ok, FlowResult& fail);
 // JSON pieces, numbers with 17 significant digits.
 std::string json_number(double v);
 std::string json_vec3(const double* v);
+// A JSON string literal of `text` (quotes, backslashes and control characters escaped).
+std::string json_string(const std::string& text);
 
 // Unlocks, runs `build_macro` with `arguments` and R = 1 on the session
 // already in the module (the method stores what it computes), and locks again
@@ -168,6 +173,17 @@ struct CalibrateMethod {
   bool (*store)(VariableClient&, FlowResult&);  // stores the session's result: unlock, build, lock
   const char* report_module;  // host_sim/report/<report_module>.py draws --report
 };
+
+// The check (check.hpp) of method `name` of the module's method list (its
+// descriptor's kCheck): macro 0 when it has none or is not built.
+macros::CheckInfo check_of(const char* name);
+
+// --check (check.hpp): runs the method's check macro on the result the flow
+// has just built (R = 0) against the stored calibration, adds OUT.json's
+// "check" object (docs/INTERFACE.md "Check mode and the log") to r.json and
+// the verdict to r.summary; verdict is set to the check's. False with
+// r.error set when the module refused (no stored calibration among others).
+bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResult& r, macros::Verdict& verdict);
 
 // The record that method `name` of the module's method list stores its table
 // in (the JSON map's "records"), or nullptr when it stores none or is not built.

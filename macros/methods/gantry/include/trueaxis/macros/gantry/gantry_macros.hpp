@@ -54,6 +54,12 @@
 //  Out: #100..#131 (kSubOutputs; #127..#131 the squareness, A-to-C offset and
 //  angle sigmas, -1 from a table stored before them). kNoTable when that sub-machine is not in the
 //  chosen set.
+// Macro 9827: check (check.hpp): the frames computed last (9823 with R = 0)
+//  against the stored frames, nothing stored. Per sub-machine both hold, in
+//  id order: its origin (kCheckOrigin, tolerance #706) and its axes' turn
+//  (kCheckAngle, #707). Out: #100..#111 (check.hpp convention 3) for Q =
+//  #17. kNoTable when none was computed or none is stored, kResultReplaced,
+//  kNothingToCheck (no sub-machine in both), kArgumentOutOfRange (Q).
 #pragma once
 
 #include <cstdint>
@@ -153,6 +159,7 @@ MacroStep run_build(Context& ctx, State& state);
 MacroStep run_global(Context& ctx, State& state);
 MacroStep run_convert(Context& ctx, State& state);
 MacroStep run_sub(Context& ctx, State& state);
+MacroStep run_check(Context& ctx, State& state);
 
 // clang-format off
 inline constexpr InputRef kAddInputs[] = {
@@ -186,6 +193,11 @@ inline constexpr InputRef kSubInputs[] = {
   {var::kArgT, 1, "Sub-machine N, 1..8."},
 };
 
+inline constexpr InputRef kGantryCheckInputs[] = {
+  {var::kArgQ, 1, "The figure to publish in #104..#111: 1..#101, 0 the worst."},
+  {var::kGantryCheckOrigin, 2, "The origin's and the axes' tolerances."},
+};
+
 inline constexpr MacroInfo kMacros[] = {
   macro<&run_session_clear>(9820, "gantry_session_clear", "Empty the gantry session (points and sub-machine parameters).",
         kSessionOutputs),
@@ -204,6 +216,9 @@ inline constexpr MacroInfo kMacros[] = {
         kConvertInputs, kPointOutputs),
   macro<&run_sub>(9826, "gantry_sub_report", "One sub-machine's frame and figures, for reports.", kSubInputs,
         kSubOutputs),
+  macro<&run_check>(9827, "gantry_check",
+        "Check: the frames computed last (R = 0) against the stored frames, nothing stored; a verdict against #706, #707.",
+        kGantryCheckInputs, kCheckOutputs),
 };
 // clang-format on
 

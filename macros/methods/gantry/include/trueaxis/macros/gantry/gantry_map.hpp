@@ -21,6 +21,7 @@
 #include <cstdint>
 
 #include "trueaxis/core/gantry_frames.hpp"
+#include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 
 namespace trueaxis::macros {
@@ -32,6 +33,8 @@ inline constexpr std::uint16_t kGantryTrackerNoisePerM = 702;
 inline constexpr std::uint16_t kGantryMinBedSpan = 703;
 inline constexpr std::uint16_t kGantryMaxOriginChange = 704;
 inline constexpr std::uint16_t kGantryMaxAngleChange = 705;
+inline constexpr std::uint16_t kGantryCheckOrigin = 706;
+inline constexpr std::uint16_t kGantryCheckAngle = 707;
 
 // 9820, 9821, 9822
 inline constexpr std::uint16_t kGantrySessionCount = 100;
@@ -124,6 +127,14 @@ inline constexpr double kDefaultTrackerNoisePerMMm = 0.003;
 inline constexpr double kDefaultMinBedSpanMm = 100.0;
 inline constexpr double kDefaultMaxOriginChangeMm = 0.25;
 inline constexpr double kDefaultMaxAngleChangeArcsec = 120.0;
+// The check's tolerances' defaults (check.hpp): a sub-machine's origin and
+// its axes against the stored frame.
+inline constexpr double kDefaultCheckOriginMm = 0.100;
+inline constexpr double kDefaultCheckAngleArcsec = 45.0;
+// The check's figures (check.hpp convention 1), one of each per sub-machine
+// both the computation and the stored frames hold (item: its id).
+inline constexpr std::uint16_t kCheckOrigin = 1;
+inline constexpr std::uint16_t kCheckAngle = 2;
 
 // Its status codes (block 1200..1299).
 inline constexpr core::Status kBedSpanImplausible = static_cast<core::Status>(1200);
@@ -142,6 +153,15 @@ inline constexpr VarInfo kRows[] = {
                "Gantry: a store that moves a stored sub-machine's origin (global frame) by more than this is refused unless M = 1 (change_beyond_limit)."),
   rows::config(var::kGantryMaxAngleChange, 0.0, 1e6, kDefaultMaxAngleChangeArcsec, "gantry_max_angle_change", "arcsec",
                "Gantry: a store that turns a stored sub-machine's axes by more than this is refused unless M = 1 (change_beyond_limit)."),
+  rows::config(var::kGantryCheckOrigin, 1e-6, 1e5, kDefaultCheckOriginMm, "gantry_check_origin_tolerance", "mm",
+               "Gantry check (9827): the tolerance of a sub-machine's origin (global frame) against the stored frame's: the length of the difference."),
+  rows::config(var::kGantryCheckAngle, 1e-3, 1e6, kDefaultCheckAngleArcsec, "gantry_check_angle_tolerance", "arcsec",
+               "Gantry check (9827): the tolerance of a sub-machine's axes against the stored frame's: the angle they turned."),
+};
+
+inline constexpr CheckFigureInfo kCheckFigureKinds[] = {
+  {kCheckOrigin, "origin_change", "mm", "A sub-machine's origin (global frame) against the stored frame's: the length of the difference; stored and measured are the origins' distances from the global origin. Its sigma: one direction's share of both origins' 3-D sigmas, sqrt((s_new^2 + s_stored^2) / 3)."},
+  {kCheckAngle, "axes_turn", "arcsec", "The angle a sub-machine's axes turned from the stored frame's; stored 0, measured the turn. Its sigma: sqrt((|s_new|^2 + |s_stored|^2) / 3) of the frames' three angle sigmas."},
 };
 
 inline constexpr OutputInfo kSessionOutputs[] = {

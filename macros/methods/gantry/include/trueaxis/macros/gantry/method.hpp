@@ -33,6 +33,7 @@ struct Method : Shape {
        "with R = 1: each stored sub-machine's origin move and axes' turn; M = 1 confirms"},
   };
   static constexpr List<GateInfo> kGates = list_of(kGateTable);
+  static constexpr CheckInfo kCheck{9827, list_of(gantry::kCheckFigureKinds)};
   using State = gantry::State;
   using Table = FramesRecord;
   static StoredTable<Table>& table(State& s) { return s.table; }

@@ -28,6 +28,7 @@ struct Method : Shape {
        "with R = 1: each pose's rotation vector against the stored table's at its A; M = 1 confirms"},
   };
   static constexpr List<GateInfo> kGates = list_of(kGateTable);
+  static constexpr CheckInfo kCheck{9836, list_of(rigidity::kCheckFigureKinds)};
   using State = rigidity::State;
   using Table = RigidityTableRecord;
   static StoredTable<Table>& table(State& s) { return s.table; }

@@ -52,6 +52,15 @@
 //  (#4..#6) at commanded A = #1, C = #3 from where the ideal (theory) machine
 //  puts them to where the real (actual) one does; R = #18 = 1 the other way.
 //  Blend Q = #17 as 9833, no clamping. Out: #100..#105 (kConvertOutputs).
+// Macro 9836: check (check.hpp): the table built last (9832 with R = 0)
+//  against the stored one, nothing stored. Per pose of the build but the
+//  reference that the stored table has too (A within kPoseAToleranceDeg; the
+//  others are not judged), item its number in the build (1-based, A order):
+//  its rotation vector against the stored pose's (kCheckRotation, tolerance
+//  #605) and its A positioning error likewise (kCheckAError, #606). Out:
+//  #100..#111 (check.hpp convention 3) for Q = #17. kNoTable when none was
+//  built or none is stored, kResultReplaced, kNothingToCheck (no pose in
+//  common), kArgumentOutOfRange (Q).
 #pragma once
 
 #include <cstdint>
@@ -103,6 +112,7 @@ MacroStep run_build(Context& ctx, State& state);
 MacroStep run_query(Context& ctx, State& state);
 MacroStep run_pose(Context& ctx, State& state);
 MacroStep run_convert(Context& ctx, State& state);
+MacroStep run_check(Context& ctx, State& state);
 
 // clang-format off
 inline constexpr InputRef kAddInputs[] = {
@@ -139,6 +149,12 @@ inline constexpr InputRef kConvertInputs[] = {
   {var::kArgX, 3, "Point X, Y, Z (mm, machine frame)."},
 };
 
+inline constexpr InputRef kRigidityCheckInputs[] = {
+  {var::kArgQ, 1, "The figure to publish in #104..#111: 1..#101, 0 the worst."},
+  {var::kRigidityCheckRotation, 1, "The rotation vector's tolerance."},
+  {var::kRigidityCheckAError, 1, "The A positioning error's tolerance."},
+};
+
 inline constexpr MacroInfo kMacros[] = {
   macro<&run_session_clear>(9830, "rigidity_session_clear", "Empty the rigidity session.", kSessionOutputs),
   macro<&run_session_add>(9831, "rigidity_session_add",
@@ -154,6 +170,9 @@ inline constexpr MacroInfo kMacros[] = {
   macro<&run_convert>(9835, "rigidity_convert",
         "Convert a point and a direction between the theoretical and the actual machine at (A, C).",
         kConvertInputs, kConvertOutputs),
+  macro<&run_check>(9836, "rigidity_check",
+        "Check: the table built last (R = 0) against the stored table, nothing stored; a verdict against #605, #606.",
+        kRigidityCheckInputs, kCheckOutputs),
 };
 // clang-format on
 

@@ -14,6 +14,7 @@
 #include <cstdint>
 
 #include "trueaxis/core/status.hpp"
+#include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 
 namespace trueaxis::macros {
@@ -24,6 +25,8 @@ inline constexpr std::uint16_t kRigidityBallNoise = 601;
 inline constexpr std::uint16_t kRigidityMaxAError = 602;
 inline constexpr std::uint16_t kRigidityMinCRadius = 603;
 inline constexpr std::uint16_t kRigidityMaxChange = 604;
+inline constexpr std::uint16_t kRigidityCheckRotation = 605;
+inline constexpr std::uint16_t kRigidityCheckAError = 606;
 
 // 9830, 9831
 inline constexpr std::uint16_t kRigiditySessionCount = 100;
@@ -86,6 +89,14 @@ inline constexpr double kDefaultMinCRadiusMm = 5.0;
 // the stored table's at its A before a store needs M = 1 (repeat calibrations
 // of one machine differ by a few arc-seconds).
 inline constexpr double kDefaultMaxChangeArcsec = 30.0;
+// The check's tolerances' defaults (check.hpp): a pose's rotation vector and
+// its A positioning error may move this far from the stored table's.
+inline constexpr double kDefaultCheckRotationArcsec = 12.0;
+inline constexpr double kDefaultCheckAErrorArcsec = 12.0;
+
+// The check's figures (check.hpp convention 1), one of each per pose but the reference.
+inline constexpr std::uint16_t kCheckRotation = 1;
+inline constexpr std::uint16_t kCheckAError = 2;
 
 // Its status codes (block 1100..1199).
 inline constexpr core::Status kAErrorImplausible = static_cast<core::Status>(1100);
@@ -103,6 +114,15 @@ inline constexpr VarInfo kRows[] = {
                "Rigidity: a build whose ball circles C at a smaller radius is refused (c_radius_implausible: ball positions in metres?); 0 switches the gate off."),
   rows::config(var::kRigidityMaxChange, 0.0, 1e6, kDefaultMaxChangeArcsec, "rigidity_max_change", "arcsec",
                "Rigidity: a store whose pose rotation vectors differ from the stored table's at their A by more than this is refused unless M = 1 (change_beyond_limit)."),
+  rows::config(var::kRigidityCheckRotation, 1e-3, 1e6, kDefaultCheckRotationArcsec, "rigidity_check_rotation_tolerance", "arcsec",
+               "Rigidity check (9836): the tolerance of a pose's rotation vector against the stored pose's at the same A (the length of the difference)."),
+  rows::config(var::kRigidityCheckAError, 1e-3, 1e6, kDefaultCheckAErrorArcsec, "rigidity_check_a_error_tolerance", "arcsec",
+               "Rigidity check (9836): the tolerance of a pose's A positioning error against the stored pose's at the same A."),
+};
+
+inline constexpr CheckFigureInfo kCheckFigureKinds[] = {
+  {kCheckRotation, "rotation_change", "arcsec", "A pose's rotation vector against the stored table's pose at the same A (item: the pose's number in the new table, A order): the length of the difference; stored and measured are the vectors' lengths (the rigidity)."},
+  {kCheckAError, "a_positioning_error_change", "arcsec", "A pose's A positioning error against the stored pose's at the same A."},
 };
 
 inline constexpr OutputInfo kSessionOutputs[] = {

@@ -27,6 +27,7 @@ struct Method : Shape {
        "with R = 1: the tool-tip error at V against the stored model's, every 10 deg; M = 1 confirms"},
   };
   static constexpr List<GateInfo> kGates = list_of(kGateTable);
+  static constexpr CheckInfo kCheck{9846, list_of(spindle::kCheckFigureKinds)};
   using State = spindle::State;
   using Table = ModelRecord;
   static StoredTable<Table>& table(State& s) { return s.table; }

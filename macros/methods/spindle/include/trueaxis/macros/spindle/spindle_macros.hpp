@@ -51,6 +51,12 @@
 //  Out: #100..#115 (kReportOutputs).
 // Macro 9845: the model: R as 9844, Q = #17 a parameter 1..9 (spindle_map.hpp
 //  convention 3). Out: #100..#111 (kModelOutputs).
+// Macro 9846: check (check.hpp): the last identification (9842 with R = 0)
+//  against the stored model, nothing stored: a_x, a_y, w_x, w_y (arcsec,
+//  tolerance #805) and e_x, e_y (mm, #806), each its parameter's difference
+//  with the sigma of both fits' covariances. Out: #100..#111 (check.hpp
+//  convention 3) for Q = #17. kNoTable when none was identified or none is
+//  stored, kResultReplaced, kArgumentOutOfRange (Q).
 #pragma once
 
 #include <cstdint>
@@ -106,6 +112,7 @@ MacroStep run_build(Context& ctx, State& state);
 MacroStep run_correction(Context& ctx, State& state);
 MacroStep run_report(Context& ctx, State& state);
 MacroStep run_model(Context& ctx, State& state);
+MacroStep run_check(Context& ctx, State& state);
 
 // clang-format off
 inline constexpr InputRef kAddInputs[] = {
@@ -139,6 +146,11 @@ inline constexpr InputRef kModelInputs[] = {
   {var::kArgR, 1, "0 the last identification, 1 the stored model."},
 };
 
+inline constexpr InputRef kSpindleCheckInputs[] = {
+  {var::kArgQ, 1, "The figure to publish in #104..#111: 1..#101, 0 the worst."},
+  {var::kSpindleCheckTilt, 2, "The tilts' and the offset's tolerances."},
+};
+
 inline constexpr MacroInfo kMacros[] = {
   macro<&run_session_clear>(9840, "spindle_session_clear", "Empty the spindle analyser session.", kSessionOutputs),
   macro<&run_session_add>(9841, "spindle_session_add", "Add one analyser sample (spindle angle, ball, centre) to the session.",
@@ -154,6 +166,9 @@ inline constexpr MacroInfo kMacros[] = {
         kReportOutputs),
   macro<&run_model>(9845, "spindle_model", "A parameter of the model with its uncertainty, and the fit's figures.",
         kModelInputs, kModelOutputs),
+  macro<&run_check>(9846, "spindle_check",
+        "Check: the last identification (R = 0) against the stored model, nothing stored; a verdict against #805, #806.",
+        kSpindleCheckInputs, kCheckOutputs),
 };
 // clang-format on
 

@@ -20,6 +20,7 @@
 #include <cstdint>
 
 #include "trueaxis/core/spindle_model.hpp"
+#include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 
 namespace trueaxis::macros {
@@ -30,6 +31,8 @@ inline constexpr std::uint16_t kSpindleProbeNoise = 801;
 inline constexpr std::uint16_t kSpindleFormAllowance = 802;
 inline constexpr std::uint16_t kSpindleMaxSpacingError = 803;
 inline constexpr std::uint16_t kSpindleMaxChange = 804;
+inline constexpr std::uint16_t kSpindleCheckTilt = 805;
+inline constexpr std::uint16_t kSpindleCheckOffset = 806;
 
 // 9840, 9841
 inline constexpr std::uint16_t kSpindleSessionSamples = 100;
@@ -84,6 +87,18 @@ inline constexpr double kDefaultProbeNoiseMm = 0.000015;
 inline constexpr double kDefaultFormAllowanceMm = 0.0002;
 inline constexpr double kDefaultMaxSpacingErrorMm = 1.0;
 inline constexpr double kDefaultMaxChangeMm = 0.005;
+// The check's tolerances' defaults (check.hpp): the axis' and the tool's
+// tilts, the tool line's offset at the gauge plane.
+inline constexpr double kDefaultCheckTiltArcsec = 5.0;
+inline constexpr double kDefaultCheckOffsetMm = 0.002;
+// The check's figures (check.hpp convention 1): the model's parameters but O1
+// (o_x, o_y, o_z place the analyser, not the spindle), each a kind of its own.
+inline constexpr std::uint16_t kCheckAx = 1;
+inline constexpr std::uint16_t kCheckAy = 2;
+inline constexpr std::uint16_t kCheckEx = 3;
+inline constexpr std::uint16_t kCheckEy = 4;
+inline constexpr std::uint16_t kCheckWx = 5;
+inline constexpr std::uint16_t kCheckWy = 6;
 // The angles the change gate compares the tool tips at: every 10 deg.
 inline constexpr int kChangeAngles = 36;
 
@@ -106,6 +121,19 @@ inline constexpr VarInfo kRows[] = {
                "Spindle: an identification whose balls' mean centres lie farther from V - U apart than this is refused (ball_spacing_implausible: samples in metres? a ball distance typed wrong?)."),
   rows::config(var::kSpindleMaxChange, 0.0, 1e5, kDefaultMaxChangeMm, "spindle_max_change", "mm",
                "Spindle: a store whose tool-tip error at ball 2's length (V) differs from the stored model's by more than this at some angle is refused unless M = 1 (change_beyond_limit)."),
+  rows::config(var::kSpindleCheckTilt, 1e-3, 1e6, kDefaultCheckTiltArcsec, "spindle_check_tilt_tolerance", "arcsec",
+               "Spindle check (9846): the tolerance of the axis' tilt (a_x, a_y) and the tool's tilt against it (w_x, w_y) against the stored model's."),
+  rows::config(var::kSpindleCheckOffset, 1e-7, 1e3, kDefaultCheckOffsetMm, "spindle_check_offset_tolerance", "mm",
+               "Spindle check (9846): the tolerance of the tool line's offset at the gauge plane (e_x, e_y) against the stored model's."),
+};
+
+inline constexpr CheckFigureInfo kCheckFigureKinds[] = {
+  {kCheckAx, "a_x", "arcsec", "The spindle axis' tilt towards +X (parameter a_x)."},
+  {kCheckAy, "a_y", "arcsec", "The spindle axis' tilt towards +Y (a_y)."},
+  {kCheckEx, "e_x", "mm", "The tool line's offset from the axis at the gauge plane, X (e_x)."},
+  {kCheckEy, "e_y", "mm", "Its Y (e_y)."},
+  {kCheckWx, "w_x", "arcsec", "The tool's tilt against the axis, X (w_x)."},
+  {kCheckWy, "w_y", "arcsec", "Its Y (w_y)."},
 };
 
 inline constexpr OutputInfo kSessionOutputs[] = {

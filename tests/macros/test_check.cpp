@@ -1,0 +1,106 @@
+// check.hpp on its own: a figure's verdict at the exact boundaries of
+// convention 2, NaN, and publish_check's outputs (convention 3) through a
+// stand-in for a method's context: the worst figure is the worst verdict's,
+// then the largest ratio; Q out of range and no figure are refused.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "trueaxis/macros/check.hpp"
+
+namespace {
+
+namespace m = trueaxis::macros;
+namespace v = trueaxis::macros::var;
+using trueaxis::core::Status;
+
+m::CheckFigure figure(double deviation, double sigma, double tolerance) {
+  m::CheckFigure f;
+  f.deviation = deviation;
+  f.sigma = sigma;
+  f.tolerance = tolerance;
+  return f;
+}
+
+// What publish_check needs of a MethodContext: in<Q>() and out<N>().
+struct FakeContext {
+  double q = 0.0;
+  double results[100] = {};
+  template <std::uint16_t N>
+  double in() const {
+    static_assert(N == v::kArgQ, "publish_check reads only Q");
+    return q;
+  }
+  template <std::uint16_t N>
+  void out(double value) {
+    results[N - 100] = value;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a figure's verdict at the exact boundaries: fail beyond the tolerance, warn within it by less than 2 sigma",
+          "[check]") {
+  const double t = 10.0;
+  CHECK(m::judge(figure(6.0, 2.0, t)) == m::Verdict::kPass);                      // |d| + 2 sigma == T
+  CHECK(m::judge(figure(6.0 + std::ldexp(1.0, -48), 2.0, t)) == m::Verdict::kWarn);  // 2 ulp of T over, exactly
+  CHECK(m::judge(figure(-6.0, 2.0, t)) == m::Verdict::kPass);                     // the sign does not matter
+  CHECK(m::judge(figure(10.0, 0.0, t)) == m::Verdict::kPass);                     // |d| == T, no uncertainty
+  CHECK(m::judge(figure(10.0, 1e-9, t)) == m::Verdict::kWarn);                    // |d| == T is not beyond it
+  CHECK(m::judge(figure(std::nextafter(10.0, 11.0), 0.0, t)) == m::Verdict::kFail);
+  CHECK(m::judge(figure(-10.5, 0.0, t)) == m::Verdict::kFail);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK(m::judge(figure(nan, 0.0, t)) == m::Verdict::kFail);
+  CHECK(m::judge(figure(0.0, nan, t)) == m::Verdict::kFail);
+  CHECK(m::check_ratio(figure(nan, 0.0, t)) == HUGE_VAL);
+  CHECK(m::check_ratio(figure(6.0, 2.0, t)) == 1.0);
+}
+
+TEST_CASE("publish_check: the worst figure is the worst verdict's, then the largest ratio; Q picks a figure",
+          "[check]") {
+  // A warn with a large ratio, a fail with a smaller one, a pass.
+  const std::vector<m::CheckFigure> figures = {figure(5.0, 4.0, 10.0), figure(10.5, 0.01, 10.0),
+                                               figure(1.0, 0.1, 10.0)};
+  const auto at = [&](std::size_t k) {
+    m::CheckFigure f = figures[k];
+    f.kind = static_cast<std::uint16_t>(k + 1);
+    f.item = static_cast<std::uint16_t>(10 + k);
+    return f;
+  };
+  FakeContext ctx;
+  REQUIRE(m::publish_check(ctx, figures.size(), at).status == Status::kOk);
+  CHECK(ctx.results[0] == 2.0);  // fail
+  CHECK(ctx.results[1] == 3.0);
+  CHECK(ctx.results[2] == 2.0);  // the fail, though the warn's ratio (1.3) is larger than its (1.052)
+  CHECK(ctx.results[3] == Approx(1.052));
+  CHECK(ctx.results[4] == 2.0);  // Q = 0: the worst figure's verdict, kind, item, values
+  CHECK(ctx.results[5] == 2.0);
+  CHECK(ctx.results[6] == 11.0);
+  CHECK(ctx.results[9] == 10.5);
+  CHECK(ctx.results[10] == 0.01);
+  CHECK(ctx.results[11] == 10.0);
+  ctx.q = 1.0;
+  REQUIRE(m::publish_check(ctx, figures.size(), at).status == Status::kOk);
+  CHECK(ctx.results[4] == 1.0);  // figure 1: warn
+  CHECK(ctx.results[6] == 10.0);
+  CHECK(ctx.results[2] == 2.0);  // the summary is the same whichever figure Q picks
+  ctx.q = 4.0;
+  CHECK(m::publish_check(ctx, figures.size(), at).status == Status::kArgumentOutOfRange);
+  ctx.q = 0.5;
+  CHECK(m::publish_check(ctx, figures.size(), at).status == Status::kArgumentOutOfRange);
+  ctx.q = 0.0;
+  CHECK(m::publish_check(ctx, 0, at).status == Status::kNothingToCheck);
+
+  // Among equal verdicts the largest ratio; a NaN counts as the largest.
+  const std::vector<m::CheckFigure> passes = {figure(1.0, 0.1, 10.0), figure(3.0, 0.1, 10.0),
+                                              figure(std::numeric_limits<double>::quiet_NaN(), 0.1, 10.0)};
+  FakeContext c2;
+  REQUIRE(m::publish_check(c2, 2, [&](std::size_t k) { return passes[k]; }).status == Status::kOk);
+  CHECK(c2.results[0] == 0.0);
+  CHECK(c2.results[2] == 2.0);
+  REQUIRE(m::publish_check(c2, 3, [&](std::size_t k) { return passes[k]; }).status == Status::kOk);
+  CHECK(c2.results[0] == 2.0);
+  CHECK(c2.results[2] == 3.0);
+}
