@@ -416,6 +416,42 @@ TA_TEST("9815 refuses three touches, touches on one circle and a negative R, kee
 
 // ---- recipes (method_tests.hpp) ------------------------------------------------------------
 
+TA_TEST("9816 judges the face probed again after leveling: level passes, 20 arcsec off fails, in between as check.hpp says") {
+  // A face 100 mm square at the table's zero (A = C = 0), its tilt about Y.
+  const auto face = [](ModuleRig& rig, double tilt_arcsec) {
+    TA_REQUIRE(rig.done(9812));
+    const double slope = std::tan(tilt_arcsec / 3600.0 / kRadToDeg);
+    for (const Vec3& p : {Vec3(0, 0, 0), Vec3(100, 0, 0), Vec3(0, 100, 0), Vec3(100, 100, 0)}) {
+      TA_REQUIRE(add(rig, Vec3(p.x(), p.y(), 40.0 + slope * p.x())) == kDone);
+    }
+  };
+  ModuleRig rig;
+  TA_REQUIRE(rig.done(9812));
+  TA_CHECK_EQ(add(rig, Vec3(0, 0, 40)), kDone);
+  TA_CHECK_EQ(rig.refuse(9816), Status::kTooFewSamples);
+  face(rig, 0.0);
+  TA_REQUIRE(rig.done(9816));
+  TA_CHECK_EQ(rig.get(v::kCheckVerdict), 0.0);
+  TA_CHECK_EQ(rig.get(v::kCheckFigures), 1.0);
+  TA_CHECK_NEAR(rig.get(v::kCheckFigureDeviation), 0.0, 1e-9);
+  TA_CHECK_EQ(rig.get(v::kCheckFigureTolerance), 10.0);
+  face(rig, 20.0);
+  TA_REQUIRE(rig.done(9816));
+  TA_CHECK_EQ(rig.get(v::kCheckVerdict), 2.0);
+  TA_CHECK_NEAR(rig.get(v::kCheckFigureDeviation), 20.0, 1e-6);
+  TA_CHECK(rig.get(v::kCheckFigureSigma) > 0.0);
+  TA_REQUIRE(rig.done(9814));  // the check's figure is 9814's #117 and #118
+  const double tilt = rig.get(v::kLevelMachineTilt) * 3600.0;
+  const double sigma = rig.get(v::kLevelMachineTiltSigma);
+  TA_CHECK_NEAR(tilt, 20.0, 1e-6);
+  // Just inside the tolerance by less than 2 sigma: warn.
+  face(rig, 10.0 - sigma);
+  TA_REQUIRE(rig.done(9816));
+  TA_CHECK_EQ(rig.get(v::kCheckVerdict), 1.0);
+  rig.set(v::kArgQ, 2.0);
+  TA_CHECK_EQ(rig.refuse(9816), Status::kArgumentOutOfRange);
+}
+
 namespace {
 
 void level_pose(ModuleRig& rig) {
@@ -452,3 +488,4 @@ TA_RECIPE(9812, nullptr, nullptr);
 TA_RECIPE(9813, nullptr, level_session_point);
 TA_RECIPE(9814, level_session_of_three, nullptr);
 TA_RECIPE(9815, level_ball_touches, nullptr);
+TA_RECIPE(9816, level_session_of_three, nullptr);  // an inclined face: the check fails, the macro succeeds

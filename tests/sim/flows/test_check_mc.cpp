@@ -18,6 +18,7 @@
 #include "virtual_streams.hpp"
 #include "module_rig.hpp"
 #include "trueaxis/macros/check.hpp"
+#include "trueaxis/macros/level/level_map.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/sim/instruments/calibration_ball.hpp"
 #include "trueaxis/sim/machines/cradle_machine.hpp"
@@ -64,6 +65,25 @@ struct Verdicts {
   }
 };
 
+// A vector figure's sigma (along the difference) against the spread of its
+// length where a drift makes the difference's direction steady: the reported
+// sigma's RMS over the observed standard deviation.
+struct Spread {
+  int n = 0;
+  double sum = 0.0, sum2 = 0.0, sigma2 = 0.0;
+  void add(Rig& rig) {
+    const double d = rig.get(v::kCheckFigureDeviation);
+    ++n;
+    sum += d;
+    sum2 += d * d;
+    sigma2 += rig.get(v::kCheckFigureSigma) * rig.get(v::kCheckFigureSigma);
+  }
+  double honest() const {
+    const double mean = sum / n;
+    return std::sqrt(sigma2 / n) / std::sqrt((sum2 - n * mean * mean) / (n - 1));
+  }
+};
+
 // The end of a method's series: the counts (printed with TRUEAXIS_FIGURES=1),
 // the deviation sigma's honesty (x1.5 of the observed spread), >= 99 % pass
 // unchanged and >= 99 % fail drifted.
@@ -96,6 +116,7 @@ TEST_CASE("M3 check: an unchanged cradle passes, 20\" more rigidity at one pose 
   Verdicts moved;
   double d2 = 0.0;  // the unchanged A positioning errors' deviations, squared, and their sigmas
   double s2 = 0.0;
+  Spread rotation;  // the drifted pose 7's rotation_change
   for (int run = 0; run < kRigidityRuns; ++run) {
     sim::SimRng rng(static_cast<std::uint64_t>(52000 + run));
     trueaxis::test::stream_rigidity(rig, machine, rng);
@@ -110,6 +131,12 @@ TEST_CASE("M3 check: an unchanged cradle passes, 20\" more rigidity at one pose 
       REQUIRE(rig.done(9836));
       REQUIRE(rig.get(v::kCheckFigures) == 12.0);  // 6 poses but the reference, 2 figures each
       (now == &machine ? same : moved).add(rig);
+      if (now == &drifted) {  // pose 7 (A = 90): the rotation the drift moves most, steadily
+        rig.set(v::kArgQ, 11.0);
+        REQUIRE(rig.done(9836));
+        REQUIRE((rig.get(v::kCheckFigureKind) == 1.0 && rig.get(v::kCheckFigureItem) == 7.0));
+        rotation.add(rig);
+      }
       for (int q = 2; now == &machine && q <= 12; q += 2) {
         rig.set(v::kArgQ, q);
         REQUIRE(rig.done(9836));
@@ -120,6 +147,9 @@ TEST_CASE("M3 check: an unchanged cradle passes, 20\" more rigidity at one pose 
     }
   }
   conclude(same, "M3 unchanged", moved, "M3 20\" at A = 60", "A positioning error", std::sqrt(s2 / d2));
+  if (print_figures()) std::printf("  rotation_change at A = 90, drifted: sigma / observed spread %.3f\n", rotation.honest());
+  CHECK(rotation.honest() > 1.0 / 1.5);
+  CHECK(rotation.honest() < 1.5);
 }
 
 namespace {
@@ -221,7 +251,7 @@ TEST_CASE("M2 check: exact on a quiet tracker; honest sigmas and no false alarm 
   const sim::GantryMachine machine(config);
   const sim::GantryPlan plan;
   const auto series = [&](bool noise, int runs, double move_mm, double tolerance_mm, Verdicts& same, Verdicts& moved,
-                          double& honest) {
+                          double& honest, Spread& origin) {
     sim::GantryConfig moved_config = config;
     moved_config.sub_machines[1].wrist_mm += Vec3(move_mm, 0.0, 0.0);
     const sim::GantryMachine moved_machine(moved_config);
@@ -247,6 +277,12 @@ TEST_CASE("M2 check: exact on a quiet tracker; honest sigmas and no false alarm 
           d2 += rig.get(v::kCheckFigureDeviation) * rig.get(v::kCheckFigureDeviation);
           s2 += 3.0 * rig.get(v::kCheckFigureSigma) * rig.get(v::kCheckFigureSigma);
         }
+        if (now == &moved_machine) {  // the moved origin (sub-machine 2, figure 3): its length's spread
+          rig.set(v::kArgQ, 3.0);
+          REQUIRE(rig.done(9827));
+          REQUIRE((rig.get(v::kCheckFigureKind) == 1.0 && rig.get(v::kCheckFigureItem) == 2.0));
+          origin.add(rig);
+        }
         if (now == &moved_machine && !noise) {  // the moved origin is the worst figure, 50 um
           REQUIRE(rig.get(v::kCheckFigureItem) == 2.0);
           CHECK(rig.get(v::kCheckFigureDeviation) == Approx(move_mm).margin(1e-5));
@@ -257,13 +293,52 @@ TEST_CASE("M2 check: exact on a quiet tracker; honest sigmas and no false alarm 
   };
   Verdicts quiet_same, quiet_moved;
   double quiet_honest = 0.0;
-  series(false, 2, 0.050, 0.030, quiet_same, quiet_moved, quiet_honest);
+  Spread quiet_origin;
+  series(false, 2, 0.050, 0.030, quiet_same, quiet_moved, quiet_honest, quiet_origin);
   CHECK(quiet_same.count[0] == 2);
   CHECK(quiet_moved.count[2] == 2);
 
   const int runs = gantry_runs();
   Verdicts same, moved;
   double honest = 0.0;
-  series(true, runs, 0.2, m::gantry::kDefaultCheckOriginMm, same, moved, honest);
+  Spread origin;  // the moved origin's length
+  series(true, runs, 0.2, m::gantry::kDefaultCheckOriginMm, same, moved, honest, origin);
   conclude(same, "M2 unchanged", moved, "M2 sub-machine 2 moved 0.2 mm", "origin", honest);
+  if (print_figures()) std::printf("  origin_change moved 0.2 mm: sigma / observed spread %.3f\n", origin.honest());
+  CHECK(origin.honest() > 1.0 / 1.5);
+  CHECK(origin.honest() < 1.5);
+}
+
+TEST_CASE("M1 check: a face probed level again passes, one left 30\" off fails, each in >= 99 %", "[check][mc]") {
+  // Nine touches over a 100 mm square at the table's zero, the probe's noise
+  // #506 (0.5 um, 1 sigma) on each: the re-probe after leveling (9812, 9813, 9816).
+  constexpr int kRuns = 1000;
+  const double sigma_mm = trueaxis::macros::level::kDefaults.probe_sigma_mm;
+  Rig rig;
+  Verdicts same;
+  Verdicts moved;
+  double d2 = 0.0;  // the 30" face's deviations from 30", squared, and their sigmas
+  double s2 = 0.0;
+  for (int run = 0; run < kRuns; ++run) {
+    sim::SimRng rng(static_cast<std::uint64_t>(71000 + run));
+    for (const double tilt_arcsec : {0.0, 30.0}) {
+      REQUIRE(rig.done(9812));
+      const double slope = std::tan(tilt_arcsec / 206264.80624709636);
+      for (int i = 0; i < 9; ++i) {
+        const double x = 50.0 * (i % 3);
+        const double y = 50.0 * (i / 3);
+        rig.set3(v::kArgX, Vec3(x + sigma_mm * rng.normal(), y + sigma_mm * rng.normal(),
+                                40.0 + slope * x + sigma_mm * rng.normal()));
+        REQUIRE(rig.done(9813));
+      }
+      REQUIRE(rig.done(9816));
+      (tilt_arcsec == 0.0 ? same : moved).add(rig);
+      if (tilt_arcsec == 30.0) {
+        d2 += (rig.get(v::kCheckFigureDeviation) - 30.0) * (rig.get(v::kCheckFigureDeviation) - 30.0);
+        s2 += rig.get(v::kCheckFigureSigma) * rig.get(v::kCheckFigureSigma);
+      }
+    }
+  }
+  // The 30" face's tilt is a length along a steady direction: its spread is the sigma's.
+  conclude(same, "M1 level", moved, "M1 30\" off", "tilt (30\" face)", std::sqrt(s2 / d2));
 }

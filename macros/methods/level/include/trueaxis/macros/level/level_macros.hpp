@@ -34,6 +34,11 @@
 //  (1000) for touches in one plane; kArgumentOutOfRange for R < 0. The session is
 //  kept. It serves every controller's ball measurement (M3's samples), so no
 //  controller fits a sphere in its own macro language.
+// Macro 9816: check (check.hpp), the re-probe after leveling: the face
+//  through the session's points, as 9814 (A, C, I, J, K as 9810), its tilt in
+//  the machine frame where it was probed (9814's #117, #118) judged against
+//  #509. Out: #100..#111 (check.hpp convention 3, one figure). Statuses as
+//  9814; kArgumentOutOfRange for Q other than 0 or 1. The session is kept.
 #pragma once
 
 #include "trueaxis/core/types.hpp"
@@ -63,6 +68,7 @@ MacroStep run_session_clear(Context& ctx, State& state);
 MacroStep run_session_add(Context& ctx, State& state);
 MacroStep run_session_compute(Context& ctx, State& state);
 MacroStep run_session_ball(Context& ctx, State& state);
+MacroStep run_session_check(Context& ctx, State& state);
 
 // clang-format off
 inline constexpr InputRef kPoseInputs[] = {
@@ -94,6 +100,14 @@ inline constexpr InputRef kBallInputs[] = {
 };
 inline constexpr InputRef kAddInputs[] = {{var::kArgX, 3, "The point X, Y, Z (mm, machine frame)."}};
 
+inline constexpr InputRef kCheckInputs[] = {
+  {var::kArgA, 1, "Commanded A (deg) while probing."},
+  {var::kArgC, 1, "Commanded C (deg) while probing."},
+  {var::kArgI, 3, "Outward direction I, J, K (any length; 0,0,0 means +Z)."},
+  {var::kArgQ, 1, "The figure to publish in #104..#111: 0 or 1 (there is one)."},
+  {var::kAMin, 10, "Configuration: travel limits, axis signs, probe repeatability, direction limit, axes, the check's tolerance."},
+};
+
 inline constexpr MacroInfo kMacros[] = {
   macro<&run_level_3pt>(9810, "level_3pt",
         "Three-point auto-level: table angles that make the face through G57, G58, G59 horizontal.",
@@ -112,6 +126,9 @@ inline constexpr MacroInfo kMacros[] = {
   macro<&run_session_ball>(9815, "level_session_ball",
         "Ball centre: least-squares sphere through the session's points (4 or more probe touches); the session is kept.",
         kBallInputs, kBallOutputs),
+  macro<&run_session_check>(9816, "level_check",
+        "Check after leveling: the face through the session's points probed again, its tilt judged against #509.",
+        kCheckInputs, kCheckOutputs),
 };
 // clang-format on
 

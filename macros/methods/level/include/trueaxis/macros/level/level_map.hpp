@@ -3,7 +3,7 @@
 // method.hpp.
 //
 // Conventions
-//  1. Configuration #500..#507 (block #500..#599), the point list of 9811
+//  1. Configuration #500..#509 (block #500..#599), the point list of 9811
 //     #1001..#1096 (block #1000..#1999).
 //  2. Outputs #100..#118 of 9810, 9811 and 9814; #100..#110 of 9815 (the
 //     ball through the session's touches). Interface version 1 named the
@@ -21,6 +21,7 @@
 #include "trueaxis/core/leveling.hpp"
 #include "trueaxis/core/plane_fit.hpp"
 #include "trueaxis/core/sphere_fit.hpp"
+#include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 
 namespace trueaxis::macros {
@@ -70,6 +71,7 @@ inline constexpr std::uint16_t kCSign = 505;
 inline constexpr std::uint16_t kProbeSigma = 506;
 inline constexpr std::uint16_t kMaxDirectionSigma = 507;
 inline constexpr std::uint16_t kLevelAxes = 508;
+inline constexpr std::uint16_t kLevelCheckTolerance = 509;
 
 inline constexpr std::uint16_t kPointList = 1001;
 inline constexpr std::uint16_t kPointListCount = static_cast<std::uint16_t>(3 * core::kMaxPlanePoints);
@@ -96,7 +98,14 @@ inline constexpr VarInfo kRows[] = {
   rows::config(var::kMaxDirectionSigma, 1e-6, 90.0, kDefaults.max_direction_sigma_deg, "max_direction_sigma", "deg", "Leveling refuses points whose normal would be uncertain by more than this (1 sigma)."),
   {var::kLevelAxes, 1, Access::kConfig, ValueKind::kInteger, 0.0, 1.0, 0.0, "level_axes", "",
    "Leveling runs on 0: the ideal axes Rx(A) Rz(C); 1: the calibrated axes of the stored rigidity table (M3)."},
+  rows::config(var::kLevelCheckTolerance, 1e-3, 1e6, 10.0, "level_check_tolerance", "arcsec",
+               "Leveling check (9816): the tolerance of the face's tilt, probed again after leveling."),
   rows::data_block(var::kPointList, var::kPointListCount, "level_points", "mm", "Macro 9811: X, Y, Z of points 1..32, interleaved, machine frame."),
+};
+
+// The check's one figure (check.hpp convention 1): the re-probe after leveling.
+inline constexpr CheckFigureInfo kCheckFigureKinds[] = {
+  {1, "tilt_after_leveling", "arcsec", "The face's tilt in the machine frame, probed again after leveling (9814's #117 in arcsec); stored 0, the face level; its sigma 9814's #118."},
 };
 
 // What 9810, 9811 and 9814 put in #100..#118.

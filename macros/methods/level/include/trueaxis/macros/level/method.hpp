@@ -17,6 +17,7 @@ struct Method : Shape {
                                         9812, 9813, 9814, {}};
   // Interface version 1 named the results #100..#116 after M1's outputs.
   static constexpr List<OutputInfo> kNamedResults{kLevelOutputs, kNamedLevelOutputs};
+  static constexpr CheckInfo kCheck{9816, list_of(level::kCheckFigureKinds)};
   using State = level::State;
   using Table = NoTable;
 };
