@@ -29,11 +29,21 @@ core::Vec3 read_point(const Context& ctx) {
   return core::Vec3(ctx.in<X>(), ctx.in<X + 1>(), ctx.in<X + 2>());
 }
 
-// Shared by 9810, 9811, 9814 and 9816: the leveling of `count` points, on
-// the ideal or the calibrated axes (#508); kMethodNotBuilt when the latter
-// are asked for without the rigidity method.
-core::Result<core::LevelResult> level_points(const Context& ctx, const core::Vec3* points, std::size_t count,
-                                             bool& calibrated) {
+// 9816's outputs: the face's tilt where it was probed again (deg, and its
+// sigma in arcsec) judged against #509 (check.hpp). A function of its own, so
+// that 9811's deepest path through level_and_report keeps its frame.
+[[gnu::noinline]] MacroStep judge_tilt(Context& ctx, double tilt_deg, double sigma_arcsec) {
+  CheckFigure f;
+  f.kind = 1;
+  f.measured = f.deviation = tilt_deg * 3600.0;
+  f.sigma = sigma_arcsec;
+  f.tolerance = ctx.in<var::kLevelCheckTolerance>();
+  return publish_check(ctx, 1, [&f](std::size_t) { return f; });
+}
+
+// Shared by 9810, 9811, 9814 and 9816 (`check`): everything but where the
+// points come from.
+MacroStep level_and_report(Context& ctx, const core::Vec3* points, std::size_t count, bool check = false) {
   core::LevelInput input;
   input.points_mm = points;
   input.count = count;
@@ -41,21 +51,17 @@ core::Result<core::LevelResult> level_points(const Context& ctx, const core::Vec
   input.current_pose = input.probe_pose;  // the table has not moved since probing
   input.outward_hint_machine = read_point<var::kArgI>(ctx);
 
-  calibrated = ctx.in<var::kLevelAxes>() == 1.0;
+  const bool calibrated = ctx.in<var::kLevelAxes>() == 1.0;
   const StoredTable<RigidityTableRecord>* axes = ctx.services().calibrated_axes;
-  if (calibrated && axes == nullptr) return core::Status::kMethodNotBuilt;
-  return !calibrated ? core::level_face(input, read_config(ctx))
-                     : axes->read_or([&](const core::RigidityTable& t) {
-                         return core::level_on_table(input, read_config(ctx), t, core::Blend::kCubicNotAKnot, false);
-                       });
-}
-
-// 9810, 9811 and 9814: the leveling and its outputs.
-MacroStep level_and_report(Context& ctx, const core::Vec3* points, std::size_t count) {
-  bool calibrated = false;
-  const core::Result<core::LevelResult> r = level_points(ctx, points, count, calibrated);
+  if (calibrated && axes == nullptr) return done(core::Status::kMethodNotBuilt);
+  const core::Result<core::LevelResult> r =
+      !calibrated ? core::level_face(input, read_config(ctx))
+                  : axes->read_or([&](const core::RigidityTable& t) {
+                      return core::level_on_table(input, read_config(ctx), t, core::Blend::kCubicNotAKnot, false);
+                    });
   if (!r.ok()) return done(r.status());
   const core::LevelResult& out = r.value();
+  if (check) return judge_tilt(ctx, out.machine_tilt_deg, out.machine_tilt_sigma_arcsec);
   ctx.out<var::kLevelC>(out.chosen.c_deg);
   ctx.out<var::kLevelA>(out.chosen.a_deg);
   ctx.out<var::kLevelOtherC>(out.other.c_deg);
@@ -149,15 +155,7 @@ MacroStep run_session_ball(Context& ctx, State& state) {
 MacroStep run_session_check(Context& ctx, State& state) {
   const Session<core::Vec3, kSessionCapacity>& session = state.points;
   if (session.size() < 3) return done(core::Status::kTooFewSamples);
-  bool calibrated = false;
-  const core::Result<core::LevelResult> r = level_points(ctx, session.data(), session.size(), calibrated);
-  if (!r.ok()) return done(r.status());
-  CheckFigure f;
-  f.kind = 1;
-  f.measured = f.deviation = r.value().machine_tilt_deg * 3600.0;
-  f.sigma = r.value().machine_tilt_sigma_arcsec;
-  f.tolerance = ctx.in<var::kLevelCheckTolerance>();
-  return publish_check(ctx, 1, [&f](std::size_t) { return f; });
+  return level_and_report(ctx, session.data(), session.size(), true);
 }
 
 }  // namespace trueaxis::macros::level
