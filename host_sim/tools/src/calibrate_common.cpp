@@ -117,6 +117,15 @@ std::string json_string(const std::string& text) {
   return out + "\"";
 }
 
+std::string with_member(const std::string& object, const std::string& member) {
+  const std::size_t close = object.rfind('}');
+  if (close == std::string::npos) return "{\n  " + member + "\n}\n";
+  std::size_t end = close;
+  while (end > 0 && (object[end - 1] == '\n' || object[end - 1] == ' ')) --end;
+  const bool empty = end > 0 && object[end - 1] == '{';
+  return object.substr(0, end) + (empty ? "\n  " : ",\n  ") + member + "\n}\n";
+}
+
 std::string json_vec3(const double* v) {
   return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
 }
@@ -183,15 +192,9 @@ bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResu
       worst_line = line;
     }
   }
-  const std::size_t close = r.json.rfind('}');
-  if (close == std::string::npos) {
-    r.error = "internal: OUT.json has no closing brace";
-    return false;
-  }
-  std::size_t end = close;
-  while (end > 0 && (r.json[end - 1] == '\n' || r.json[end - 1] == ' ')) --end;
-  r.json = r.json.substr(0, end) + ",\n  \"check\": { \"verdict\": \"" + macros::verdict_name(verdict) +
-           "\", \"worst\": " + std::to_string(worst) + ", \"figures\": [" + figures + "\n  ] }\n}\n";
+  r.json = with_member(r.json, "\"check\": { \"verdict\": \"" + std::string(macros::verdict_name(verdict)) +
+                                    "\", \"worst\": " + std::to_string(worst) + ", \"figures\": [" + figures +
+                                    "\n  ] }");
   r.summary += "; check: " + std::string(macros::verdict_name(verdict)) + " (" + worst_line + ")";
   return true;
 }

@@ -197,12 +197,7 @@ std::string with_record(const std::string& extras, const CalibrateOptions& o, co
       trueaxis::sim::json_number(machine_id) + ", \"operator\": " + json_string(o.operator_name) + ", \"inputs\": [" + inputs + "], \"out_json\": " +
       json_string(o.json_path) + ", \"report_dir\": " + json_string(o.report_dir) +
       ", \"register_map\": \"register_map.json\" }";
-  const std::size_t close = extras.rfind('}');
-  if (close == std::string::npos) return "{ " + record + " }\n";
-  std::size_t end = close;
-  while (end > 0 && (extras[end - 1] == ' ' || extras[end - 1] == '\n')) --end;
-  const bool empty = end > 0 && extras[end - 1] == '{';
-  return extras.substr(0, end) + (empty ? " " : ", ") + record + " }\n";
+  return trueaxis::sim::with_member(extras, record);
 }
 
 }  // namespace

@@ -111,6 +111,8 @@ bool transport(VariableClient& client, bool ok, FlowResult& fail);
 // JSON pieces, numbers with 17 significant digits.
 std::string json_number(double v);
 std::string json_vec3(const double* v);
+// The text of a JSON object with `member` ("key": value) added last.
+std::string with_member(const std::string& object, const std::string& member);
 // A JSON string literal of `text` (quotes, backslashes and control characters escaped).
 std::string json_string(const std::string& text);
 
