@@ -49,7 +49,8 @@ def num(v, spec):
 def record(data, report):
     """What makes the page a record: the verdict first, then who, when, with what
     (trueaxis-calibrate's "record", DIR/module_figures.json), and --check's
-    figures, each with its deviation, sigma and tolerance."""
+    figures, each with its deviation, sigma and tolerance, and their drift over
+    the checks the module has logged."""
     rec = data.get("record")
     if rec is None:
         return
@@ -74,6 +75,11 @@ def record(data, report):
                      [[f["name"], num(f["stored"], ".4g"), num(f["measured"], ".4g"), num(f["deviation"], ".4g"),
                        num(f["sigma"], ".2g"), num(f["tolerance"], ".4g"), f["unit"], f["verdict"]]
                       for f in check["figures"]])
+    drift = data.get("drift")
+    if drift is not None:
+        report.table("Drift since the calibration, from the module's measuring log (trueaxis-calibrate log)",
+                     ["figure", "trend"],
+                     [[d["figure"], d["text"].split(": ", 1)[1]] for d in drift] or [["-", "no check logged yet"]])
 
 
 def main(argv):

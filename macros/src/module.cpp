@@ -139,6 +139,7 @@ core::Status Module::start() {
   load_variables(RecordKey::kConfig);
   load_variables(RecordKey::kWorkOffsets);
   load_tables();
+  load_log_summary();
   return s;
 }
 
@@ -329,6 +330,7 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
       continue;
     }
     set(number, values[i]);
+    if (number == var::kLogSelect) show_log_entry(values[i]);
     if (access == Access::kCommand && values[i] != 0.0) {  // 0 runs nothing and changes no state
       pending_ = static_cast<std::uint16_t>(values[i]);
       runner_ = client;
@@ -372,6 +374,8 @@ void Module::step() {
     record_.staged = false;
     call_.on_success = nullptr;
     call_.refusal = {};
+    call_.log_staged = false;
+    committed_ = false;
     phase_ = Phase::kRunning;
     first_step = true;
   }
@@ -388,12 +392,18 @@ void Module::step() {
       finish(r.status);
     } else if (!record_.staged) {
       publish_results();
-      finish(core::Status::kOk);
+      succeed();
     } else if (!unlocked() || unlocked_by_ != runner_) {  // stored under its own client's unlock only
       finish(core::Status::kTableLocked);
     } else {
       phase_ = Phase::kCommitting;  // the save is a step of its own: it bounds the step
     }
+    return;
+  }
+
+  if (phase_ == Phase::kLogging) {
+    append_log();
+    finish(core::Status::kOk);
     return;
   }
 
@@ -403,8 +413,102 @@ void Module::step() {
     return;
   }
   if (record_.commit != nullptr) record_.commit(record_.table);
+  committed_ = true;
   publish_results();
+  succeed();
+}
+
+void Module::succeed() {
+  if (kHasLog && call_.log_staged && running_.method < BuiltMethods::kCount && BuiltMethods::kLogs[running_.method]) {
+    phase_ = Phase::kLogging;  // contract 9: the append is a step of its own
+    return;
+  }
   finish(core::Status::kOk);
+}
+
+// Contract 9: the entry the macro logged, completed and appended (or, after its
+// own method's calibration, in that entry's place: measuring_log.hpp
+// convention 2), the whole log saved again as one record.
+void Module::append_log() {
+  if constexpr (kHasLog) {
+    LogEntry e = call_.log;
+    e.macro = running_.info->number;
+    const double t = at<var::kLogTime>();
+    e.time_s = t > 0.0 ? static_cast<std::uint32_t>(t) : clock_.wall_s();
+    e.stored = committed_;
+    const std::uint8_t table_key = BuiltMethods::kTableRecordOf[running_.method].key;
+    e.table_sequence = table_key != 0 ? store_.sequence(table_key) : 0;
+    std::size_t length = 0;
+    if (store_.load(kLogRecord.key, record_bytes_, kLogBytes, length) != core::Status::kOk) {
+      at<var::kLogLost>() = at<var::kLogLost>() + 1.0;
+      return;
+    }
+    std::size_t n = log_codec::count(record_bytes_, length);
+    if (n == 0 && length > 0) at<var::kLogLost>() = at<var::kLogLost>() + 1.0;  // not a log: started again
+    const std::uint32_t newest = n > 0 ? log_codec::serial_at(record_bytes_, n - 1) : 0;
+    const bool replace = (e.stored || e.type == LogType::kCheck) && replaceable_method_ == running_.method + 1 &&
+                         n > 0 && newest == replaceable_serial_;
+    e.serial = replace ? newest : newest + 1;
+    if (e.serial == 0) e.serial = 1;  // serials wrap past 2^32 - 1 to 1, never 0
+    length = log_codec::add(record_bytes_, n, e, replace);
+    if (store_.save(kLogRecord.key, record_bytes_, length) != core::Status::kOk) {
+      at<var::kLogLost>() = at<var::kLogLost>() + 1.0;
+      return;
+    }
+    const bool calibration = e.type == LogType::kCalibration && !e.stored;
+    replaceable_method_ = calibration ? running_.method + 1 : 0;
+    replaceable_serial_ = e.serial;
+    at<var::kLogCount>() = static_cast<double>(length / kLogEntryBytes);
+    at<var::kLogNewest>() = static_cast<double>(e.serial);
+  }
+}
+
+// #9016 and #9017 from the stored log.
+void Module::load_log_summary() {
+  if constexpr (kHasLog) {
+    std::size_t length = 0;
+    if (store_.load(kLogRecord.key, record_bytes_, kLogBytes, length) != core::Status::kOk) return;
+    const std::size_t n = log_codec::count(record_bytes_, length);
+    at<var::kLogCount>() = static_cast<double>(n);
+    at<var::kLogNewest>() = n > 0 ? static_cast<double>(log_codec::serial_at(record_bytes_, n - 1)) : 0.0;
+  }
+}
+
+// #9020..#9059: the entry of serial `serial`, or zeros when the log holds none.
+// Read in place from the record (no LogEntry on the stack: a register write's
+// stack bound is small).
+void Module::show_log_entry(double serial) {
+  const std::uint8_t* entry = nullptr;
+  if constexpr (kHasLog) {
+    std::size_t length = 0;
+    if (serial > 0.0 && store_.load(kLogRecord.key, record_bytes_, kLogBytes, length) == core::Status::kOk) {
+      const std::size_t n = log_codec::count(record_bytes_, length);
+      for (std::size_t i = 0; i < n && entry == nullptr; ++i) {
+        if (log_codec::serial_at(record_bytes_, i) == serial) entry = record_bytes_ + i * kLogEntryBytes;
+      }
+    }
+  }
+  const auto u32 = [entry](std::size_t at) { return entry != nullptr ? static_cast<double>(get_u32(entry + at)) : 0.0; };
+  const auto u8 = [entry](std::size_t at) { return entry != nullptr ? static_cast<double>(entry[at]) : 0.0; };
+  at<var::kLogSerial>() = u32(0);
+  at<var::kLogEntryTime>() = u32(4);
+  at<var::kLogMacro>() = entry != nullptr ? static_cast<double>(get_u16(entry + 8)) : 0.0;
+  at<var::kLogType>() = u8(10);
+  at<var::kLogVerdict>() = entry != nullptr && entry[11] == kNoVerdict ? -1.0 : u8(11);
+  at<var::kLogStored>() = u8(12);
+  at<var::kLogTableSequence>() = u32(14);
+  const std::size_t figures = entry != nullptr ? entry[13] : 0;
+  at<var::kLogFigureCount>() = static_cast<double>(figures);
+  double* out = &at<var::kLogFigureFirst>();
+  for (std::size_t k = 0; k < kLogFigures; ++k, out += var::kLogFigureValues) {
+    const std::uint8_t* f = entry != nullptr ? entry + 18 + k * kLogFigureBytes : nullptr;
+    const bool held = k < figures;
+    out[0] = held ? f[0] : 0.0;
+    out[1] = held ? f[1] : 0.0;
+    out[2] = held ? static_cast<double>(log_codec::get_f32(f + 2)) : 0.0;
+    out[3] = held ? static_cast<double>(log_codec::get_f32(f + 6)) : 0.0;
+    out[4] = held ? static_cast<double>(log_codec::get_f32(f + 10)) : 0.0;
+  }
 }
 
 void Module::publish_results() {
@@ -428,6 +532,7 @@ void Module::finish(core::Status status) {
   for (const SlotRun& run : kReadWriteRuns) {
     for (std::size_t k = 0; k < run.count; ++k) values_[run.first + k] = 0.0;
   }
+  show_log_entry(0.0);  // #9018 cleared: no entry shown
   record_.staged = false;
   record_.commit = nullptr;
   record_.table = nullptr;

@@ -24,10 +24,16 @@ m::CheckFigure figure(double deviation, double sigma, double tolerance) {
   return f;
 }
 
-// What publish_check needs of a MethodContext: in<Q>() and out<N>().
+// What publish_check needs of a MethodContext: in<Q>(), out<N>() and log().
 struct FakeContext {
   double q = 0.0;
   double results[100] = {};
+  m::LogEntry logged;
+  int logs = 0;
+  void log(const m::LogEntry& e) {
+    logged = e;
+    ++logs;
+  }
   template <std::uint16_t N>
   double in() const {
     static_assert(N == v::kArgQ, "publish_check reads only Q");
@@ -103,4 +109,38 @@ TEST_CASE("publish_check: the worst figure is the worst verdict's, then the larg
   REQUIRE(m::publish_check(c2, 3, [&](std::size_t k) { return passes[k]; }).status == Status::kOk);
   CHECK(c2.results[0] == 2.0);
   CHECK(c2.results[2] == 3.0);
+}
+
+TEST_CASE("publish_check logs with Q = 0 only: the verdict and, per kind, the worst figure of that kind",
+          "[check][log]") {
+  // Kind 1: a warn of ratio 1.3, a fail of ratio 1.052, a pass: the fail is
+  // logged. Kind 2: two passes, the larger ratio logged. Kind 7 (beyond the
+  // log's six kinds) decides the verdict and is not logged.
+  const std::vector<m::CheckFigure> figures = {figure(5.0, 4.0, 10.0), figure(10.5, 0.01, 10.0), figure(-3.0, 1.0, 10.0),
+                                               figure(1.0, 0.2, 10.0), figure(2.0, 0.1, 20.0), figure(50.0, 0.0, 1.0)};
+  const std::uint16_t kinds[] = {1, 1, 2, 1, 2, 7};
+  const auto at = [&](std::size_t k) {
+    m::CheckFigure f = figures[k];
+    f.kind = kinds[k];
+    f.item = static_cast<std::uint16_t>(k + 1);
+    return f;
+  };
+  FakeContext ctx;
+  REQUIRE(m::publish_check(ctx, figures.size(), at).status == Status::kOk);
+  REQUIRE(ctx.logs == 1);
+  const m::LogEntry& e = ctx.logged;
+  CHECK(e.type == m::LogType::kCheck);
+  CHECK(e.verdict == 2);
+  REQUIRE(e.figure_count == 2);
+  CHECK(e.figures[0].kind == 1);
+  CHECK(e.figures[0].item == 2);  // the fail, not the warn of larger ratio
+  CHECK(e.figures[0].value == 10.5F);
+  CHECK(e.figures[0].sigma == 0.01F);
+  CHECK(e.figures[0].tolerance == 10.0F);
+  CHECK(e.figures[1].kind == 2);
+  CHECK(e.figures[1].item == 3);  // ratio (3 + 2) / 10 = 0.5 over (2 + 0.2) / 20 = 0.11
+  CHECK(e.figures[1].value == -3.0F);
+  ctx.q = 1.0;
+  REQUIRE(m::publish_check(ctx, figures.size(), at).status == Status::kOk);
+  CHECK(ctx.logs == 1);  // a figure's query logs nothing
 }

@@ -187,9 +187,17 @@ bool is_level(const expected::Query& q) { return q.macro == 9810 || q.macro == 9
 TEST_CASE("a store written by 5f22699 loads with every record intact", "[store][upgrade]") {
   StoreCopy copy;
 
-  SECTION("the store is the size this module needs") {
-    // The old code needed 21,952 bytes; a record resized changes that.
-    CHECK(fixture_bytes().size() == m::kRequiredStorageBytes);
+  SECTION("the old records keep their places; the measuring log follows them") {
+    // The old code needed 21,952 bytes; a record resized or moved changes
+    // where the log begins. The file is extended with zeros (FileNvStorage
+    // contract 1): the log reads as empty.
+    CHECK(fixture_bytes().size() == 21952);
+    CHECK(m::KeyedStore::slot_offset(m::kRecordSpecs.data(), m::kRecordCount - 1, 0) == 21952);
+    CHECK(m::kRecordSpecs[m::kRecordCount - 1].key == m::kLogRecord.key);
+    CHECK(m::kRequiredStorageBytes == 21952 + 2 * m::KeyedStore::slot_bytes(m::kLogRecord));
+    Started fresh(copy.path);
+    CHECK(fresh.get(m::var::kLogCount) == 0.0);
+    CHECK(fresh.get(m::var::kLogNewest) == 0.0);
   }
 
   Started s(copy.path);

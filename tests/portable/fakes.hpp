@@ -16,9 +16,11 @@ class FakeClock final : public hal::Clock {
  public:
   std::uint64_t now = 1000;
   std::uint64_t step = 7;
+  std::uint32_t wall = 0;  // the wall clock (hal/clock.hpp): 0, none
 
  private:
   std::uint64_t do_now_us() override { return now += step; }
+  std::uint32_t do_wall_s() override { return wall; }
 };
 
 // RAM storage that can refuse writes, or stop after a number of bytes as a power

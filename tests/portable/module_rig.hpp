@@ -212,6 +212,23 @@ class ModuleRig {
   // they are still the same.
   void snapshot() { lease_.slot().snapshot = lease_.slot().storage.bytes; }
   bool unchanged() const { return lease_.slot().snapshot == lease_.slot().storage.bytes; }
+  // The same but for the measuring log's two slots (a calibration stores no
+  // table and logs an entry: module.hpp contract 9).
+  bool unchanged_but_log() const {
+    std::size_t log_first = 0;
+    std::size_t log_end = 0;
+    for (std::size_t i = 0; i < macros::kRecordCount; ++i) {
+      if (macros::kRecordSpecs[i].key != macros::kLogRecord.key) continue;
+      log_first = macros::KeyedStore::slot_offset(macros::kRecordSpecs.data(), i, 0);
+      log_end = macros::KeyedStore::slot_offset(macros::kRecordSpecs.data(), i, 2);
+    }
+    const auto& now = lease_.slot().storage.bytes;
+    const auto& then = lease_.slot().snapshot;
+    for (std::size_t k = 0; k < now.size(); ++k) {
+      if ((k < log_first || k >= log_end) && now[k] != then[k]) return false;
+    }
+    return true;
+  }
   hal::NvStorage& device() { return options_.storage != nullptr ? *options_.storage : lease_.slot().storage; }
   FakeClock clock;
 

@@ -24,7 +24,7 @@ constexpr std::uint16_t kAccessFault = 9007;  // notes refusals by design
 constexpr std::uint16_t kInterface = 9009;     // the macro interface's grant, as the asking client sees it
 constexpr std::uint16_t kFailedUnlocks = 9010;
 constexpr std::uint16_t kBackoffLeft = 9011;   // notes refusals (a wrong unlock code) and runs down with time
-constexpr std::uint16_t kLastVariable = 9014;  // the last the product's map defines (#9014 gate_limit)
+constexpr std::uint16_t kLastVariable = 9059;  // the last the product's map defines (#9059, the log's last figure value)
 constexpr double kArgLimit = 100000.0;         // |#1| allowed (the map's range)
 
 std::uint32_t reg(std::uint16_t variable) { return 4u * variable; }
@@ -146,10 +146,10 @@ void read_holding(std::vector<Case>& t) {
   t.push_back({"FC3 register 5 (misaligned)", fc3(reg(kFirstArg) + 1, 4), exception(0x03, kIllegalAddress), {}});
   t.push_back({"FC3 #1..#9 (the first variables of the map)", fc3(arg, 4 * kArgCount), fc3_reply(arg_values()), {}});
   t.push_back({"FC3 #9..#10 (runs into an undefined number)", fc3(reg(9), 8), exception(0x03, kIllegalAddress), {}});
-  t.push_back({"FC3 #9014 (the last variable)", fc3(reg(kLastVariable), 4), fc3_reply({0.0}), {}});
-  t.push_back({"FC3 #9014..#9015 (runs past the map)", fc3(reg(kLastVariable), 8), exception(0x03, kIllegalAddress), {}});
-  t.push_back({"FC3 #9015 (after the map)", fc3(reg(kLastVariable + 1), 4), exception(0x03, kIllegalAddress), {}});
-  t.push_back({"FC3 #12055 (after the simulator's variables)", fc3(reg(12055), 4), exception(0x03, kIllegalAddress), {}});
+  t.push_back({"FC3 #9059 (the last variable)", fc3(reg(kLastVariable), 4), fc3_reply({0.0}), {}});
+  t.push_back({"FC3 #9059..#9060 (runs past the map)", fc3(reg(kLastVariable), 8), exception(0x03, kIllegalAddress), {}});
+  t.push_back({"FC3 #9060 (after the map)", fc3(reg(kLastVariable + 1), 4), exception(0x03, kIllegalAddress), {}});
+  t.push_back({"FC3 #12057 (after the simulator's variables)", fc3(reg(12057), 4), exception(0x03, kIllegalAddress), {}});
   t.push_back({"FC3 register 0xFFFC (the last whole variable)", fc3(0xFFFC, 4), exception(0x03, kIllegalAddress), {}});
   t.push_back({"FC3 register 0xFFFF quantity 1 (ends at 0xFFFF)", fc3(0xFFFF, 1), exception(0x03, kIllegalAddress), {}});
   t.push_back({"FC3 register 0xFFFD quantity 4 (past 0xFFFF)", fc3(0xFFFD, 4), exception(0x03, kIllegalAddress), {}});
@@ -199,7 +199,7 @@ void write_multiple(std::vector<Case>& t) {
   t.push_back({"FC16 register 5 (misaligned)", fc16_raw(arg + 1, 4, 8, twos(8)), exception(0x10, kIllegalAddress), {}});
   t.push_back({"FC16 #9..#10 (runs into an undefined number)", fc16_raw(reg(9), 8, 16, twos(16)),
                exception(0x10, kIllegalAddress), {}});
-  t.push_back({"FC16 #9015 (after the map)", fc16_raw(reg(kLastVariable + 1), 4, 8, twos(8)),
+  t.push_back({"FC16 #9060 (after the map)", fc16_raw(reg(kLastVariable + 1), 4, 8, twos(8)),
                exception(0x10, kIllegalAddress), {}});
   t.push_back({"FC16 register 0xFFFC (the last whole variable)", fc16_raw(0xFFFC, 4, 8, twos(8)),
                exception(0x10, kIllegalAddress), {}});

@@ -9,4 +9,10 @@ std::uint64_t SteadyClock::do_now_us() {
   return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::microseconds>(since_epoch).count());
 }
 
+std::uint32_t SteadyClock::do_wall_s() {
+  const auto since_epoch = std::chrono::system_clock::now().time_since_epoch();
+  const auto s = std::chrono::duration_cast<std::chrono::seconds>(since_epoch).count();
+  return s > 0 && s <= 0xFFFF'FFFF ? static_cast<std::uint32_t>(s) : 0U;
+}
+
 }  // namespace trueaxis::hal

@@ -1,6 +1,7 @@
 #include "trueaxis/sim/server/simulator.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include "trueaxis/sim/instruments/calibration_ball.hpp"
 #include "trueaxis/sim/instruments/touch_probe.hpp"
@@ -21,10 +22,17 @@ bool is_probe_target(double target) {
 
 Simulator::Simulator(macros::Module& module, const FaceConfig& face, std::uint64_t seed, bool errors_on,
                      const CradleErrors& errors)
-    : module_(module), ideal_(face), with_errors_(face, errors) {
+    : module_(module), face_(face), errors_(errors), ideal_(face), with_errors_(face, errors) {
   for (const macros::VarInfo& v : kSimMap) state_.values[v.number - simvar::kFirst] = v.default_value;
   state_.values[simvar::kErrors - simvar::kFirst] = errors_on ? 1.0 : 0.0;
   state_.rng = SimRng(seed);
+}
+
+CradleMachine Simulator::drifted(const double* values) const {
+  CradleErrors e = errors_;
+  e.local_a_deg = values[simvar::kDriftA - simvar::kFirst];
+  e.local_arcsec = values[simvar::kDriftArcsec - simvar::kFirst];
+  return CradleMachine(face_, e);
 }
 
 const CradleMachine& Simulator::machine_for(const double* values) const {
@@ -119,11 +127,19 @@ AccessFault Simulator::do_write(std::uint16_t first, std::uint16_t count, const 
     if (number == simvar::kProbeInto) probe_requested = true;
     if (number == simvar::kBallMeasure && values[i] == 1.0) measure_requested = true;
   }
+  const auto drift_of = [](const State& st) {
+    return std::make_pair(st.values[simvar::kDriftA - simvar::kFirst], st.values[simvar::kDriftArcsec - simvar::kFirst]);
+  };
+  const bool drift_changed = drift_of(next) != drift_of(state_);
+  if (drift_changed) with_errors_ = drifted(next.values);
   if (probe_requested) {
     const double target = next.values[simvar::kProbeInto - simvar::kFirst];
-    if (!is_probe_target(target)) return AccessFault::kOutOfRange;
-    const AccessFault f = probe(next, static_cast<std::uint16_t>(target), client);
-    if (f != AccessFault::kNone) return f;
+    const AccessFault f =
+        is_probe_target(target) ? probe(next, static_cast<std::uint16_t>(target), client) : AccessFault::kOutOfRange;
+    if (f != AccessFault::kNone) {
+      if (drift_changed) with_errors_ = drifted(state_.values);  // contract 3: nothing changes
+      return f;
+    }
   }
   if (measure_requested) measure_ball(next);
   state_ = next;

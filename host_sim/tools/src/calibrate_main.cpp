@@ -1,7 +1,8 @@
 // trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
 //                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
 //                   [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE]
-//                   [--check] [--operator NAME]
+//                   [--check] [--operator NAME] [--time WHEN]
+// trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]
 // The integrator's command (docs/INTERFACE.md, "The integrator's command"):
 // reads the samples, streams them to the module over Modbus (default
 // 127.0.0.1:502), runs the method's macros there and writes what the module
@@ -20,13 +21,18 @@
 // and waits, at most --wait seconds (default 120), then fails with that
 // sentence. --check compares the result with the stored calibration instead
 // of storing it (check.hpp): OUT.json gains a "check" object, and the command
-// exits 3 when the verdict is fail (0 on pass or warn).
+// exits 3 when the verdict is fail (0 on pass or warn). Each build, store and
+// check hands the module the time for its measuring log (--time, default
+// now); `log` prints that log, newest last, with the drift of every checked
+// figure, and --csv writes it as CSV.
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <dirent.h>
 #include <fcntl.h>
@@ -38,6 +44,7 @@
 
 #include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
+#include "trueaxis/sim/tools/log_reader.hpp"
 
 using trueaxis::sim::write_text_file;
 
@@ -51,7 +58,8 @@ constexpr const char* kUsage =
     "usage: trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]\n"
     "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n"
     "                          [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE]\n"
-    "                          [--check] [--operator NAME]\n";
+    "                          [--check] [--operator NAME] [--time WHEN]\n"
+    "       trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]\n";
 
 int fail(const std::string& line) {
   std::fprintf(stderr, "trueaxis-calibrate: %s\n", line.c_str());
@@ -133,9 +141,14 @@ void print_help() {
               "                         verdict (pass, warn, fail) against the tolerances configured in the\n"
               "                         module; exit 3 on fail\n"
               "  --operator NAME        who measured: shown in the report\n"
+              "  --time WHEN            when it was measured, for the module's measuring log: Unix seconds,\n"
+              "                         or UTC as 2027-01-15, 2027-01-15T08:00:00Z (default now)\n"
               "  --wait SECONDS         how long to wait while another client holds the controller's\n"
               "                         macro interface, 0..3600 (default 120)\n"
               "  --help, --version      this text (METHOD --help: the method's files); the version line\n"
+              "log: the module's measuring log (every calibration, store and check of M2, M3, M4), newest\n"
+              "last, and per checked figure its drift (a weighted line through its deviations) with the\n"
+              "date it reaches its tolerance; --csv FILE writes the entries as CSV too.\n"
               "Exit 0 with one summary line on stdout; 1 with one line on stderr on any failure, and\n"
               "then no OUT.json and nothing stored; 3 when --check's verdict is fail (OUT.json and the\n"
               "report written).\n");
@@ -200,11 +213,83 @@ std::string with_record(const std::string& extras, const CalibrateOptions& o, co
   return trueaxis::sim::with_member(extras, record);
 }
 
+// --time WHEN: Unix seconds, or a UTC date and time; 0 when it is neither.
+double parse_time(const std::string& text) {
+  char* end = nullptr;
+  const double seconds = std::strtod(text.c_str(), &end);
+  if (!text.empty() && *end == '\0') return seconds >= 1.0 && seconds <= 4294967295.0 ? std::floor(seconds) : 0.0;
+  for (const char* format : {"%Y-%m-%dT%H:%M:%SZ", "%Y-%m-%dT%H:%M:%S", "%Y-%m-%d %H:%M:%S", "%Y-%m-%d"}) {
+    std::tm t{};
+    const char* rest = ::strptime(text.c_str(), format, &t);
+    if (rest == nullptr || *rest != '\0') continue;
+    const std::time_t s = ::timegm(&t);
+    return s >= 1 && s <= 4294967295 ? static_cast<double>(s) : 0.0;
+  }
+  return 0.0;
+}
+
+// trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS].
+int run_log(int argc, char** argv) {
+  std::string host = "127.0.0.1";
+  int port = 502;
+  int wait_s = 120;
+  std::string csv_path;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--help" || arg == "-h") {
+      print_help();
+      return 0;
+    } else if (arg == "--csv" && has_value) {
+      csv_path = argv[++i];
+    } else if (arg == "--host" && has_value) {
+      host = argv[++i];
+    } else if (arg == "--port" && has_value) {
+      char* end = nullptr;
+      const long p = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || p < 1 || p > 65535) return usage_error("--port takes 1..65535");
+      port = static_cast<int>(p);
+    } else if (arg == "--wait" && has_value) {
+      char* end = nullptr;
+      const long seconds = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || seconds < 0 || seconds > 3600) return usage_error("--wait takes 0..3600 (seconds)");
+      wait_s = static_cast<int>(seconds);
+    } else {
+      return usage_error("unknown or incomplete option '" + arg + "' for log");
+    }
+  }
+  trueaxis::sim::VariableClient client;
+  if (!client.connect(host, port)) {
+    return fail("cannot connect to " + host + ":" + std::to_string(port) + ": " + client.error_text());
+  }
+  // Selecting an entry is a write to the macro interface (macros/module.hpp contract 8).
+  const std::string busy = "controller busy: another client holds the macro interface";
+  const bool taken = client.take_interface(wait_s * 1000, [&busy, wait_s] {
+    std::fprintf(stderr, "trueaxis-calibrate: %s, waiting (up to %d s)\n", busy.c_str(), wait_s);
+  });
+  if (!taken) return fail(client.failure_text());
+  std::vector<trueaxis::sim::LogRow> rows;
+  std::string error;
+  if (!trueaxis::sim::read_log(client, rows, error)) return fail(error);
+  client.give_back_interface();
+  client.close();
+  if (!csv_path.empty()) {
+    const std::string tmp = csv_path + ".tmp";
+    if (!write_text_file(tmp, trueaxis::sim::log_csv(rows)) || std::rename(tmp.c_str(), csv_path.c_str()) != 0) {
+      std::remove(tmp.c_str());
+      return fail(csv_path + ": cannot be written");
+    }
+  }
+  std::printf("%s", trueaxis::sim::log_table(rows, trueaxis::sim::fit_drift(rows)).c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) return usage_error("no METHOD");
   const std::string first = argv[1];
+  if (first == "log") return run_log(argc, argv);
   const CalibrateMethod* method = trueaxis::sim::find_calibrate_method(first);
   // --help and --version anywhere after METHOD, or in its place.
   const int options_from = method != nullptr ? 2 : 1;
@@ -240,6 +325,11 @@ int main(int argc, char** argv) {
     } else if (arg == "--operator" && has_value) {
       o.operator_name = argv[++i];
       if (!printable_utf8(o.operator_name)) return usage_error("--operator takes a name in UTF-8 without control characters");
+    } else if (arg == "--time" && has_value) {
+      o.log_time = parse_time(argv[++i]);
+      if (o.log_time == 0.0) {
+        return usage_error("--time takes Unix seconds or a UTC date and time (2027-01-15T08:00:00Z)");
+      }
     } else if (arg == "--in" && has_value) {
       o.in_path = argv[++i];
     } else if (arg == "--json" && has_value) {
@@ -274,6 +364,7 @@ int main(int argc, char** argv) {
     }
   }
   if (o.in_path.empty() || o.json_path.empty()) return usage_error("--in and --json are required");
+  if (o.log_time == 0.0) o.log_time = static_cast<double>(std::time(nullptr));
   if (o.accept_change && !o.store) return usage_error("--accept-change goes with --store");
   if (o.check && o.store) {
     return usage_error("--check compares with the stored calibration and stores nothing: not with --store");
@@ -297,8 +388,20 @@ int main(int argc, char** argv) {
   }
   FlowResult r = method->calibrate(client, o);
   if (!r.ok) return fail(r.error);
+  r.log_time = o.log_time;
   trueaxis::macros::Verdict verdict = trueaxis::macros::Verdict::kPass;
   if (o.check && !trueaxis::sim::check_built(client, *method, r, verdict)) return fail(r.error);
+  if (o.check && !o.report_dir.empty()) {
+    // The report shows this method's drift, the check just logged included.
+    std::vector<trueaxis::sim::LogRow> rows;
+    std::string error;
+    if (!trueaxis::sim::read_log(client, rows, error)) return fail(error);
+    std::vector<trueaxis::sim::Drift> drift;
+    for (const trueaxis::sim::Drift& d : trueaxis::sim::fit_drift(rows)) {
+      if (d.method == method->name) drift.push_back(d);
+    }
+    r.report_extras = trueaxis::sim::with_member(r.report_extras, "\"drift\": " + trueaxis::sim::drift_json(drift));
+  }
   // For the record only: a module without #902 (older firmware) reads as not set.
   double machine_id = 0.0;
   double interface_version = 0.0;

@@ -180,6 +180,16 @@ void print_json() {
       }
       std::printf("]}");
     }
+    if (Built::kLogs[method]) {
+      std::printf(",\n     \"log\": {\"figures\": [");
+      const m::List<m::CheckFigureInfo> figures = Built::kLogFigures[method];
+      for (std::size_t k = 0; k < figures.size; ++k) {
+        const m::CheckFigureInfo& f = figures[k];
+        std::printf("%s\n       {\"kind\": %u, \"name\": \"%s\", \"unit\": \"%s\", \"what\": \"%s\"}", k ? "," : "",
+                    f.kind, f.name, f.unit, escaped(f.what).c_str());
+      }
+      std::printf("]}");
+    }
     std::printf("}");
     first = false;
   }
@@ -301,6 +311,22 @@ void print_markdown() {
       for (std::size_t at = what.find('|'); at != std::string::npos; at = what.find('|', at + 2)) what.insert(at, "\\");
       std::printf("| %s | %u | %u | %s | %s | %s |\n", Built::kNames[method], check.macro, f.kind, f.name, f.unit,
                   what.c_str());
+    }
+  }
+  std::printf("\n## The measuring log\n\nEvery calibration (a build with R = 0), store (R = 1) and check (Q = 0) of a "
+              "method below appends an entry to the module's log, a ring of the newest %zu in one power-safe record "
+              "(measuring_log.hpp; #9015 .. #9059): a check logs its verdict and, per kind of the table above, its "
+              "worst figure; a calibration the figures below, each with its 1-sigma. A store or check right after "
+              "its own method's calibration replaces that calibration's entry.\n\n"
+              "| method | macro | kind | figure | unit | what |\n|---|---|---|---|---|---|\n",
+              m::kLogEntries);
+  for (std::size_t method = 0; method < Built::kCount; ++method) {
+    if (!Built::kLogs[method]) continue;
+    for (const m::CheckFigureInfo& f : Built::kLogFigures[method]) {
+      std::string what = f.what;
+      for (std::size_t at = what.find('|'); at != std::string::npos; at = what.find('|', at + 2)) what.insert(at, "\\");
+      std::printf("| %s | %u | %u | %s | %s | %s |\n", Built::kNames[method], Built::kSessions[method].compute, f.kind,
+                  f.name, f.unit, what.c_str());
     }
   }
   std::printf("\n## Macros\n\nEvery macro runs in steps of at most %u Cortex-M7 instructions "

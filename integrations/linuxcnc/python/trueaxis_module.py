@@ -26,6 +26,7 @@ import time
 CMD, STATUS, ERROR, DONE_COUNT, UNLOCK = 9000, 9001, 9002, 9003, 9004
 ACCESS_FAULT, INTERFACE = 9007, 9009
 GATE_ITEM, GATE_VALUE, GATE_LIMIT = 9012, 9013, 9014
+LOG_TIME = 9015  # the measuring log's time of the macro about to run (Unix seconds)
 STATUS_DONE, STATUS_ERROR = 2, 3
 EXCEPTION_BUSY = 6
 VARS_PER_REQUEST = 31  # 124 registers a read, within function 3's 125
@@ -70,7 +71,8 @@ def decode(registers):
 
 class RegisterMap:
     """What the remap needs of macros/register_map.json: error names and texts,
-    and each macro's work-offset inputs."""
+    each macro's work-offset inputs, and the macros the measuring log records
+    (each method's compute and check macro, for methods with a "log")."""
 
     def __init__(self, path):
         try:
@@ -84,6 +86,11 @@ class RegisterMap:
                 ranges = [(i["number"], i.get("count", 1)) for i in macro["inputs"]
                           if 5221 <= i["number"] <= 5326]
                 self.work_offsets[macro["number"]] = ranges
+            self.logged = set()
+            for method in data.get("methods", []):
+                if "log" in method:
+                    self.logged.add(method.get("session", {}).get("compute"))
+                    self.logged.add(method.get("check", {}).get("macro"))
         except (OSError, ValueError, KeyError, TypeError) as e:
             raise TrueaxisError(f"cannot read the register map {path}: {e} "
                                 "([TRUEAXIS] MAP names macros/register_map.json)") from e
@@ -187,8 +194,11 @@ class Module:
             self.write(INTERFACE, [0])
 
     def run(self, macro, register_map):
-        """Runs `macro` to its end; raises ModuleError on status 3."""
+        """Runs `macro` to its end; raises ModuleError on status 3. A macro the
+        measuring log records is handed the controller's wall clock (#9015)."""
         before = self.read(DONE_COUNT, 1)[0]
+        if macro in register_map.logged:
+            self.write(LOG_TIME, [float(int(time.time()))])
         self.write(CMD, [macro])
         deadline = time.monotonic() + self.macro_timeout_s
         pause = 0.001

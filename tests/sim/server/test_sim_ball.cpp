@@ -1,5 +1,5 @@
 // The calibration ball and the machine's errors over the simulator's variables
-// (#12020..#12054, simulator.hpp contracts 4-5), without a socket.
+// (#12020..#12056, simulator.hpp contracts 4-5 and 7), without a socket.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -171,9 +171,10 @@ TEST_CASE("bad ball, sigma, measure and error values are refused and change noth
   for (std::uint16_t n = simvar::kLastBallX; n <= simvar::kLastBallZ; ++n) {
     CHECK(b.write(n, {0.0}) == AccessFault::kReadOnly);
   }
-  for (std::uint16_t n = simvar::kTrueRotvecX; n <= simvar::kLast; ++n) {
+  for (std::uint16_t n = simvar::kTrueRotvecX; n <= simvar::kBallMachineZ; ++n) {
     CHECK(b.write(n, {0.0}) == AccessFault::kReadOnly);
   }
+  CHECK(b.write(simvar::kDriftA, {60.0, 3601.0}) == AccessFault::kOutOfRange);  // sim_drift_arcsec beyond 1 deg
   for (std::uint16_t n = simvar::kTrueTilt + 1; n < simvar::kErrors; ++n) {
     double out = 0.0;
     CHECK(b.simulator.read(n, 1, &out) == AccessFault::kUndefined);

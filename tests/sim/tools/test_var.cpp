@@ -226,8 +226,8 @@ TEST_CASE("trueaxis-var: refusals, time-outs and connections, each one line nami
   Workspace w("trueaxis-var");
   check_failure(var(sim, w, {"set", "500=1"}), refusal("#500", m::AccessFault::kLocked, "02 illegal data address"));
   check_failure(var(sim, w, {"get", "10"}), refusal("#10", m::AccessFault::kUndefined, "02 illegal data address"));
-  check_failure(var(sim, w, {"get", "9013..9015"}),
-                refusal("#9013..#9015", m::AccessFault::kUndefined, "02 illegal data address"));
+  check_failure(var(sim, w, {"get", "9058..9060"}),
+                refusal("#9058..#9060", m::AccessFault::kUndefined, "02 illegal data address"));
   check_failure(var(sim, w, {"set", "9004=1234"}),
                 refusal("#9004", m::AccessFault::kBadUnlockCode, "03 illegal data value"));
 

@@ -28,7 +28,9 @@
 //       #102 the worst figure's number, #103 its ratio;
 //       #104 .. #111 figure Q (1..#101; Q = 0 the worst): verdict, kind, item,
 //       stored, measured, deviation, sigma, tolerance.
-//     kArgumentOutOfRange for any other Q. A check with no figure (a stored
+//     kArgumentOutOfRange for any other Q. With Q = 0 the check is logged
+//     (measuring_log.hpp, in a method that logs): its verdict and, per kind,
+//     its worst figure. A check with no figure (a stored
 //     table that shares no pose or sub-machine with the build) is
 //     kNothingToCheck: nothing is judged.
 //  No allocation, no exceptions.
@@ -42,6 +44,7 @@
 #include "trueaxis/macros/arguments.hpp"
 #include "trueaxis/macros/list.hpp"
 #include "trueaxis/macros/macro_info.hpp"
+#include "trueaxis/macros/measuring_log.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 
 namespace trueaxis::macros {
@@ -144,6 +147,35 @@ MacroStep publish_check(Ctx& ctx, std::size_t count, FigureAt figure_at) {
       worst_ratio = ratio;
       verdict = v;
     }
+  }
+  if (q == 0.0) {
+    // Per kind (1..kLogFigures) its worst figure, as the check's worst is chosen.
+    std::size_t of_kind[kLogFigures] = {};
+    double kind_ratio[kLogFigures] = {};
+    Verdict kind_verdict[kLogFigures] = {};
+    bool seen[kLogFigures] = {};
+    for (std::size_t k = 0; k < count; ++k) {
+      const CheckFigure f = figure_at(k);
+      if (f.kind < 1 || f.kind > kLogFigures) continue;
+      const std::size_t i = f.kind - 1U;
+      const Verdict v = judge(f);
+      const double ratio = check_ratio(f);
+      if (!seen[i] || v > kind_verdict[i] || (v == kind_verdict[i] && ratio > kind_ratio[i])) {
+        seen[i] = true;
+        of_kind[i] = k;
+        kind_ratio[i] = ratio;
+        kind_verdict[i] = v;
+      }
+    }
+    LogEntry entry;
+    entry.type = LogType::kCheck;
+    entry.verdict = static_cast<std::uint8_t>(verdict);
+    for (std::size_t i = 0; i < kLogFigures; ++i) {
+      if (!seen[i]) continue;
+      const CheckFigure f = figure_at(of_kind[i]);
+      entry.add(f.kind, f.item, f.deviation, f.sigma, f.tolerance);
+    }
+    ctx.log(entry);
   }
   const CheckFigure f = figure_at(q == 0.0 ? worst : static_cast<std::size_t>(q) - 1);
   ctx.template out<var::kCheckVerdict>(static_cast<double>(verdict));

@@ -19,6 +19,9 @@
 //     static constexpr List<OutputInfo> kNamedResults;  optional: names of #100.. (interface version 1, M1 only)
 //     static constexpr List<GateInfo> kGates;        optional: its gates, for the map (gates.hpp)
 //     static constexpr CheckInfo kCheck;             optional: its check macro and figures (check.hpp)
+//     static constexpr List<CheckFigureInfo> kLogFigures;  optional: what its calibrations log
+//                                                    (measuring_log.hpp); a method with them logs its
+//                                                    builds, stores and checks
 //   };
 //
 // Conventions

@@ -39,6 +39,11 @@
 //     the macro with `status` and has the module publish item, value and
 //     limit in #9012 .. #9014 (which read 0 after any other end). Results
 //     and tables stay as they were, as on every failure.
+//  9. log(entry): the measuring log's entry of this run (measuring_log.hpp):
+//     its type, verdict and figures; the module adds serial, time, macro,
+//     stored and table sequence, and appends it when the macro ends with kOk,
+//     in a step of its own, if the method logs (its kLogFigures). Logging
+//     again replaces it.
 //  No allocation, no exceptions.
 #pragma once
 
@@ -52,6 +57,7 @@
 #include "trueaxis/macros/keyed_store.hpp"
 #include "trueaxis/macros/list.hpp"
 #include "trueaxis/macros/macro_info.hpp"
+#include "trueaxis/macros/measuring_log.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/macros/services.hpp"
 #include "trueaxis/macros/stored_table.hpp"
@@ -95,6 +101,8 @@ struct MacroCall {
   KeyedStore& store;
   bool* on_success = nullptr;  // contract 7
   Refusal refusal{};           // contract 8
+  LogEntry log{};              // contract 9
+  bool log_staged = false;
   const double* own = nullptr;  // the running method's own slots; nullptr for an extra macro
   void* state = nullptr;        // the running method's State; nullptr for an extra macro
   bool first_step = false;
@@ -216,6 +224,12 @@ class MethodContext {
 
   // Contract 7.
   void set_on_success(bool& flag) { call_.on_success = &flag; }
+
+  // Contract 9.
+  void log(const LogEntry& entry) {
+    call_.log = entry;
+    call_.log_staged = true;
+  }
 
   // Contract 8.
   MacroStep refuse(core::Status status, double item, double value, double limit) {

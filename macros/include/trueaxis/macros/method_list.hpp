@@ -120,6 +120,20 @@ constexpr CheckInfo check_of() {
 }
 
 template <typename M, typename = void>
+struct HasLogFigures : std::false_type {};
+template <typename M>
+struct HasLogFigures<M, std::void_t<decltype(M::kLogFigures)>> : std::true_type {};
+
+template <typename M>
+constexpr List<CheckFigureInfo> log_figures_of() {
+  if constexpr (HasLogFigures<M>::value) {
+    return M::kLogFigures;
+  } else {
+    return {};
+  }
+}
+
+template <typename M, typename = void>
 struct HasProvide : std::false_type {};
 template <typename M>
 struct HasProvide<M, std::void_t<decltype(M::provide(std::declval<typename M::State&>(), std::declval<Services&>()))>>
@@ -158,6 +172,10 @@ struct MethodSet<MethodList<Ms...>> {
   static constexpr std::array<List<GateInfo>, kCount> kGates{{detail::gates_of<Ms>()...}};
   // Each method's check (check.hpp; macro 0 when it has none).
   static constexpr std::array<CheckInfo, kCount> kChecks{{detail::check_of<Ms>()...}};
+  // Each method's logged calibration figures (measuring_log.hpp); whether it logs at all.
+  static constexpr std::array<List<CheckFigureInfo>, kCount> kLogFigures{{detail::log_figures_of<Ms>()...}};
+  static constexpr std::array<bool, kCount> kLogs{{detail::HasLogFigures<Ms>::value...}};
+  static constexpr bool kAnyLogs = (false || ... || detail::HasLogFigures<Ms>::value);
 
   // Each method's own slots follow the platform's, in list order
   // (platform_map.hpp convention 7); kSlotBase[kCount] is the module's total.

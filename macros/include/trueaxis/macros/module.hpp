@@ -58,6 +58,12 @@
 //     writing anything else (a client that waits for it polls that). A table
 //     a macro stages is stored only under the unlock of the client that
 //     started the macro.
+//  9. The measuring log (measuring_log.hpp), in a module with a method that
+//     logs. A macro of such a method that logged an entry and ends with kOk
+//     appends it in a step of its own, after its table's commit and before
+//     done; a storage failure loses the entry (#9019 counts it), not the
+//     macro. #9016 and #9017 tell what the log holds; #9018 (written with
+//     the macro interface, like an argument) shows an entry in #9020..#9059.
 #pragma once
 
 #include <cstdint>
@@ -136,7 +142,7 @@ class Module final : public VariableAccess {
   static constexpr std::size_t kWorkArenaBytes = BuiltMethods::kWorkBytes;
 
  private:
-  enum class Phase : std::uint8_t { kStart, kRunning, kCommitting };
+  enum class Phase : std::uint8_t { kStart, kRunning, kCommitting, kLogging };
 
   AccessFault do_read(std::uint16_t first, std::uint16_t count, double* out, ClientId client) override;
   AccessFault do_write(std::uint16_t first, std::uint16_t count, const double* values, ClientId client) override;
@@ -156,11 +162,18 @@ class Module final : public VariableAccess {
     return values_[slot<N>()];
   }
   void publish_results();
+  void succeed();  // done, after the log's step when the macro logged (contract 9)
   void finish(core::Status status);
+  void append_log();
+  void load_log_summary();
+  void show_log_entry(double serial);
 
   using SessionStorage = ArenaStorage<BuiltMethods::kSessionBytes, BuiltMethods::kSessionAlign>;
   using WorkStorage = ArenaStorage<BuiltMethods::kWorkBytes, BuiltMethods::kWorkAlign>;
-  static constexpr std::size_t kRecordBufferBytes = kMaxRecordPayloadBytes > 0 ? kMaxRecordPayloadBytes : 1;
+  // The table records a macro stages, and the log's record while it is appended or read.
+  static constexpr std::size_t kLogBufferBytes = kHasLog ? kLogBytes : 0;
+  static constexpr std::size_t kRecordBufferBytes =
+      kMaxRecordPayloadBytes > kLogBufferBytes ? kMaxRecordPayloadBytes : (kLogBufferBytes > 0 ? kLogBufferBytes : 1);
 
   hal::Clock& clock_;
   const MacroInfo* extra_macros_;
@@ -191,6 +204,9 @@ class Module final : public VariableAccess {
   ClientId holder_ = kNoClient;       // contract 8
   ClientId runner_ = kNoClient;       // who wrote the running macro's number
   std::uint64_t holder_active_us_ = 0;  // its last write or its last macro's end
+  bool committed_ = false;                 // the running macro stored its table
+  std::size_t replaceable_method_ = 0;     // measuring_log.hpp convention 2: method + 1, 0 none
+  std::uint32_t replaceable_serial_ = 0;   // that calibration's entry
 };
 
 }  // namespace trueaxis::macros

@@ -95,6 +95,22 @@ inline constexpr std::uint16_t kUnlockBackoffLeft = 9011;
 inline constexpr std::uint16_t kGateItem = 9012;
 inline constexpr std::uint16_t kGateValue = 9013;
 inline constexpr std::uint16_t kGateLimit = 9014;
+// The measuring log (measuring_log.hpp).
+inline constexpr std::uint16_t kLogTime = 9015;
+inline constexpr std::uint16_t kLogCount = 9016;
+inline constexpr std::uint16_t kLogNewest = 9017;
+inline constexpr std::uint16_t kLogSelect = 9018;
+inline constexpr std::uint16_t kLogLost = 9019;
+inline constexpr std::uint16_t kLogSerial = 9020;
+inline constexpr std::uint16_t kLogEntryTime = 9021;
+inline constexpr std::uint16_t kLogMacro = 9022;
+inline constexpr std::uint16_t kLogType = 9023;
+inline constexpr std::uint16_t kLogVerdict = 9024;
+inline constexpr std::uint16_t kLogStored = 9025;
+inline constexpr std::uint16_t kLogTableSequence = 9026;
+inline constexpr std::uint16_t kLogFigureCount = 9027;
+inline constexpr std::uint16_t kLogFigureFirst = 9030;  // 6 figures x (kind, item, value, sigma, tolerance)
+inline constexpr std::uint16_t kLogFigureValues = 5;
 }  // namespace var
 
 // #9001 values.
@@ -193,6 +209,21 @@ inline constexpr VarInfo kPlatformRows[] = {
   {var::kGateItem, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, 0.0, "gate_item", "", "When the last macro's gate refused its result (fit_beyond_noise, change_beyond_limit, a method's implausible_...): the pose, group or sub-machine it names (1-based, as that method's reports number them; 0 the whole result). 0 after any other end."},
   {var::kGateValue, 1, Access::kReadOnly, ValueKind::kReal, -1e15, 1e15, 0.0, "gate_value", "", "The refused figure: for fit_beyond_noise the ratio of the residuals' chi-square statistic to its quantile at #901 (above 1), else the figure in the unit of its limit. 0 after any other end."},
   {var::kGateLimit, 1, Access::kReadOnly, ValueKind::kReal, -1e15, 1e15, 0.0, "gate_limit", "", "The limit that figure exceeded (1 for fit_beyond_noise; else the configuration value, in its unit). 0 after any other end."},
+
+  {var::kLogTime, 1, Access::kReadWrite, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_time", "s", "Measuring log: the time of the macro about to run (Unix s, UTC), written with its arguments; 0: the controller's clock or unknown."},
+  {var::kLogCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 32.0, 0.0, "log_entries", "", "Measuring log: entries held (the newest 32 of every calibration, store and check of M2, M3, M4)."},
+  {var::kLogNewest, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_newest", "", "Measuring log: the newest entry's serial (from 1; the oldest is #9017 - #9016 + 1); 0 empty."},
+  {var::kLogSelect, 1, Access::kReadWrite, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_select", "", "Measuring log: write a serial to show that entry in #9020..#9059 (0 when not held). Cleared after every macro."},
+  {var::kLogLost, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "log_lost", "", "Measuring log: entries lost since start (an append the storage refused, or a log that did not read and was started again)."},
+  {var::kLogSerial, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_serial", "", "Log entry: serial; 0 none shown."},
+  {var::kLogEntryTime, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_entry_time", "s", "Log entry: time (Unix s, UTC; 0 unknown)."},
+  {var::kLogMacro, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9999.0, 0.0, "log_macro", "", "Log entry: its macro."},
+  {var::kLogType, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 1.0, 0.0, "log_type", "", "Log entry: 0 calibration, 1 check."},
+  {var::kLogVerdict, 1, Access::kReadOnly, ValueKind::kInteger, -1.0, 2.0, 0.0, "log_verdict", "", "Log entry: a check's verdict (0 pass, 1 warn, 2 fail); -1 none."},
+  {var::kLogStored, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 1.0, 0.0, "log_stored", "", "Log entry: 1 when it stored its table."},
+  {var::kLogTableSequence, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_table_sequence", "", "Log entry: the stored table's sequence after it (+1 a store; what a check judged against); 0 none."},
+  {var::kLogFigureCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 6.0, 0.0, "log_figures", "", "Log entry: its figures (0..6)."},
+  {var::kLogFigureFirst, 30, Access::kReadOnly, ValueKind::kReal, -1e15, 1e15, 0.0, "log_figure", "", "Log entry: figure k (0..5) at #9030 + 5 k: kind (the method's log or check figures, from 1), item, value (a check's deviation), 1-sigma, tolerance."},
 };
 // clang-format on
 
@@ -225,6 +256,6 @@ constexpr std::size_t platform_slot(std::uint16_t number) {
   return rest == kNoSlot ? kNoSlot : kArgSlots + kResultSlots + rest;
 }
 static_assert(platform_slot(var::kArgA) == 0 && platform_slot(var::kResultFirst) == kArgSlots &&
-              platform_slot(var::kGateLimit) == kPlatformSlots - 1 && platform_slot(10) == kNoSlot);
+              platform_slot(var::kLogFigureFirst + 29) == kPlatformSlots - 1 && platform_slot(10) == kNoSlot);
 
 }  // namespace trueaxis::macros

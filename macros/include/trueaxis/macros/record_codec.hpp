@@ -8,6 +8,7 @@ namespace trueaxis::macros {
 
 using core::get_f64;
 using core::get_u16;
+using core::get_u32;
 using core::put_f64;
 using core::put_u16;
 

@@ -10,10 +10,15 @@
 //   3    rigidity table  4096 B                                    4120 B   8240 B
 //   4    gantry frames   3072 B                                    3096 B   6192 B
 //   5    spindle model   2048 B                                    2072 B   4144 B
-//                                                    kRequiredStorageBytes 21952 B
+//   9    measuring log   3264 B = 32 x 102-byte entries            3288 B   6576 B
+//                                                    kRequiredStorageBytes 28528 B
 // A slot is the 20-byte header plus the capacity, rounded up to 8 bytes;
 // kStoreScratchBytes (the largest slot) is the scratch buffer a KeyedStore over
 // this list needs.
+//
+// The measuring log (measuring_log.hpp) comes last, and only in a module
+// with a method that logs; its place moves with the tables before it, as
+// theirs do.
 //
 // Append new records at the end; never reorder, remove or resize one in place
 // (that moves every later record's slots, which then load as absent). A change to
@@ -29,6 +34,7 @@
 #include <cstdint>
 
 #include "trueaxis/macros/keyed_store.hpp"
+#include "trueaxis/macros/measuring_log.hpp"
 #include "trueaxis/macros/register_map.hpp"
 
 namespace trueaxis::macros {
@@ -37,6 +43,7 @@ namespace trueaxis::macros {
 enum class RecordKey : std::uint8_t {
   kConfig = 1,
   kWorkOffsets = 2,
+  kMeasuringLog = 9,  // after the tables (records 3.. are the methods')
 };
 
 // Bytes of one persistent variable in a config or work-offset payload: number (u16)
@@ -48,13 +55,19 @@ inline constexpr RecordSpec kPlatformRecords[] = {
     {static_cast<std::uint8_t>(RecordKey::kWorkOffsets), 1, 36 * kVariableEntryBytes, "work_offsets"},
 };
 
+inline constexpr RecordSpec kLogRecord{static_cast<std::uint8_t>(RecordKey::kMeasuringLog), 1, kLogBytes,
+                                       "measuring_log"};
+inline constexpr bool kHasLog = BuiltMethods::kAnyLogs;
+
 namespace detail {
 inline constexpr std::size_t kPlatformRecordCount = sizeof kPlatformRecords / sizeof kPlatformRecords[0];
-constexpr std::array<RecordSpec, kPlatformRecordCount + BuiltMethods::kTableCount> record_specs() {
-  std::array<RecordSpec, kPlatformRecordCount + BuiltMethods::kTableCount> out{};
+inline constexpr std::size_t kAllRecordCount = kPlatformRecordCount + BuiltMethods::kTableCount + (kHasLog ? 1 : 0);
+constexpr std::array<RecordSpec, kAllRecordCount> record_specs() {
+  std::array<RecordSpec, kAllRecordCount> out{};
   std::size_t n = 0;
   for (const RecordSpec& s : kPlatformRecords) out[n++] = s;
   for (const RecordSpec& s : BuiltMethods::table_records()) out[n++] = s;
+  if (kHasLog) out[n++] = kLogRecord;
   return out;
 }
 }  // namespace detail

@@ -366,6 +366,11 @@ MacroStep run_build(Context& ctx, State& state) {
   ctx.out<var::kGantryBedSpan>(work->bed_span_mm);
   ctx.out<var::kGantryFitRatio>(fit.ratio());
   ctx.out<var::kGantryFitSubMachine>(static_cast<double>(fit.item()));
+  // The measuring log: the bed's and the gantry's form errors (kLogFigureKinds).
+  LogEntry entry;
+  entry.add(kLogBedForm, 0, f.global.bed_form_error_mm, f.global.bed_form_error_sigma_mm);
+  entry.add(kLogGantryForm, 0, f.global.gantry_form_error_mm, f.global.gantry_form_error_sigma_mm);
+  ctx.log(entry);
   ctx.set_on_success(state.built);
   if (!store) return done(core::Status::kOk);
   // The stored frames (if any) with this computation merged in (gantry_table.hpp).

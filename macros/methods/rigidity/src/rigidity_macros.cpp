@@ -123,6 +123,18 @@ MacroStep finish_build(Context& ctx, State& state, const core::RigidityTable& t,
   ctx.out<var::kRigidityFitRatio>(fit.ratio());
   ctx.out<var::kRigidityFitPose>(static_cast<double>(fit.item()));
 
+  // The measuring log: the worst rigidity and the largest A positioning error (kLogFigureKinds).
+  std::size_t worst_a = 0;
+  for (std::size_t i = 0; i < t.pose_count; ++i) {
+    if (std::abs(t.poses[i].a_error_rad) > std::abs(t.poses[worst_a].a_error_rad)) worst_a = i;
+  }
+  LogEntry entry;
+  entry.add(kLogRigidity, worst + 1, t.poses[worst].rigidity_rad * kArcsecPerRad,
+            t.poses[worst].rigidity_sigma_rad * kArcsecPerRad);
+  entry.add(kLogAError, worst_a + 1, t.poses[worst_a].a_error_rad * kArcsecPerRad,
+            t.poses[worst_a].a_error_sigma_rad * kArcsecPerRad);
+  ctx.log(entry);
+
   ctx.set_on_success(state.built);
   if (!store) return done(core::Status::kOk);
   return done(ctx.stage_table(state.table, t));  // the module commits the record, then makes t live

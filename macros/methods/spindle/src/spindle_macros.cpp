@@ -98,6 +98,15 @@ MacroStep finish_build(Context& ctx, State& state, Work& work, const core::Spind
   ctx.out<var::kSpindleChange>(change.mm);
   ctx.out<var::kSpindleChangeAngle>(change.angle_deg);
   ctx.out<var::kSpindleBallSpacing>(work.spacing_mm);
+  // The measuring log: the screw's parameters a_x .. w_y with their sigmas (kLogFigures, as the check's).
+  LogEntry entry;
+  for (std::uint16_t k = 0; k < 6; ++k) {
+    const Eigen::Index p = static_cast<Eigen::Index>(k) + 3;
+    const double scale = k == 2 || k == 3 ? 1.0 : core::kArcsecPerRad;
+    const double v = f.covariance(p, p);
+    entry.add(static_cast<std::uint16_t>(k + 1), 0, f.params(p) * scale, std::sqrt(v > 0.0 ? v : 0.0) * scale);
+  }
+  ctx.log(entry);
   ctx.set_on_success(state.built);
   if (!store) return done(core::Status::kOk);
   return done(ctx.stage_table(state.table, work.computed));  // the module commits it, then makes it live

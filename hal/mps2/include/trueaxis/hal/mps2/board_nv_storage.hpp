@@ -9,7 +9,7 @@
 //     makes one and passes it by reference.
 //  3. Its content after power-up is arbitrary: the user validates it
 //     (macros/keyed_store.hpp keeps two copies with a version and a CRC).
-//  4. 32 KiB: the product's records need macros::kRequiredStorageBytes (21952 B,
+//  4. 32 KiB: the product's records need macros::kRequiredStorageBytes (28528 B,
 //     macros/records.hpp); tests/target/firmware_main.cpp checks that they fit
 //     (hal does not see the macros headers).
 #pragma once

@@ -7,7 +7,8 @@
 // cradle_machine.hpp convention 3, cradle_errors.hpp); #12048..#12054: the
 // face's plane and the ball's centre in the machine frame at the table's
 // present pose, for a virtual probe outside the simulator (LinuxCNC's,
-// integrations/linuxcnc/sim). #12014..#12019 are not defined.
+// integrations/linuxcnc/sim); #12055..#12056: a drift of the machine with
+// errors, for scripting checks. #12014..#12019 are not defined.
 #pragma once
 
 #include "trueaxis/macros/var_info.hpp"
@@ -65,7 +66,9 @@ inline constexpr std::uint16_t kFaceOffset = 12051;
 inline constexpr std::uint16_t kBallMachineX = 12052;
 inline constexpr std::uint16_t kBallMachineY = 12053;
 inline constexpr std::uint16_t kBallMachineZ = 12054;
-inline constexpr std::uint16_t kLast = 12054;
+inline constexpr std::uint16_t kDriftA = 12055;
+inline constexpr std::uint16_t kDriftArcsec = 12056;
+inline constexpr std::uint16_t kLast = 12056;
 }  // namespace simvar
 
 namespace detail {
@@ -127,6 +130,8 @@ inline constexpr macros::VarInfo kSimMap[] = {
   {12052, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 200.0, "sim_ball_machine_x", "mm", "Simulator ground truth: X of the calibration ball's centre in the machine frame with the table at (sim_axis_a, sim_axis_c), no noise."},
   {12053, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 0.0, "sim_ball_machine_y", "mm", "Simulator ground truth: Y of that centre."},
   {12054, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 50.0, "sim_ball_machine_z", "mm", "Simulator ground truth: Z of that centre."},
+  {12055, 1, detail::Access::kReadWrite, detail::ValueKind::kReal, -180.0, 180.0, 60.0, "sim_drift_a", "deg", "Simulator: the commanded A at which the machine with errors (sim_errors = 1) shows the extra rigidity sim_drift_arcsec (a clamp worked loose at that tilt)."},
+  {12056, 1, detail::Access::kReadWrite, detail::ValueKind::kReal, -3600.0, 3600.0, 0.0, "sim_drift_arcsec", "arcsec", "Simulator: that extra rigidity, about the table's Y axis, at exactly sim_drift_a; for scripting a machine that drifts between checks (0: none)."},
 };
 // clang-format on
 

@@ -30,6 +30,10 @@
 //     probe, the ball and every ground-truth read-back follow the present value;
 //     the truth that depends on a ball height (rotation vector, A positioning
 //     error, C centre) is for a ball at sim_ball_z.
+//  7. sim_drift_a, sim_drift_arcsec (#12055, #12056): a rigidity the machine
+//     with errors adds at exactly that commanded A (CradleErrors local_a_deg,
+//     local_arcsec: a clamp worked loose at that tilt), for scripting a drift
+//     between checks; 0 arcsec by default. Written, they apply from that write on.
 //  6. after_request() is what the server calls after every request: it runs the
 //     module's pending macro (Module::step) unless sim_hold (#12009) is 1.
 #pragma once
@@ -83,8 +87,12 @@ class Simulator final : public macros::VariableAccess {
   void measure_ball(State& next) const;
   double read_one(std::uint16_t number) const;
   const CradleMachine& machine_for(const double* values) const;
+  // Contract 7: the machine with errors as `values` drift it.
+  CradleMachine drifted(const double* values) const;
 
   macros::Module& module_;
+  FaceConfig face_;
+  CradleErrors errors_;
   CradleMachine ideal_;
   CradleMachine with_errors_;
   State state_;

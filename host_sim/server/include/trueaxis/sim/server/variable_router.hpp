@@ -1,8 +1,8 @@
 // The variables trueaxis-sim serves: the module's map plus the simulator's own
-// #12000..#12054, behind one VariableAccess.
+// #12000..#12056, behind one VariableAccess.
 //
 // Contract
-//  1. A range wholly inside #12000..#12054 (simvar::kFirst..kLast) goes to the simulator; a range that
+//  1. A range wholly inside #12000..#12056 (simvar::kFirst..kLast) goes to the simulator; a range that
 //     touches none of them goes to the module; a range spanning both is refused
 //     as kUndefined (no variable next to the simulator's block is defined, so a
 //     whole-or-nothing access cannot succeed there anyway).

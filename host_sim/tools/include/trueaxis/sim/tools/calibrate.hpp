@@ -51,6 +51,7 @@ struct CalibrateOptions {
   std::string host = "127.0.0.1";
   int port = 502;
   int wait_s = 120;  // --wait: for the macro interface another client holds
+  double log_time = 0.0;  // --time (default now): the measuring log's time, Unix seconds (#9015)
 };
 
 // #number = value: one argument of a macro.
@@ -75,7 +76,13 @@ struct FlowResult {
   double unlock_code = macros::kUnlockCode;
   // The store confirms a change beyond the method's change limit (M = 1).
   bool accept_change = false;
+  // The measuring log's time for the store and the check (CalibrateOptions::log_time).
+  double log_time = 0.0;
 };
+
+// Hands the module the measuring log's time (#9015, Unix seconds) for the
+// next macro; best effort: a module that refuses it logs its own clock's.
+void hand_time(VariableClient& client, double unix_s);
 
 // The text of a module error code, "module error 402 session_full: The session is full ...".
 std::string module_error_text(int code);

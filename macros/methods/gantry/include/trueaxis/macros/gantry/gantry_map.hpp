@@ -135,6 +135,9 @@ inline constexpr double kDefaultCheckAngleArcsec = 45.0;
 // both the computation and the stored frames hold (item: its id).
 inline constexpr std::uint16_t kCheckOrigin = 1;
 inline constexpr std::uint16_t kCheckAngle = 2;
+// What a build logs (measuring_log.hpp).
+inline constexpr std::uint16_t kLogBedForm = 1;
+inline constexpr std::uint16_t kLogGantryForm = 2;
 
 // Its status codes (block 1200..1299).
 inline constexpr core::Status kBedSpanImplausible = static_cast<core::Status>(1200);
@@ -157,6 +160,11 @@ inline constexpr VarInfo kRows[] = {
                "Gantry check (9827): the tolerance of a sub-machine's origin (global frame) against the stored frame's: the length of the difference."),
   rows::config(var::kGantryCheckAngle, 1e-3, 1e6, kDefaultCheckAngleArcsec, "gantry_check_angle_tolerance", "arcsec",
                "Gantry check (9827): the tolerance of a sub-machine's axes against the stored frame's: the angle they turned."),
+};
+
+inline constexpr CheckFigureInfo kLogFigureKinds[] = {
+  {kLogBedForm, "bed_form_error", "mm", "The bed's noise-corrected RMS form error (global bed_form_error_mm) with its 1-sigma."},
+  {kLogGantryForm, "gantry_form_error", "mm", "The gantry's noise-corrected RMS form error (global gantry_form_error_mm) with its 1-sigma."},
 };
 
 inline constexpr CheckFigureInfo kCheckFigureKinds[] = {

@@ -34,6 +34,7 @@ struct Method : Shape {
   };
   static constexpr List<GateInfo> kGates = list_of(kGateTable);
   static constexpr CheckInfo kCheck{9827, list_of(gantry::kCheckFigureKinds)};
+  static constexpr List<CheckFigureInfo> kLogFigures = list_of(gantry::kLogFigureKinds);
   using State = gantry::State;
   using Table = FramesRecord;
   static StoredTable<Table>& table(State& s) { return s.table; }

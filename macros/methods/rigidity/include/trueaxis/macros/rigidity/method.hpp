@@ -29,6 +29,7 @@ struct Method : Shape {
   };
   static constexpr List<GateInfo> kGates = list_of(kGateTable);
   static constexpr CheckInfo kCheck{9836, list_of(rigidity::kCheckFigureKinds)};
+  static constexpr List<CheckFigureInfo> kLogFigures = list_of(rigidity::kLogFigureKinds);
   using State = rigidity::State;
   using Table = RigidityTableRecord;
   static StoredTable<Table>& table(State& s) { return s.table; }

@@ -97,6 +97,9 @@ inline constexpr double kDefaultCheckAErrorArcsec = 12.0;
 // The check's figures (check.hpp convention 1), one of each per pose but the reference.
 inline constexpr std::uint16_t kCheckRotation = 1;
 inline constexpr std::uint16_t kCheckAError = 2;
+// What a build logs (measuring_log.hpp).
+inline constexpr std::uint16_t kLogRigidity = 1;
+inline constexpr std::uint16_t kLogAError = 2;
 
 // Its status codes (block 1100..1199).
 inline constexpr core::Status kAErrorImplausible = static_cast<core::Status>(1100);
@@ -123,6 +126,11 @@ inline constexpr VarInfo kRows[] = {
 inline constexpr CheckFigureInfo kCheckFigureKinds[] = {
   {kCheckRotation, "rotation_change", "arcsec", "A pose's rotation vector against the stored table's pose at the same A (item: the pose's number in the new table, A order): the length of the difference; stored and measured are the vectors' lengths (the rigidity)."},
   {kCheckAError, "a_positioning_error_change", "arcsec", "A pose's A positioning error against the stored pose's at the same A."},
+};
+
+inline constexpr CheckFigureInfo kLogFigureKinds[] = {
+  {kLogRigidity, "rigidity_worst", "arcsec", "The largest rigidity figure of the table (item: its pose, A order) with its 1-sigma."},
+  {kLogAError, "a_positioning_error_worst", "arcsec", "The A positioning error of largest magnitude (signed; item: its pose) with its 1-sigma."},
 };
 
 inline constexpr OutputInfo kSessionOutputs[] = {

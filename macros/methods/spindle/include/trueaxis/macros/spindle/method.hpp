@@ -28,6 +28,7 @@ struct Method : Shape {
   };
   static constexpr List<GateInfo> kGates = list_of(kGateTable);
   static constexpr CheckInfo kCheck{9846, list_of(spindle::kCheckFigureKinds)};
+  static constexpr List<CheckFigureInfo> kLogFigures = list_of(spindle::kCheckFigureKinds);  // the screw's six parameters
   using State = spindle::State;
   using Table = ModelRecord;
   static StoredTable<Table>& table(State& s) { return s.table; }

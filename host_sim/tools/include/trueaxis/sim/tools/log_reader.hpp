@@ -1,0 +1,92 @@
+// The module's measuring log on the host (macros/measuring_log.hpp): read
+// entry by entry over the registers, named by the module's method list,
+// printed, written as CSV, and the drift of every checked figure over time.
+// Host only; trueaxis-calibrate log and the check's report use it.
+//
+// Contract
+//  1. read_log() takes the macro interface's window (#9018 -> #9020..#9059)
+//     for each serial from the oldest held (#9017 - #9016 + 1) to the newest,
+//     and returns the entries oldest first; an entry dropped meanwhile (a
+//     33rd appended by another client) is skipped.
+//  2. fit_drift(): per method and figure kind of the checks, a straight line
+//     value = a + b t through the logged deviations, weighted by 1 / sigma^2;
+//     the parameters' covariance scaled by the reduced chi-square when that
+//     is above 1 (a scatter beyond the stated sigmas widens the trend's
+//     uncertainty, never narrows it). At least 3 checks with known times over
+//     more than one day; fewer gives no trend. The trend is significant when
+//     |b| > 2 sigma_b; then the projected crossing is where the line reaches
+//     the tolerance in the direction it moves (+T for a magnitude, +-T for a
+//     signed figure), with its 1-sigma from the parameters' covariance.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "trueaxis/sim/tools/client.hpp"
+
+namespace trueaxis::sim {
+
+struct LogFigureRow {
+  int kind = 0;
+  int item = 0;
+  double value = 0.0;
+  double sigma = 0.0;
+  double tolerance = 0.0;
+  std::string name;  // the kind's name from the method's map entry ("figure_K" when unknown)
+  std::string unit;
+};
+
+struct LogRow {
+  std::uint32_t serial = 0;
+  std::uint32_t time_s = 0;  // 0 unknown
+  int macro = 0;
+  std::string method;        // "" when no built method has the macro
+  bool check = false;
+  int verdict = -1;          // -1 none (a calibration), else 0 pass, 1 warn, 2 fail
+  bool stored = false;
+  std::uint32_t table_sequence = 0;
+  std::vector<LogFigureRow> figures;
+};
+
+// Contract 1; false with `error` set on a transport failure.
+bool read_log(VariableClient& client, std::vector<LogRow>& rows, std::string& error);
+
+struct Drift {
+  std::string method;
+  std::string figure;
+  std::string unit;
+  double tolerance = 0.0;
+  std::size_t checks = 0;        // points in the fit
+  double first_s = 0.0;          // their time span
+  double last_s = 0.0;
+  double slope_per_day = 0.0;    // b
+  double slope_sigma = 0.0;
+  double value_now = 0.0;        // the line at the last check
+  double value_now_sigma = 0.0;
+  bool enough = false;           // contract 2: a fit was possible
+  bool significant = false;
+  bool crossed = false;          // the line is at or beyond the tolerance at the last check
+  double cross_s = 0.0;          // the projected crossing (Unix s), when significant and ahead
+  double cross_sigma_days = 0.0;
+};
+
+// Contract 2, one Drift per method and check figure kind that has entries.
+std::vector<Drift> fit_drift(const std::vector<LogRow>& rows);
+
+// "2027-01-15 08:00:00" (UTC); "unknown" for 0.
+std::string utc_text(double unix_s);
+
+// The log as a table, newest last, then the drift lines.
+std::string log_table(const std::vector<LogRow>& rows, const std::vector<Drift>& drift);
+std::string drift_line(const Drift& d);
+
+// One CSV row per figure (an entry without figures has one row with its
+// figure columns empty): serial,time_utc,time_s,method,macro,entry,verdict,
+// stored,table_sequence,figure,item,value,sigma,tolerance,unit.
+std::string log_csv(const std::vector<LogRow>& rows);
+
+// The drift as a JSON array, for the report.
+std::string drift_json(const std::vector<Drift>& drift);
+
+}  // namespace trueaxis::sim

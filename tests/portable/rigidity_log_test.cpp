@@ -1,0 +1,211 @@
+// The measuring log (macros/measuring_log.hpp, module.hpp contract 9), driven
+// by M3's macros: what a calibration, a store and a check log, the window
+// #9018 -> #9020..#9059, the ring of 32, the time (#9015, else the clock's
+// wall time), a storage failure that loses the entry but not the macro, and a
+// power cut at every byte of an append.
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#include "fakes.hpp"
+#include "module_rig.hpp"
+#include "portable_test.hpp"
+#include "rigidity_fixture.hpp"
+#include "store_fakes.hpp"
+#include "trueaxis/macros/measuring_log.hpp"
+#include "trueaxis/macros/records.hpp"
+
+namespace {
+
+namespace m = trueaxis::macros;
+namespace v = trueaxis::macros::var;
+namespace rf = trueaxis::test::rigidity;
+using trueaxis::core::Status;
+using trueaxis::test::kDone;
+using trueaxis::test::ModuleRig;
+using trueaxis::test::RigOptions;
+
+constexpr double kT0 = 1'800'000'000.0;  // 2027-01-15T08:00:00Z
+
+// The window's values for serial s: #9020..#9059.
+struct Shown {
+  double v[40];
+  double serial() const { return v[0]; }
+  double time() const { return v[1]; }
+  double macro() const { return v[2]; }
+  double type() const { return v[3]; }
+  double verdict() const { return v[4]; }
+  double stored() const { return v[5]; }
+  double table_sequence() const { return v[6]; }
+  double figures() const { return v[7]; }
+  // Figure k's value j (0 kind, 1 item, 2 value, 3 sigma, 4 tolerance).
+  double figure(std::size_t k, std::size_t j) const { return v[10 + 5 * k + j]; }
+  bool operator==(const Shown& o) const { return std::memcmp(v, o.v, sizeof v) == 0; }
+};
+
+Shown show(ModuleRig& rig, double serial) {
+  rig.set(v::kLogSelect, serial);
+  Shown s{};
+  for (std::uint16_t k = 0; k < 40; ++k) s.v[k] = rig.get(static_cast<std::uint16_t>(v::kLogSerial + k));
+  return s;
+}
+
+double build_at(ModuleRig& rig, bool store, double time) {
+  rig.set(v::kLogTime, time);
+  return rf::build(rig, store);
+}
+
+}  // namespace
+
+TA_TEST("the log: a calibration logs an entry, its store and then its check replace it; #9015 is its time") {
+  ModuleRig rig;
+  TA_CHECK_EQ(rig.get(v::kLogCount), 0.0);
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 0.0);
+  rf::stream(rig);
+  TA_REQUIRE(build_at(rig, false, kT0) == kDone);
+  TA_CHECK_EQ(rig.get(v::kLogCount), 1.0);
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 1.0);
+  const Shown first = show(rig, 1.0);
+  TA_CHECK_EQ(first.serial(), 1.0);
+  TA_CHECK_EQ(first.time(), kT0);
+  TA_CHECK_EQ(first.macro(), 9832.0);
+  TA_CHECK_EQ(first.type(), 0.0);      // a calibration
+  TA_CHECK_EQ(first.verdict(), -1.0);  // without a verdict
+  TA_CHECK_EQ(first.stored(), 0.0);
+  TA_CHECK_EQ(first.table_sequence(), 0.0);  // nothing stored yet
+  TA_CHECK_EQ(first.figures(), 2.0);
+  TA_CHECK_EQ(first.figure(0, 0), 1.0);  // rigidity_worst: 20" at A = -60 or +60 (pose 1 or 5)
+  TA_CHECK(first.figure(0, 1) == 1.0 || first.figure(0, 1) == 5.0);
+  TA_CHECK_NEAR(first.figure(0, 2), 20.0, 1e-3);
+  TA_CHECK(first.figure(0, 3) >= 0.0);
+  TA_CHECK_EQ(first.figure(0, 4), 0.0);  // no tolerance
+  TA_CHECK_EQ(first.figure(1, 0), 2.0);  // a_positioning_error_worst
+  TA_CHECK_EQ(first.figure(2, 0), 0.0);  // no third figure
+  TA_CHECK_EQ(show(rig, 2.0).serial(), 0.0);  // no such entry: zeros
+
+  rig.set(v::kLogSelect, 1.0);
+  rig.set(v::kArgQ, 1.0);
+  TA_REQUIRE(rig.done(9834));  // any macro clears #9018, and the window with it
+  TA_CHECK_EQ(rig.get(v::kLogSelect), 0.0);
+  TA_CHECK_EQ(rig.get(v::kLogSerial), 0.0);
+  TA_CHECK_EQ(rig.get(v::kLogMacro), 0.0);
+
+  TA_REQUIRE(build_at(rig, true, kT0 + 60.0) == kDone);  // the store replaces the calibration
+  TA_CHECK_EQ(rig.get(v::kLogCount), 1.0);
+  const Shown stored = show(rig, 1.0);
+  TA_CHECK_EQ(stored.time(), kT0 + 60.0);
+  TA_CHECK_EQ(stored.stored(), 1.0);
+  TA_CHECK(stored.table_sequence() >= 1.0);
+  TA_CHECK_EQ(stored.figure(0, 2), first.figure(0, 2));
+
+  TA_REQUIRE(build_at(rig, false, kT0 + 86400.0) == kDone);  // a stored entry is not replaced
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 2.0);
+  rig.set(v::kLogTime, kT0 + 86460.0);
+  rig.set(v::kArgQ, 0.0);
+  TA_REQUIRE(rig.done(9836));  // the check replaces its calibration
+  TA_CHECK_EQ(rig.get(v::kLogCount), 2.0);
+  const Shown check = show(rig, 2.0);
+  TA_CHECK_EQ(check.type(), 1.0);
+  TA_CHECK_EQ(check.macro(), 9836.0);
+  TA_CHECK_EQ(check.verdict(), 0.0);  // the same table: pass
+  TA_CHECK_EQ(check.time(), kT0 + 86460.0);
+  TA_CHECK_EQ(check.stored(), 0.0);
+  TA_CHECK_EQ(check.table_sequence(), stored.table_sequence());  // the table it judged against
+  TA_CHECK_EQ(check.figures(), 2.0);
+  TA_CHECK_EQ(check.figure(0, 0), 1.0);  // rotation_change
+  TA_CHECK_EQ(check.figure(0, 2), 0.0);  // the same table: no deviation
+  TA_CHECK_EQ(check.figure(0, 4), rig.get(v::kRigidityCheckRotation));
+  TA_CHECK_EQ(check.figure(1, 0), 2.0);  // a_positioning_error_change
+  TA_CHECK_EQ(check.figure(1, 4), rig.get(v::kRigidityCheckAError));
+
+  rig.set(v::kArgQ, 1.0);
+  TA_REQUIRE(rig.done(9836));  // a figure's query logs nothing
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 2.0);
+  rig.clock.wall = 1'900'000'000;
+  TA_REQUIRE(rig.done(9836));  // Q = 0 (cleared): a second check appends; no #9015: the clock's wall time
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 3.0);
+  TA_CHECK_EQ(show(rig, 3.0).time(), 1'900'000'000.0);
+
+  // A restart keeps the log; nothing logged before it is replaced.
+  TA_REQUIRE(rig.start() == Status::kOk);
+  TA_CHECK_EQ(rig.get(v::kLogCount), 3.0);
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 3.0);
+  TA_CHECK(show(rig, 2.0) == check);
+}
+
+TA_TEST("the log keeps the newest 32 entries; serials go on") {
+  ModuleRig rig;
+  rf::stream(rig);
+  Shown third{};
+  for (int i = 1; i <= 40; ++i) {
+    TA_REQUIRE(build_at(rig, false, kT0 + i) == kDone);
+    if (i == 9) third = show(rig, 9.0);
+  }
+  TA_CHECK_EQ(rig.get(v::kLogCount), 32.0);
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 40.0);
+  TA_CHECK_EQ(show(rig, 8.0).serial(), 0.0);  // dropped
+  TA_CHECK(show(rig, 9.0) == third);          // the oldest held, as it was
+  TA_CHECK_EQ(show(rig, 40.0).time(), kT0 + 40.0);
+}
+
+TA_TEST("a refused append loses the entry, not the macro (#9019)") {
+  ModuleRig rig;
+  rf::stream(rig);
+  TA_REQUIRE(build_at(rig, false, kT0) == kDone);
+  rig.storage().refuse = true;
+  TA_REQUIRE(build_at(rig, false, kT0 + 1.0) == kDone);
+  TA_CHECK_EQ(rig.get(v::kLogLost), 1.0);
+  TA_CHECK_EQ(rig.get(v::kLogCount), 1.0);
+  TA_CHECK_NEAR(rig.get(v::kRigidityWorst), 20.0, 1e-3);  // the build's own results
+  rig.storage().refuse = false;
+  TA_REQUIRE(build_at(rig, false, kT0 + 2.0) == kDone);
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 2.0);
+}
+
+namespace {
+std::uint8_t g_cut_bytes[m::kRequiredStorageBytes];
+Shown g_before[m::kLogEntries];
+}  // namespace
+
+// Every append cut at every byte of its writes, under each fault model: after
+// the restart the log holds every entry it held, unchanged, and the new one
+// whole or not at all. Case index: 1000 x fault + budget.
+TA_TEST("a power cut at any byte of an append keeps the log as it was, or with the new entry whole") {
+  for (std::uint8_t& b : g_cut_bytes) b = 0;
+  trueaxis::test::PowerCutStorage storage(g_cut_bytes, sizeof g_cut_bytes);
+  ModuleRig rig(RigOptions{}.on(storage));
+  rf::stream(rig);
+  TA_REQUIRE(build_at(rig, false, kT0) == kDone);  // one entry before the cuts
+  std::uint64_t seed = 0x10C0'FFEE;
+  for (std::size_t f = 0; f < 3; ++f) {
+    bool cut = true;
+    std::size_t budget = 0;
+    for (; cut; ++budget) {
+      TA_CASE_INDEX(1000 * f + budget);
+      const std::size_t n = static_cast<std::size_t>(rig.get(v::kLogCount));
+      const double newest = rig.get(v::kLogNewest);
+      for (std::size_t i = 0; i < n; ++i) g_before[i] = show(rig, newest - static_cast<double>(n - 1 - i));
+      rf::stream(rig);
+      storage.arm_cut(budget, trueaxis::test::kFaults[f], seed++);
+      const double time = kT0 + static_cast<double>(1000 * f + budget + 1);
+      TA_REQUIRE(build_at(rig, false, time) == kDone);  // the macro stands whatever the log
+      cut = !storage.powered();
+      storage.restore_power();
+      TA_REQUIRE(rig.start() == Status::kOk);
+      const double count = rig.get(v::kLogCount);
+      const bool added = rig.get(v::kLogNewest) == newest + 1.0;
+      TA_CHECK(added || rig.get(v::kLogNewest) == newest);
+      TA_CHECK_EQ(count, static_cast<double>(added ? (n < m::kLogEntries ? n + 1 : n) : n));
+      const std::size_t kept = added && n == m::kLogEntries ? n - 1 : n;
+      for (std::size_t i = n - kept; i < n; ++i) TA_CHECK(show(rig, g_before[i].serial()) == g_before[i]);
+      if (added) {
+        const Shown e = show(rig, newest + 1.0);
+        TA_CHECK_EQ(e.time(), time);
+        TA_CHECK_EQ(e.figures(), 2.0);
+        TA_CHECK_NEAR(e.figure(0, 2), 20.0, 1e-3);
+      }
+      TA_REQUIRE(budget < 4 * m::kLogBytes);
+    }
+    TA_CHECK(budget > m::kLogEntryBytes);  // the cuts walked the whole write
+  }
+}

@@ -1,0 +1,229 @@
+// The measuring log end to end (docs/INTERFACE.md "Check mode and the log"):
+// a scripted sequence of weekly checks of a cradle machine whose rigidity at
+// A = 60 grows by 1.5" a week (the simulator's sim_drift_arcsec), each check
+// handed its date with --time; then `trueaxis-calibrate log` prints one entry
+// per calibration and check, newest last, and the trend of the rotation
+// change with the date it reaches its 12" tolerance, which the truth (week 8)
+// must lie within 3 sigma of; --csv writes one row per figure. Bad usage is
+// refused with one line.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "calibrate_support.hpp"
+#include "sim_fixture.hpp"
+#include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/sim/tools/log_reader.hpp"
+
+namespace {
+
+using trueaxis::sim::test::SimFixture;
+using trueaxis::test::run;
+using trueaxis::test::Run;
+using trueaxis::test::slurp;
+using trueaxis::test::Workspace;
+namespace v = trueaxis::macros::var;
+
+constexpr double kT0 = 1'800'000'000.0;  // 2027-01-15T08:00:00Z
+constexpr double kWeek = 7.0 * 86400.0;
+constexpr double kDriftPerWeek = 1.5;  // arcsec at A = 60
+constexpr std::uint16_t kSimDriftArcsec = 12056;
+
+Run calibrate(const std::vector<std::string>& args, int port, const Workspace& w) {
+  std::vector<std::string> argv = {TRUEAXIS_CALIBRATE_BINARY};
+  argv.insert(argv.end(), args.begin(), args.end());
+  argv.insert(argv.end(), {"--port", std::to_string(port)});
+  return run(argv, w.file("calibrate.err"));
+}
+
+// "2027-03-12" as Unix seconds (UTC midnight).
+double day_of(const std::string& text) {
+  std::tm t{};
+  REQUIRE(::strptime(text.c_str(), "%Y-%m-%d", &t) != nullptr);
+  return static_cast<double>(::timegm(&t));
+}
+
+std::vector<std::string> lines_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("trueaxis-calibrate log: weekly checks of a drifting machine, the trend and the date it reaches its "
+          "tolerance",
+          "[calibrate][log]") {
+  SimFixture sim({"--errors", "realistic"});
+  Workspace w("trueaxis-calibrate-log");
+  const std::string port = std::to_string(sim.port());
+  {
+    const Run empty = calibrate({"log"}, sim.port(), w);
+    INFO(empty.err);
+    REQUIRE(empty.exit_code == 0);
+    CHECK(empty.out.find("(the log is empty)") != std::string::npos);
+  }
+  const auto measure = [&](double drift_arcsec) {
+    REQUIRE(sim.client().write_one(kSimDriftArcsec, drift_arcsec));
+    REQUIRE(sim.client().give_back_interface());
+    const Run m = run({TRUEAXIS_MEASURE_BINARY, "--port", port, "--out", w.file("samples.csv")}, w.file("measure.err"));
+    REQUIRE(m.exit_code == 0);
+  };
+  measure(0.0);
+  const Run stored = calibrate({"rigidity", "--in", w.file("samples.csv"), "--json", w.file("out.json"), "--store",
+                                "--time", "2027-01-15T08:00:00Z"},
+                               sim.port(), w);
+  INFO(stored.err);
+  REQUIRE(stored.exit_code == 0);
+  for (int week = 1; week <= 5; ++week) {
+    measure(kDriftPerWeek * week);
+    const Run check = calibrate({"rigidity", "--in", w.file("samples.csv"), "--json", w.file("out.json"), "--check",
+                                 "--time", std::to_string(static_cast<long>(kT0 + week * kWeek))},
+                                sim.port(), w);
+    INFO(check.err);
+    REQUIRE(check.exit_code == 0);  // 7.5" at week 5: within the 12" tolerance
+  }
+
+  const Run log = calibrate({"log", "--csv", w.file("log.csv")}, sim.port(), w);
+  INFO(log.err);
+  REQUIRE(log.exit_code == 0);
+  INFO(log.out);
+  const std::vector<std::string> lines = lines_of(log.out);
+  REQUIRE(lines.size() >= 7);
+  CHECK(lines[0].find("serial") == 0);
+  // One entry per run: the store replaced its calibration, each check its own.
+  CHECK(lines[1].find("     1  2027-01-15 08:00:00  rigidity   9832  stored") == 0);
+  for (int week = 1; week <= 5; ++week) {
+    INFO("week " << week);
+    const std::string& line = lines[static_cast<std::size_t>(week) + 1];
+    CHECK(line.find(std::to_string(week + 1)) != std::string::npos);
+    CHECK(line.find("rigidity   9836  check        pass") != std::string::npos);
+    CHECK(line.find("rotation_change_") != std::string::npos);
+  }
+  CHECK(lines[2].find("2027-01-22 08:00:00") != std::string::npos);
+  CHECK(lines[7].empty());
+
+  // The trend: 1.5" a week is 6.43" per 30 days; the line reaches 12" at week 8
+  // (2027-03-12 08:00), which the projected date must hold within 3 sigma.
+  const std::size_t at = log.out.find("rigidity rotation_change: +");
+  REQUIRE(at != std::string::npos);
+  const std::string trend = log.out.substr(at, log.out.find('\n', at) - at);
+  INFO(trend);
+  const double per_30_days = std::stod(trend.substr(trend.find('+') + 1));
+  CHECK(per_30_days == Approx(kDriftPerWeek * 30.0 / 7.0).margin(2.0));
+  const std::size_t about = trend.find("reaches its tolerance about ");
+  REQUIRE(about != std::string::npos);
+  const double projected = day_of(trend.substr(about + 28, 10));
+  const double sigma_days = std::stod(trend.substr(trend.find("(+- ", about) + 4));
+  const double truth = kT0 + 8.0 * kWeek;
+  CHECK(sigma_days > 0.0);
+  CHECK(sigma_days < 30.0);
+  CHECK(std::abs(projected - truth) / 86400.0 <= 3.0 * sigma_days + 1.0);
+  // The date is where the printed line reaches 12": now + slope x (date - last check).
+  const std::size_t now_at = trend.find("; now ");
+  REQUIRE(now_at != std::string::npos);
+  const double now = std::stod(trend.substr(now_at + 6));
+  const double last = kT0 + 5.0 * kWeek;
+  CHECK(now + per_30_days / 30.0 * (projected - last) / 86400.0 == Approx(12.0).margin(0.2 + per_30_days / 30.0));
+  CHECK(log.out.find("rigidity a_positioning_error_change: ") != std::string::npos);
+
+  // CSV: a header, then one row per figure (two per entry).
+  const std::vector<std::string> csv = lines_of(slurp(w.file("log.csv")));
+  REQUIRE(csv.size() == 1 + 6 * 2);
+  CHECK(csv[0] == "serial,time_utc,time_s,method,macro,entry,verdict,stored,table_sequence,figure,item,value,sigma,"
+                  "tolerance,unit");
+  CHECK(csv[1].find("1,2027-01-15 08:00:00,1800000000,rigidity,9832,stored,,1,") == 0);
+  CHECK(csv[3].find("2,2027-01-22 08:00:00,1800604800,rigidity,9836,check,pass,0,") == 0);
+  CHECK(csv[3].find(",rotation_change,") != std::string::npos);
+}
+
+TEST_CASE("trueaxis-calibrate log and --time: bad usage is one line and exit 1", "[calibrate][log]") {
+  SimFixture sim;
+  Workspace w("trueaxis-calibrate-log-usage");
+  const Run unknown = calibrate({"log", "--store"}, sim.port(), w);
+  CHECK(unknown.exit_code == 1);
+  CHECK(unknown.err.find("unknown or incomplete option '--store' for log") != std::string::npos);
+  const Run csv = calibrate({"log", "--csv", w.file("no/such/dir/log.csv")}, sim.port(), w);
+  CHECK(csv.exit_code == 1);
+  CHECK(csv.err.find("cannot be written") != std::string::npos);
+  for (const char* bad : {"yesterday", "2027-13-01", "0", "-5", "2027-01-15T08:00:00+01:00"}) {
+    INFO(bad);
+    const Run time = calibrate({"rigidity", "--in", "x.csv", "--json", "y.json", "--time", bad}, sim.port(), w);
+    CHECK(time.exit_code == 1);
+    CHECK(time.err.find("--time takes Unix seconds or a UTC date and time") != std::string::npos);
+  }
+}
+
+namespace {
+
+// A check entry of method `method` at day `day` with one figure.
+trueaxis::sim::LogRow check_row(double day, const std::string& figure, double value, double sigma, double tolerance) {
+  trueaxis::sim::LogRow r;
+  r.time_s = static_cast<std::uint32_t>(kT0 + day * 86400.0);
+  r.method = "rigidity";
+  r.check = true;
+  r.verdict = 0;
+  trueaxis::sim::LogFigureRow f;
+  f.name = figure;
+  f.unit = "arcsec";
+  f.value = value;
+  f.sigma = sigma;
+  f.tolerance = tolerance;
+  r.figures.push_back(f);
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("fit_drift against the closed forms: an exact line, a signed figure, scatter beyond the sigmas, too few",
+          "[log][drift]") {
+  using trueaxis::sim::fit_drift;
+  // Exactly 1 + 0.5 / day at days 0, 7, 14, 21: slope 0.5, 12 reached at day 22.
+  std::vector<trueaxis::sim::LogRow> rows;
+  for (double day : {0.0, 7.0, 14.0, 21.0}) rows.push_back(check_row(day, "rotation_change", 1.0 + 0.5 * day, 0.1, 12.0));
+  std::vector<trueaxis::sim::Drift> d = fit_drift(rows);
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].enough);
+  CHECK(d[0].significant);
+  CHECK(d[0].slope_per_day == Approx(0.5).epsilon(1e-12));
+  CHECK(d[0].value_now == Approx(11.5).epsilon(1e-12));
+  CHECK(d[0].cross_s == Approx(kT0 + 22.0 * 86400.0).margin(1e-3));
+  // Equal sigmas 0.1, chi-square 0: the slope's sigma is 0.1 / sqrt(sum (t - mean)^2), t in days.
+  CHECK(d[0].slope_sigma == Approx(0.1 / std::sqrt(245.0)).epsilon(1e-9));
+  CHECK(d[0].cross_sigma_days > 0.0);
+
+  // A signed figure moving down reaches -T: -1 - 0.25 / day, -8 at day 28.
+  rows.clear();
+  for (double day : {0.0, 10.0, 20.0}) rows.push_back(check_row(day, "a_x", -1.0 - 0.25 * day, 0.05, 8.0));
+  d = fit_drift(rows);
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].cross_s == Approx(kT0 + 28.0 * 86400.0).margin(1e-3));
+
+  // Scatter beyond the stated sigmas widens the slope's sigma by sqrt(chi^2 / dof):
+  // residuals +1, -1, +1, -1 about the line through them (sigma 0.1).
+  rows.clear();
+  const double days[] = {0.0, 1.0, 2.0, 3.0};
+  const double bumps[] = {1.0, -1.0, -1.0, 1.0};  // orthogonal to 1 and t: the fit is the line 2 + 0 t
+  for (int i = 0; i < 4; ++i) rows.push_back(check_row(days[i] * 2.0, "rotation_change", 2.0 + bumps[i], 0.1, 12.0));
+  d = fit_drift(rows);
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].slope_per_day == Approx(0.0).margin(1e-12));
+  CHECK_FALSE(d[0].significant);
+  // chi^2 = 4 / 0.01 = 400 over 2 dof: sigma_b = sqrt(200) x 0.1 / sqrt(sum (t - 3)^2 = 20).
+  CHECK(d[0].slope_sigma == Approx(std::sqrt(200.0) * 0.1 / std::sqrt(20.0)).epsilon(1e-9));
+  CHECK(d[0].cross_s == 0.0);
+
+  // Two checks, or three within a day: no trend.
+  rows.resize(2);
+  CHECK_FALSE(fit_drift(rows)[0].enough);
+  rows.clear();
+  for (double day : {0.0, 0.3, 0.6}) rows.push_back(check_row(day, "rotation_change", 1.0 + day, 0.1, 12.0));
+  CHECK_FALSE(fit_drift(rows)[0].enough);
+  CHECK(trueaxis::sim::drift_line(fit_drift(rows)[0]).find("no trend") != std::string::npos);
+}
