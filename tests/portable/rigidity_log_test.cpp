@@ -162,12 +162,19 @@ TA_TEST("a refused append loses the entry, not the macro (#9019)") {
   TA_CHECK_EQ(rig.get(v::kLogNewest), 2.0);
 }
 
+// The fault models walked (store_fakes.hpp): all three on the host; the
+// Cortex-M7 under QEMU walks the first, a clean stop, at every byte (the
+// store's own cut tests walk all three there).
+#ifndef TRUEAXIS_LOG_CUT_FAULTS
+#define TRUEAXIS_LOG_CUT_FAULTS 1
+#endif
+
 namespace {
 std::uint8_t g_cut_bytes[m::kRequiredStorageBytes];
 Shown g_before[m::kLogEntries];
 }  // namespace
 
-// Every append cut at every byte of its writes, under each fault model: after
+// Every append cut at every byte of its writes, under each fault model walked: after
 // the restart the log holds every entry it held, unchanged, and the new one
 // whole or not at all. Case index: 1000 x fault + budget.
 TA_TEST("a power cut at any byte of an append keeps the log as it was, or with the new entry whole") {
@@ -177,7 +184,7 @@ TA_TEST("a power cut at any byte of an append keeps the log as it was, or with t
   rf::stream(rig);
   TA_REQUIRE(build_at(rig, false, kT0) == kDone);  // one entry before the cuts
   std::uint64_t seed = 0x10C0'FFEE;
-  for (std::size_t f = 0; f < 3; ++f) {
+  for (std::size_t f = 0; f < TRUEAXIS_LOG_CUT_FAULTS; ++f) {
     bool cut = true;
     std::size_t budget = 0;
     for (; cut; ++budget) {
