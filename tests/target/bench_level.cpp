@@ -1,5 +1,6 @@
 // Bench: Cortex-M7 instructions of one run of macro 9810 (three-point level),
-// measured with SysTick under QEMU's instruction counting.
+// and of 9816 (the re-probe after leveling, judged as a check) on a session of
+// the same three points, measured with SysTick under QEMU's instruction counting.
 //
 // Run (the custom target run_bench_level does exactly this):
 //   qemu-system-arm -M mps2-an500 -nographic -monitor none -serial none
@@ -15,6 +16,7 @@
 // measurement; and, for comparison, core::level_face alone on the same face.
 #include <cstdint>
 
+#include "bench_module.hpp"
 #include "bench_support.hpp"
 #include "fixtures.hpp"
 #include "trueaxis/core/leveling.hpp"
@@ -98,5 +100,22 @@ int main() {
     s = t1 - t0 - overhead;
   }
   print("core::level_face alone: ", ticks_to_instructions(median(samples)), " instructions\n");
+
+  // 9816: the session (9812, then 9813 a point) holds the face's three
+  // points; the check levels through them and judges the tilt against #509.
+  std::uint64_t longest = 0, steps = 0;
+  bool ok = trueaxis::bench::run(module, clock, overhead, 9812, longest, steps);
+  for (int k = 0; k < 3 && ok; ++k) {
+    const double xyz[3] = {face.points_machine[k].x(), face.points_machine[k].y(), face.points_machine[k].z()};
+    ok = trueaxis::bench::write_n(module, var::kArgX, 3, xyz) && trueaxis::bench::run(module, clock, overhead, 9813, longest, steps);
+  }
+  const double ijk[3] = {face.hint_machine.x(), face.hint_machine.y(), face.hint_machine.z()};
+  ok = ok && trueaxis::bench::write_n(module, var::kArgA, 1, &face.probe_a_deg) &&
+       trueaxis::bench::write_n(module, var::kArgC, 1, &face.probe_c_deg) &&
+       trueaxis::bench::write_n(module, var::kArgI, 3, ijk) &&
+       trueaxis::bench::run(module, clock, overhead, 9816, longest, steps);
+  if (!ok) return 7;
+  print("macro 9816 (3 points): ", steps, " step, ");
+  print("", longest, " instructions\n");
   return 0;
 }
