@@ -267,7 +267,10 @@ int run_log(int argc, char** argv) {
   const bool taken = client.take_interface(wait_s * 1000, [&busy, wait_s] {
     std::fprintf(stderr, "trueaxis-calibrate: %s, waiting (up to %d s)\n", busy.c_str(), wait_s);
   });
-  if (!taken) return fail(client.failure_text());
+  if (!taken) {
+    const std::string why = client.failure_text();
+    return fail(why == busy ? busy + " (waited " + std::to_string(wait_s) + " s; --wait SECONDS)" : why);
+  }
   std::vector<trueaxis::sim::LogRow> rows;
   std::string error;
   if (!trueaxis::sim::read_log(client, rows, error)) return fail(error);
