@@ -431,6 +431,10 @@ void Module::succeed() {
 // convention 2), the whole log saved again as one record.
 void Module::append_log() {
   if constexpr (kHasLog) {
+    // Whatever becomes of this append, the calibration before it can no longer
+    // be replaced (a lost entry must not let a later store or check overwrite an older one).
+    const std::size_t replaceable = replaceable_method_;
+    replaceable_method_ = 0;
     LogEntry e = call_.log;
     e.macro = running_.info->number;
     const double t = at<var::kLogTime>();
@@ -446,10 +450,10 @@ void Module::append_log() {
     std::size_t n = log_codec::count(record_bytes_, length);
     if (n == 0 && length > 0) at<var::kLogLost>() = at<var::kLogLost>() + 1.0;  // not a log: started again
     const std::uint32_t newest = n > 0 ? log_codec::serial_at(record_bytes_, n - 1) : 0;
-    const bool replace = (e.stored || e.type == LogType::kCheck) && replaceable_method_ == running_.method + 1 &&
+    const bool replace = (e.stored || e.type == LogType::kCheck) && replaceable == running_.method + 1 &&
                          n > 0 && newest == replaceable_serial_;
     e.serial = replace ? newest : newest + 1;
-    if (e.serial == 0) e.serial = 1;  // serials wrap past 2^32 - 1 to 1, never 0
+    if (e.serial == 0) e.serial = 1;  // after 2^32 - 1 appends: serials no longer rise, the log starts again
     length = log_codec::add(record_bytes_, n, e, replace);
     if (store_.save(kLogRecord.key, record_bytes_, length) != core::Status::kOk) {
       at<var::kLogLost>() = at<var::kLogLost>() + 1.0;

@@ -200,6 +200,27 @@ TEST_CASE("a store written by 5f22699 loads with every record intact", "[store][
     CHECK(fresh.get(m::var::kLogNewest) == 0.0);
   }
 
+  SECTION("on storage still sized for the old records, every old record loads and only the log is refused") {
+    // A controller whose storage was sized to the 21,952 bytes the old code
+    // needed: start() says storage_failure, the tables, configuration and work
+    // offsets load and save as before, and a logged macro loses its entry
+    // (#9019), not its outcome.
+    trueaxis::hal::FileNvStorage nv;
+    REQUIRE(nv.open(copy.path.c_str(), 21952) == trueaxis::hal::IoStatus::kOk);
+    trueaxis::test::ModuleRig rig{trueaxis::test::RigOptions{}.on(nv).unstarted()};
+    CHECK(rig.start() == Status::kStorageFailure);
+    CHECK(rig.module().state<m::rigidity::Method>().table.has_table());
+    CHECK(rig.module().state<m::gantry::Method>().table.has_table());
+    CHECK(rig.module().state<m::spindle::Method>().table.has_table());
+    for (const expected::Value& want : expected::kStored) CHECK(rig.get(want.number) == want.value);
+    double code = kStoredUnlockCode;
+    CHECK(rig.module().write(m::var::kUnlock, 1, &code) == F::kNone);
+    double offset = 12.5;
+    CHECK(rig.module().write(m::var::kG54, 1, &offset) == F::kNone);  // the work offsets still save
+    double q = 0.0;
+    CHECK(rig.module().write(m::var::kArgQ, 1, &q) == F::kNone);
+  }
+
   Started s(copy.path);
 
   SECTION("every calibration table record loads") {

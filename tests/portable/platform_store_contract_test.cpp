@@ -386,14 +386,24 @@ TA_TEST("failures return their status and change nothing") {
     TA_CHECK_EQ(store.sequence(3), 0u);
     TA_CHECK(d.bytes == f.saved);
   }
-  {  // storage too small, bad specs, a small scratch or no mount refuse everything
+  {  // storage too small: the keys whose slots end beyond it refuse everything, the
+     // others work; bad specs, a small scratch or no mount refuse everything
     FailureFixture f;
     Device& d = f.d;
+    const std::uint8_t last = d.specs[d.specs.size() - 1].key;
+    const std::uint8_t first = d.specs[0].key;
     t::PowerCutStorage small(d.bytes.data(), d.bytes.size() - 1);
     KeyedStore too_small(small, d.specs.data(), d.specs.size(), d.scratch.data(), d.scratch.size());
     TA_CHECK_EQ(too_small.mount(), Status::kStorageFailure);
-    TA_CHECK_EQ(too_small.save(1, f.next.data, f.next.size), Status::kStorageFailure);
-    load(too_small, 1, Status::kStorageFailure);
+    TA_CHECK_EQ(too_small.save(last, f.next.data, f.next.size), Status::kStorageFailure);
+    load(too_small, last, Status::kStorageFailure);
+    TA_CHECK(d.bytes == f.saved);  // nothing written so far
+    load(too_small, first, Status::kOk);
+    TA_CHECK(KeyedStore::slot_offset(d.specs.data(), d.specs.size() - 1, 2) > d.bytes.size() - 1);
+    t::PowerCutStorage tiny(d.bytes.data(), 0);
+    KeyedStore none(tiny, d.specs.data(), d.specs.size(), d.scratch.data(), d.scratch.size());
+    TA_CHECK_EQ(none.mount(), Status::kStorageFailure);
+    load(none, first, Status::kStorageFailure);
     d.specs[1].key = 1;
     TA_CHECK_EQ(d.store().mount(), Status::kArgumentOutOfRange);
     d.specs[1].key = 2;

@@ -148,7 +148,7 @@ TA_TEST("the log keeps the newest 32 entries; serials go on") {
   TA_CHECK_EQ(show(rig, 40.0).time(), kT0 + 40.0);
 }
 
-TA_TEST("a refused append loses the entry, not the macro (#9019)") {
+TA_TEST("a refused append loses the entry, not the macro (#9019), and replaces nothing after it") {
   ModuleRig rig;
   rf::stream(rig);
   TA_REQUIRE(build_at(rig, false, kT0) == kDone);
@@ -158,8 +158,12 @@ TA_TEST("a refused append loses the entry, not the macro (#9019)") {
   TA_CHECK_EQ(rig.get(v::kLogCount), 1.0);
   TA_CHECK_NEAR(rig.get(v::kRigidityWorst), 20.0, 1e-3);  // the build's own results
   rig.storage().refuse = false;
-  TA_REQUIRE(build_at(rig, false, kT0 + 2.0) == kDone);
+  // The store comes after a calibration whose entry was lost: it must not
+  // replace the older calibration's entry 1.
+  TA_REQUIRE(build_at(rig, true, kT0 + 2.0) == kDone);
   TA_CHECK_EQ(rig.get(v::kLogNewest), 2.0);
+  TA_CHECK_EQ(show(rig, 1.0).stored(), 0.0);
+  TA_CHECK_EQ(show(rig, 2.0).stored(), 1.0);
 }
 
 // The fault models walked (store_fakes.hpp): all three on the host; the

@@ -396,14 +396,20 @@ int main(int argc, char** argv) {
   if (o.check && !trueaxis::sim::check_built(client, *method, r, verdict)) return fail(r.error);
   if (o.check && !o.report_dir.empty()) {
     // The report shows this method's drift, the check just logged included.
+    // A module that cannot give its log (older firmware) leaves the drift out:
+    // the check itself stands.
     std::vector<trueaxis::sim::LogRow> rows;
     std::string error;
-    if (!trueaxis::sim::read_log(client, rows, error)) return fail(error);
-    std::vector<trueaxis::sim::Drift> drift;
-    for (const trueaxis::sim::Drift& d : trueaxis::sim::fit_drift(rows)) {
-      if (d.method == method->name) drift.push_back(d);
+    if (trueaxis::sim::read_log(client, rows, error)) {
+      std::vector<trueaxis::sim::Drift> drift;
+      for (const trueaxis::sim::Drift& d : trueaxis::sim::fit_drift(rows)) {
+        if (d.method == method->name) drift.push_back(d);
+      }
+      r.report_extras = trueaxis::sim::with_member(r.report_extras, "\"drift\": " + trueaxis::sim::drift_json(drift));
+    } else {
+      std::fprintf(stderr, "trueaxis-calibrate: the report shows no drift: the module's log could not be read (%s)\n",
+                   error.c_str());
     }
-    r.report_extras = trueaxis::sim::with_member(r.report_extras, "\"drift\": " + trueaxis::sim::drift_json(drift));
   }
   // For the record only: a module without #902 (older firmware) reads as not set.
   double machine_id = 0.0;

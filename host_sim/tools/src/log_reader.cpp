@@ -106,13 +106,23 @@ std::vector<Drift> fit_drift(const std::vector<LogRow>& rows) {
   std::vector<std::pair<std::string, std::string>> order;
   std::map<std::pair<std::string, std::string>, std::vector<Point>> series;
   std::map<std::pair<std::string, std::string>, std::string> units;
+  // Per method, the stored table its newest check judged against: a store
+  // starts the drift again (deviations from another table are another series).
+  std::map<std::string, std::uint32_t> table_of;
   for (const LogRow& row : rows) {
-    if (!row.check || row.method.empty()) continue;
+    if (row.check && !row.method.empty()) table_of[row.method] = row.table_sequence;
+  }
+  for (const LogRow& row : rows) {
+    if (!row.check || row.method.empty() || row.table_sequence != table_of[row.method]) continue;
     for (const LogFigureRow& f : row.figures) {
       const auto key = std::make_pair(row.method, f.name);
       if (series.find(key) == series.end()) order.push_back(key);
       units[key] = f.unit;
-      if (row.time_s != 0) series[key].push_back({static_cast<double>(row.time_s), f.value, f.sigma, f.tolerance});
+      // The verdict judges |deviation| (check.hpp): so does the trend. A NaN is
+      // a failed figure, not a point of a line.
+      if (row.time_s != 0 && std::isfinite(f.value) && std::isfinite(f.sigma)) {
+        series[key].push_back({static_cast<double>(row.time_s), std::abs(f.value), f.sigma, f.tolerance});
+      }
     }
   }
   std::vector<Drift> out;
@@ -179,12 +189,10 @@ std::vector<Drift> fit_drift(const std::vector<LogRow>& rows) {
     d.value_now = a + b * last;
     d.value_now_sigma = std::sqrt(var_a + last * last * var_b);
     d.significant = std::abs(b) > 2.0 * d.slope_sigma;
-    // Magnitudes (all >= 0) cross +T; a signed figure the limit it moves to.
-    bool magnitude = true;
-    for (const Point& q : p) magnitude = magnitude && q.value >= 0.0;
-    const double target = magnitude || b > 0.0 ? d.tolerance : -d.tolerance;
-    d.crossed = d.tolerance > 0.0 && std::abs(d.value_now) >= d.tolerance;
-    if (d.significant && d.tolerance > 0.0 && !d.crossed && (magnitude ? b > 0.0 : true)) {
+    // |deviation| reaches the tolerance where a rising line meets it.
+    const double target = d.tolerance;
+    d.crossed = d.tolerance > 0.0 && d.value_now >= d.tolerance;
+    if (d.significant && d.tolerance > 0.0 && !d.crossed && b > 0.0) {
       const double t_cross = (target - a) / b;  // days from tc
       d.cross_s = (tc + t_cross) * kDayS;
       d.cross_sigma_days = std::sqrt(var_a + t_cross * t_cross * var_b) / std::abs(b);

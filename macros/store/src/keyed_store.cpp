@@ -125,9 +125,12 @@ core::Status KeyedStore::mount() {
   if (!specs_valid(specs_, count_) || scratch_ == nullptr || scratch_size_ < scratch_bytes(specs_, count_)) {
     return core::Status::kArgumentOutOfRange;
   }
-  if (storage_.size_bytes() < required_bytes(specs_, count_)) return core::Status::kStorageFailure;
   core::Status status = core::Status::kOk;
   for (std::size_t i = 0; i < count_; ++i) {
+    if (storage_.size_bytes() < slot_offset(specs_, i, 2)) {  // beyond the storage's end: stays unmounted
+      status = core::Status::kStorageFailure;
+      continue;
+    }
     std::uint32_t seq[2] = {0, 0};
     std::uint32_t len[2] = {0, 0};
     const SlotState state[2] = {read_slot(i, 0, seq[0], len[0]), read_slot(i, 1, seq[1], len[1])};

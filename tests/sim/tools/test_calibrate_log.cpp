@@ -102,7 +102,7 @@ TEST_CASE("trueaxis-calibrate log: weekly checks of a drifting machine, the tren
   for (int week = 1; week <= 5; ++week) {
     INFO("week " << week);
     const std::string& line = lines[static_cast<std::size_t>(week) + 1];
-    CHECK(line.find(std::to_string(week + 1)) != std::string::npos);
+    CHECK(line.find("     " + std::to_string(week + 1) + "  2027-") == 0);  // the serial column
     CHECK(line.find("rigidity   9836  check        pass") != std::string::npos);
     CHECK(line.find("rotation_change_") != std::string::npos);
   }
@@ -198,12 +198,37 @@ TEST_CASE("fit_drift against the closed forms: an exact line, a signed figure, s
   CHECK(d[0].slope_sigma == Approx(0.1 / std::sqrt(245.0)).epsilon(1e-9));
   CHECK(d[0].cross_sigma_days > 0.0);
 
-  // A signed figure moving down reaches -T: -1 - 0.25 / day, -8 at day 28.
+  // A signed figure is judged by |deviation|: -1 - 0.25 / day reaches 8 at day
+  // 28, and so does a series whose sign changes (+1.25, -3.5, +6).
   rows.clear();
   for (double day : {0.0, 10.0, 20.0}) rows.push_back(check_row(day, "a_x", -1.0 - 0.25 * day, 0.05, 8.0));
   d = fit_drift(rows);
   REQUIRE(d.size() == 1);
   CHECK(d[0].cross_s == Approx(kT0 + 28.0 * 86400.0).margin(1e-3));
+  rows.clear();
+  const double signs[] = {1.0, -1.0, 1.0};
+  for (int i = 0; i < 3; ++i) {
+    const double day = 10.0 * i;
+    rows.push_back(check_row(day, "a_x", signs[i] * (1.0 + 0.25 * day), 0.05, 8.0));
+  }
+  CHECK(fit_drift(rows)[0].cross_s == Approx(kT0 + 28.0 * 86400.0).margin(1e-3));
+
+  // A store starts the series again: checks against an older table are left
+  // out, and a NaN figure (a failed one) is no point of the line.
+  rows.clear();
+  for (double day : {0.0, 7.0, 14.0}) {
+    rows.push_back(check_row(day, "rotation_change", 1.0 + 0.5 * day, 0.1, 12.0));
+    rows.back().table_sequence = 1;
+  }
+  for (double day : {21.0, 28.0, 35.0, 42.0}) {
+    rows.push_back(check_row(day, "rotation_change", day == 35.0 ? std::nan("") : 0.3, 0.1, 12.0));
+    rows.back().table_sequence = 2;
+  }
+  d = fit_drift(rows);
+  REQUIRE(d.size() == 1);
+  CHECK(d[0].checks == 3);  // days 21, 28, 42
+  CHECK(d[0].slope_per_day == Approx(0.0).margin(1e-12));
+  CHECK_FALSE(d[0].significant);
 
   // Scatter beyond the stated sigmas widens the slope's sigma by sqrt(chi^2 / dof):
   // residuals +1, -1, +1, -1 about the line through them (sigma 0.1).

@@ -116,9 +116,12 @@ class KeyedStore {
   // Reads and checks both slots of every key once and remembers, per key, its
   // newest valid slot and sequence. kArgumentOutOfRange for specs that fail
   // specs_valid() or a scratch buffer under scratch_bytes(); kStorageFailure when
-  // the storage is under required_bytes(), or when a slot could not be read: that
-  // key then refuses load and save (its unread slot may hold the newest copy, which
-  // a save could overwrite) until a later mount reads it; the other keys work.
+  // a slot could not be read: that key then refuses load and save (its unread slot
+  // may hold the newest copy, which a save could overwrite) until a later mount
+  // reads it; the other keys work. Likewise when the storage is under
+  // required_bytes(): the keys whose slots end beyond it refuse load and save, the
+  // others mount (a record appended to the list, on storage sized for the list
+  // before it, leaves every earlier record readable).
   [[nodiscard]] core::Status mount();
 
   // Copies the key's newest payload into out[0, length); length = 0 when the key

@@ -8,15 +8,18 @@
 //     for each serial from the oldest held (#9017 - #9016 + 1) to the newest,
 //     and returns the entries oldest first; an entry dropped meanwhile (a
 //     33rd appended by another client) is skipped.
-//  2. fit_drift(): per method and figure kind of the checks, a straight line
-//     value = a + b t through the logged deviations, weighted by 1 / sigma^2;
+//  2. fit_drift(): per method and figure kind of the checks against the stored
+//     table the method's newest check judged (a store starts a new series), a
+//     straight line |deviation| = a + b t (the verdict judges |deviation|, so a
+//     signed figure's worst may change sign between checks), NaNs left out,
+//     weighted by 1 / sigma^2;
 //     the parameters' covariance scaled by the reduced chi-square when that
 //     is above 1 (a scatter beyond the stated sigmas widens the trend's
 //     uncertainty, never narrows it). At least 3 checks with known times over
 //     more than one day; fewer gives no trend. The trend is significant when
-//     |b| > 2 sigma_b; then the projected crossing is where the line reaches
-//     the tolerance in the direction it moves (+T for a magnitude, +-T for a
-//     signed figure), with its 1-sigma from the parameters' covariance.
+//     |b| > 2 sigma_b; then, when it rises, the projected crossing is where the
+//     line reaches the tolerance, with its 1-sigma from the parameters'
+//     covariance.
 #pragma once
 
 #include <cstdint>
