@@ -479,8 +479,6 @@ void Module::load_log_summary() {
 }
 
 // #9020..#9059: the entry of serial `serial`, or zeros when the log holds none.
-// Read in place from the record (no LogEntry on the stack: a register write's
-// stack bound is small).
 void Module::show_log_entry(double serial) {
   const std::uint8_t* entry = nullptr;
   if constexpr (kHasLog) {
@@ -492,27 +490,8 @@ void Module::show_log_entry(double serial) {
       }
     }
   }
-  const auto u32 = [entry](std::size_t at) { return entry != nullptr ? static_cast<double>(get_u32(entry + at)) : 0.0; };
-  const auto u8 = [entry](std::size_t at) { return entry != nullptr ? static_cast<double>(entry[at]) : 0.0; };
-  at<var::kLogSerial>() = u32(0);
-  at<var::kLogEntryTime>() = u32(4);
-  at<var::kLogMacro>() = entry != nullptr ? static_cast<double>(get_u16(entry + 8)) : 0.0;
-  at<var::kLogType>() = u8(10);
-  at<var::kLogVerdict>() = entry != nullptr && entry[11] == kNoVerdict ? -1.0 : u8(11);
-  at<var::kLogStored>() = u8(12);
-  at<var::kLogTableSequence>() = u32(14);
-  const std::size_t figures = entry != nullptr ? entry[13] : 0;
-  at<var::kLogFigureCount>() = static_cast<double>(figures);
-  double* out = &at<var::kLogFigureFirst>();
-  for (std::size_t k = 0; k < kLogFigures; ++k, out += var::kLogFigureValues) {
-    const std::uint8_t* f = entry != nullptr ? entry + 18 + k * kLogFigureBytes : nullptr;
-    const bool held = k < figures;
-    out[0] = held ? f[0] : 0.0;
-    out[1] = held ? f[1] : 0.0;
-    out[2] = held ? static_cast<double>(log_codec::get_f32(f + 2)) : 0.0;
-    out[3] = held ? static_cast<double>(log_codec::get_f32(f + 6)) : 0.0;
-    out[4] = held ? static_cast<double>(log_codec::get_f32(f + 10)) : 0.0;
-  }
+  static_assert(var::kLogFigureCount == var::kLogSerial + 7, "#9020..#9027 are one run of slots");
+  log_codec::window(entry, &at<var::kLogSerial>(), &at<var::kLogFigureFirst>(), var::kLogFigureValues);
 }
 
 void Module::publish_results() {

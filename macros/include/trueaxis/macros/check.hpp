@@ -93,6 +93,11 @@ inline double check_ratio(const CheckFigure& f) {
   return std::isnan(r) ? HUGE_VAL : r;
 }
 
+// Convention 2's order of figures: a worse verdict, then a larger ratio.
+inline bool outranks(Verdict v, double ratio, Verdict than_v, double than_ratio) {
+  return v > than_v || (v == than_v && ratio > than_ratio);
+}
+
 namespace var {
 inline constexpr std::uint16_t kCheckVerdict = 100;
 inline constexpr std::uint16_t kCheckFigures = 101;
@@ -142,7 +147,7 @@ MacroStep publish_check(Ctx& ctx, std::size_t count, FigureAt figure_at) {
     const CheckFigure f = figure_at(k);
     const Verdict v = judge(f);
     const double ratio = check_ratio(f);
-    if (k == 0 || v > verdict || (v == verdict && ratio > worst_ratio)) {
+    if (k == 0 || outranks(v, ratio, verdict, worst_ratio)) {
       worst = k;
       worst_ratio = ratio;
       verdict = v;
@@ -160,7 +165,7 @@ MacroStep publish_check(Ctx& ctx, std::size_t count, FigureAt figure_at) {
       const std::size_t i = f.kind - 1U;
       const Verdict v = judge(f);
       const double ratio = check_ratio(f);
-      if (!seen[i] || v > kind_verdict[i] || (v == kind_verdict[i] && ratio > kind_ratio[i])) {
+      if (!seen[i] || outranks(v, ratio, kind_verdict[i], kind_ratio[i])) {
         seen[i] = true;
         of_kind[i] = k;
         kind_ratio[i] = ratio;

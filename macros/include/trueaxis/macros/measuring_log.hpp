@@ -139,6 +139,31 @@ inline bool decode(const std::uint8_t* in, LogEntry& e) {
   return valid(in);
 }
 
+// The register window's values of the entry at `entry` (#9020..#9027, then
+// #9030 + 5 k: kind, item, value, sigma, tolerance), or zeros for nullptr, read
+// in place (no LogEntry on the stack: a register write's stack bound is small).
+inline void window(const std::uint8_t* entry, double* head, double* figures, std::size_t values_per_figure) {
+  const bool held_entry = entry != nullptr;
+  head[0] = held_entry ? static_cast<double>(core::get_u32(entry)) : 0.0;
+  head[1] = held_entry ? static_cast<double>(core::get_u32(entry + 4)) : 0.0;
+  head[2] = held_entry ? static_cast<double>(core::get_u16(entry + 8)) : 0.0;
+  head[3] = held_entry ? static_cast<double>(entry[10]) : 0.0;
+  head[4] = !held_entry ? 0.0 : entry[11] == kNoVerdict ? -1.0 : static_cast<double>(entry[11]);
+  head[5] = held_entry ? static_cast<double>(entry[12]) : 0.0;
+  head[6] = held_entry ? static_cast<double>(core::get_u32(entry + 14)) : 0.0;
+  const std::size_t count = held_entry ? entry[13] : 0;
+  head[7] = static_cast<double>(count);
+  for (std::size_t k = 0; k < kLogFigures; ++k) {
+    double* out = figures + k * values_per_figure;
+    const std::uint8_t* f = k < count ? entry + 18 + k * kLogFigureBytes : nullptr;
+    out[0] = f != nullptr ? f[0] : 0.0;
+    out[1] = f != nullptr ? f[1] : 0.0;
+    out[2] = f != nullptr ? static_cast<double>(get_f32(f + 2)) : 0.0;
+    out[3] = f != nullptr ? static_cast<double>(get_f32(f + 6)) : 0.0;
+    out[4] = f != nullptr ? static_cast<double>(get_f32(f + 10)) : 0.0;
+  }
+}
+
 // The entries of a payload of `length` bytes (convention 4: 0 when it is not
 // a valid log).
 inline std::size_t count(const std::uint8_t* payload, std::size_t length) {
