@@ -3,6 +3,7 @@
 //                   [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE]
 //                   [--check] [--operator NAME] [--time WHEN]
 // trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]
+// trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]
 // The integrator's command (docs/INTERFACE.md, "The integrator's command"):
 // reads the samples, streams them to the module over Modbus (default
 // 127.0.0.1:502), runs the method's macros there and writes what the module
@@ -24,7 +25,9 @@
 // exits 3 when the verdict is fail (0 on pass or warn). Each build, store and
 // check hands the module the time for its measuring log (--time, default
 // now); `log` prints that log, newest last, with the drift of every checked
-// figure, and --csv writes it as CSV.
+// figure, and --csv writes it as CSV. `plan` predicts, before measuring, the
+// 1-sigma of every output of a planned measurement (planner.hpp): it needs no
+// module, it runs the method's own routine on the simulator's machine.
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -44,7 +47,9 @@
 
 #include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
+#include "trueaxis/sim/tools/csv.hpp"
 #include "trueaxis/sim/tools/log_reader.hpp"
+#include "trueaxis/sim/tools/planner.hpp"
 
 using trueaxis::sim::write_text_file;
 
@@ -59,7 +64,30 @@ constexpr const char* kUsage =
     "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n"
     "                          [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE]\n"
     "                          [--check] [--operator NAME] [--time WHEN]\n"
-    "       trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]\n";
+    "       trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]\n"
+    "       trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]\n";
+
+constexpr const char* kPlanHelp =
+    "plan METHOD: the 1-sigma of every output of a planned measurement, predicted before it is\n"
+    "made from the method's own computation (the module's firmware_core routine, linearised about\n"
+    "the instrument's noise-free readings of the simulator's machine), the plan's valuation (the\n"
+    "worst 2 sigma / check tolerance), the outputs it cannot separate (|correlation| > 0.99), and the\n"
+    "one or two changes of about one pose that lower the valuation most. No module is needed.\n"
+    "  rigidity  --a FROM,TO,STEP (deg; -90,90,30) --c-step DEG (10) or --in PLAN.csv (a_deg,c_deg:\n"
+    "            a pose per A, its C positions; other columns ignored), --ball X,Y,Z (mm, table\n"
+    "            coordinates; 200,0,50), --noise-um U (ball centre, 1 sigma per axis; 1),\n"
+    "            --a-limits MIN,MAX (deg; the suggested poses' range; -120,120)\n"
+    "  gantry    --pad-grid N (5) --side-grid ROWS,COLS (4,5) --passes N (3) --pass-points N (15) --circle-points N (24)\n"
+    "            --c-arc FROM,TO (0,345) --a-arc FROM,TO (-90,90) --mpe UM,UM_PER_M (15,6: the tracker's\n"
+    "            point MPE, read as 2 sigma across the line of sight) --radial-mpe UM (10)\n"
+    "            --tracker-distance M (in front of the machine's front; 2.5)\n"
+    "  spindle   --revolutions R (3) --angles N (a revolution, 8..4096; 72) --balls B1,B2 (mm below\n"
+    "            the gauge line; 50,150) --noise-nm S (1 sigma per axis; 15)\n"
+    "  level     --side MM (the probing triangle's side; 100) or --points X,Y;X,Y;... (mm),\n"
+    "            --noise-um U (1 sigma per axis; 0.5)\n"
+    "  --json PLAN.json  the prediction as JSON; --suggest N  0..2 changes to look for (2)\n"
+    "Exit 0 with the prediction on stdout; 3 when the method would refuse the plan (stdout and\n"
+    "PLAN.json say why, as the module's error); 1 on bad usage or an unwritable PLAN.json.\n";
 
 int fail(const std::string& line) {
   std::fprintf(stderr, "trueaxis-calibrate: %s\n", line.c_str());
@@ -149,9 +177,10 @@ void print_help() {
               "log: the module's measuring log (every calibration, store and check of M2, M3, M4), newest\n"
               "last, and per checked figure its drift (a weighted line through its deviations) with the\n"
               "date it reaches its tolerance; --csv FILE writes the entries as CSV too.\n"
+              "%s"
               "Exit 0 with one summary line on stdout; 1 with one line on stderr on any failure, and\n"
               "then no OUT.json and nothing stored; 3 when --check's verdict is fail (OUT.json and the\n"
-              "report written).\n");
+              "report written).\n", kPlanHelp);
 }
 
 void print_method_help(const CalibrateMethod& m) {
@@ -287,12 +316,243 @@ int run_log(int argc, char** argv) {
   return 0;
 }
 
+
+// "A,B" or "A,B,C" into `out` (exactly `count` numbers); false otherwise.
+bool numbers(const std::string& text, std::size_t count, std::vector<double>& out) {
+  out.clear();
+  const char* p = text.c_str();
+  while (true) {
+    char* end = nullptr;
+    const double v = std::strtod(p, &end);
+    if (end == p || !std::isfinite(v)) return false;
+    out.push_back(v);
+    if (*end == '\0') break;
+    if (*end != ',') return false;
+    p = end + 1;
+  }
+  return out.size() == count;
+}
+
+bool whole(const std::string& text, int low, int high, int& out) {
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || v < low || v > high) return false;
+  out = static_cast<int>(v);
+  return true;
+}
+
+bool positive(const std::string& text, double& out) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(v > 0.0) || !std::isfinite(v)) return false;
+  out = v;
+  return true;
+}
+
+// A rigidity plan from a CSV of a_deg, c_deg rows: one pose per A (within
+// 1e-6 deg, as the module groups them), its C positions in file order.
+bool read_rigidity_plan(const std::string& path, trueaxis::sim::RigidityPlan& plan, std::string& error) {
+  const trueaxis::sim::CsvResult csv = trueaxis::sim::read_csv(path, {{"a_deg"}, {"c_deg"}});
+  if (!csv.ok) {
+    error = csv.error;
+    return false;
+  }
+  plan.poses.clear();
+  for (const trueaxis::sim::CsvRow& row : csv.rows) {
+    auto pose = plan.poses.begin();
+    while (pose != plan.poses.end() && std::fabs(pose->first - row.numbers[0]) > 1e-6) ++pose;
+    if (pose == plan.poses.end()) {
+      plan.poses.emplace_back(row.numbers[0], std::vector<double>{});
+      pose = plan.poses.end() - 1;
+    }
+    pose->second.push_back(row.numbers[1]);
+  }
+  if (plan.poses.empty()) {
+    error = path + ": no rows";
+    return false;
+  }
+  return true;
+}
+
+// trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N].
+int run_plan(int argc, char** argv) {
+  namespace ts = trueaxis::sim;
+  if (argc < 3) return usage_error("plan takes METHOD: rigidity, gantry, spindle or level");
+  const std::string method = argv[2];
+  if (method == "--help" || method == "-h") {
+    std::printf("%s\n%s", kUsage, kPlanHelp);
+    return 0;
+  }
+  ts::RigidityPlan rigidity = ts::rigidity_plan(-90.0, 90.0, 30.0, 10.0);
+  ts::GantryPlanSpec gantry;
+  ts::SpindlePlan spindle;
+  ts::LevelPlan level = ts::level_plan(100.0);
+  std::vector<double> a_range = {-90.0, 90.0, 30.0};
+  double c_step = 10.0;
+  std::string in_path, json_path;
+  int suggest = 2;
+  std::vector<double> v;
+  for (int i = 3; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has = i + 1 < argc;
+    const std::string value = has ? argv[i + 1] : "";
+    bool ok = has;
+    if (arg == "--help" || arg == "-h") {
+      std::printf("%s\n%s", kUsage, kPlanHelp);
+      return 0;
+    } else if (arg == "--json") {
+      json_path = value;
+    } else if (arg == "--suggest") {
+      ok = ok && whole(value, 0, 2, suggest);
+    } else if (method == "rigidity" && arg == "--a") {
+      ok = ok && numbers(value, 3, a_range) && a_range[2] > 0.0 && a_range[0] <= 0.0 && a_range[1] >= 0.0;
+    } else if (method == "rigidity" && arg == "--c-step") {
+      ok = ok && positive(value, c_step) && c_step < 360.0;
+    } else if (method == "rigidity" && arg == "--in") {
+      in_path = value;
+    } else if (method == "rigidity" && arg == "--ball") {
+      ok = ok && numbers(value, 3, v);
+      if (ok) rigidity.ball_table_mm = trueaxis::core::Vec3(v[0], v[1], v[2]);
+    } else if ((method == "rigidity" || method == "level") && arg == "--noise-um") {
+      double um = 0.0;
+      ok = ok && positive(value, um);
+      rigidity.sigma_mm = level.sigma_mm = um / 1000.0;
+    } else if (method == "rigidity" && arg == "--a-limits") {
+      ok = ok && numbers(value, 2, v) && v[0] < v[1];
+      if (ok) rigidity.a_min_deg = v[0], rigidity.a_max_deg = v[1];
+    } else if (method == "gantry" && arg == "--pad-grid") {
+      ok = ok && whole(value, 2, 11, gantry.pad_grid);
+    } else if (method == "gantry" && arg == "--side-grid") {
+      ok = ok && numbers(value, 2, v) && v[0] >= 2 && v[0] <= 20 && v[1] >= 2 && v[1] <= 20 &&
+           v[0] == std::floor(v[0]) && v[1] == std::floor(v[1]);
+      if (ok) gantry.side_rows = static_cast<int>(v[0]), gantry.side_cols = static_cast<int>(v[1]);
+    } else if (method == "gantry" && arg == "--passes") {
+      ok = ok && whole(value, 1, 8, gantry.passes);
+    } else if (method == "gantry" && arg == "--pass-points") {
+      ok = ok && whole(value, 3, 60, gantry.pass_points);
+    } else if (method == "gantry" && arg == "--circle-points") {
+      ok = ok && whole(value, 4, 60, gantry.circle_points);
+    } else if (method == "gantry" && arg == "--c-arc") {
+      ok = ok && numbers(value, 2, v) && v[0] < v[1] && v[1] - v[0] < 360.0;
+      if (ok) gantry.c_from_deg = v[0], gantry.c_to_deg = v[1];
+    } else if (method == "gantry" && arg == "--a-arc") {
+      ok = ok && numbers(value, 2, v) && v[0] < v[1] && v[1] - v[0] < 360.0;
+      if (ok) gantry.a_from_deg = v[0], gantry.a_to_deg = v[1];
+    } else if (method == "gantry" && arg == "--mpe") {
+      ok = ok && numbers(value, 2, v) && v[0] > 0.0 && v[1] >= 0.0;
+      if (ok) gantry.transverse_mpe_mm = v[0] / 1000.0, gantry.transverse_mpe_per_m_mm = v[1] / 1000.0;
+    } else if (method == "gantry" && arg == "--tracker-distance") {
+      ok = ok && positive(value, gantry.tracker_distance_m) && gantry.tracker_distance_m <= 30.0;
+    } else if (method == "gantry" && arg == "--radial-mpe") {
+      double um = 0.0;
+      ok = ok && positive(value, um);
+      gantry.radial_mpe_mm = um / 1000.0;
+    } else if (method == "spindle" && arg == "--revolutions") {
+      ok = ok && whole(value, 1, 100, spindle.revolutions);
+    } else if (method == "spindle" && arg == "--angles") {
+      ok = ok && whole(value, 8, 4096, spindle.samples_per_revolution);
+    } else if (method == "spindle" && arg == "--balls") {
+      ok = ok && numbers(value, 2, v) && v[0] > 0.0 && v[1] > v[0];
+      if (ok) spindle.ball_mm[0] = v[0], spindle.ball_mm[1] = v[1];
+    } else if (method == "spindle" && arg == "--noise-nm") {
+      double nm = 0.0;
+      ok = ok && positive(value, nm);
+      spindle.sigma_mm = nm * 1e-6;
+    } else if (method == "level" && arg == "--side") {
+      double side = 0.0;
+      ok = ok && positive(value, side);
+      if (ok) level.points = ts::level_plan(side).points;
+    } else if (method == "level" && arg == "--points") {
+      level.points.clear();
+      std::size_t from = 0;
+      while (ok && from <= value.size()) {
+        const std::size_t semi = value.find(';', from);
+        const std::string point = value.substr(from, semi == std::string::npos ? std::string::npos : semi - from);
+        ok = numbers(point, 2, v);
+        if (ok) level.points.emplace_back(v[0], v[1]);
+        if (semi == std::string::npos) break;
+        from = semi + 1;
+      }
+      ok = ok && level.points.size() >= 3;
+    } else {
+      return usage_error("unknown option '" + arg + "' for plan " + method);
+    }
+    if (!ok) {
+      static const char* const kForms[][2] = {
+          {"--suggest", "0, 1 or 2"},
+          {"--a", "FROM,TO,STEP in degrees, FROM <= 0 <= TO, STEP > 0"},
+          {"--c-step", "degrees, 0 < STEP < 360"},
+          {"--ball", "X,Y,Z in mm (table coordinates)"},
+          {"--noise-um", "micrometres, > 0"},
+          {"--a-limits", "MIN,MAX in degrees, MIN < MAX"},
+          {"--pad-grid", "2..11"},
+          {"--side-grid", "ROWS,COLS: 2..20 each"},
+          {"--passes", "1..8"},
+          {"--pass-points", "3..60"},
+          {"--circle-points", "4..60"},
+          {"--c-arc", "FROM,TO in degrees, FROM < TO, less than a turn"},
+          {"--a-arc", "FROM,TO in degrees, FROM < TO, less than a turn"},
+          {"--mpe", "UM,UM_PER_M: micrometres > 0 and micrometres per metre >= 0"},
+          {"--radial-mpe", "micrometres, > 0"},
+          {"--tracker-distance", "metres in front of the machine, 0 < M <= 30"},
+          {"--revolutions", "1..100"},
+          {"--angles", "8..4096 a revolution"},
+          {"--balls", "B1,B2 in mm below the gauge line, 0 < B1 < B2"},
+          {"--noise-nm", "nanometres, > 0"},
+          {"--side", "millimetres, > 0"},
+          {"--points", "X,Y;X,Y;X,Y... in mm, at least 3 points"},
+      };
+      std::string form = "a value";
+      for (const auto& f : kForms) {
+        if (arg == f[0]) form = f[1];
+      }
+      return usage_error("plan " + method + ": " + arg + (has ? " '" + value + "'" : "") + ": takes " + form);
+    }
+    ++i;
+  }
+  std::shared_ptr<const ts::PlanModel> model;
+  if (method == "rigidity") {
+    if (!in_path.empty()) {
+      std::string error;
+      if (!read_rigidity_plan(in_path, rigidity, error)) return fail(error);
+    } else {
+      const ts::RigidityPlan r = ts::rigidity_plan(a_range[0], a_range[1], a_range[2], c_step);
+      rigidity.poses = r.poses;
+    }
+    model = ts::rigidity_model(rigidity);
+  } else if (method == "gantry") {
+    model = ts::gantry_model(gantry);
+  } else if (method == "spindle") {
+    model = ts::spindle_model(spindle);
+  } else if (method == "level") {
+    model = ts::level_model(level);
+  } else {
+    return usage_error("plan: unknown METHOD '" + method + "' (rigidity, gantry, spindle, level)");
+  }
+  ts::Progress progress("plan " + method, "evaluations");
+  const ts::PlanPrediction p =
+      ts::predict_plan(*model, [&progress](std::size_t done, std::size_t total) { progress.update(done, total); });
+  ts::Progress searching("plan " + method + ": changes", "plans");
+  const std::vector<ts::PlanSuggestion> s = ts::suggest_changes(
+      *model, p, suggest, [&searching](std::size_t done, std::size_t total) { searching.update(done, total); });
+  if (!json_path.empty()) {
+    const std::string tmp = json_path + ".tmp";
+    if (!write_text_file(tmp, ts::plan_json(*model, p, s)) || std::rename(tmp.c_str(), json_path.c_str()) != 0) {
+      std::remove(tmp.c_str());
+      return fail(json_path + ": cannot be written");
+    }
+  }
+  std::printf("%s", ts::plan_table(*model, p, s, suggest > 0).c_str());
+  return p.ok ? 0 : 3;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) return usage_error("no METHOD");
   const std::string first = argv[1];
   if (first == "log") return run_log(argc, argv);
+  if (first == "plan") return run_plan(argc, argv);
   const CalibrateMethod* method = trueaxis::sim::find_calibrate_method(first);
   // --help and --version anywhere after METHOD, or in its place.
   const int options_from = method != nullptr ? 2 : 1;

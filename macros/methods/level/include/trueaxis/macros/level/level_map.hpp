@@ -86,6 +86,9 @@ inline constexpr std::uint16_t kSessionCapacity = static_cast<std::uint16_t>(cor
 
 inline constexpr core::LevelConfig kDefaults{};
 
+// 9816's tolerance of the tilt after leveling (#509), arcsec.
+inline constexpr double kDefaultCheckToleranceArcsec = 10.0;
+
 // clang-format off
 inline constexpr VarInfo kRows[] = {
   rows::config(var::kAMin, -360.0, 360.0, kDefaults.a_min_deg, "a_min", "deg", "A-axis travel: lower limit."),
@@ -98,7 +101,7 @@ inline constexpr VarInfo kRows[] = {
   rows::config(var::kMaxDirectionSigma, 1e-6, 90.0, kDefaults.max_direction_sigma_deg, "max_direction_sigma", "deg", "Leveling refuses points whose normal would be uncertain by more than this (1 sigma)."),
   {var::kLevelAxes, 1, Access::kConfig, ValueKind::kInteger, 0.0, 1.0, 0.0, "level_axes", "",
    "Leveling runs on 0: the ideal axes Rx(A) Rz(C); 1: the calibrated axes of the stored rigidity table (M3)."},
-  rows::config(var::kLevelCheckTolerance, 1e-3, 1e6, 10.0, "level_check_tolerance", "arcsec",
+  rows::config(var::kLevelCheckTolerance, 1e-3, 1e6, kDefaultCheckToleranceArcsec, "level_check_tolerance", "arcsec",
                "Leveling check (9816): the tolerance of the face's tilt, probed again after leveling."),
   rows::data_block(var::kPointList, var::kPointListCount, "level_points", "mm", "Macro 9811: X, Y, Z of points 1..32, interleaved, machine frame."),
 };

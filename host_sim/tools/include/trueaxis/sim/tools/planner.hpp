@@ -1,0 +1,195 @@
+// trueaxis-calibrate plan: the measurement judged before it is made (issue
+// "The calibration lifecycle", item 4). Host only: it allocates.
+//
+// Contract
+//  1. A plan is what an operator would measure: the poses (M3: A poses and
+//     their C positions; M2: the gantry's groups; M4: the analyser's sampling
+//     and ball depths; M1: the probe points) on a nominal machine, and the
+//     instrument's noise. Its readings are the instrument's noise-free
+//     readings of that machine (the simulator's virtual machine of the method,
+//     whose errors are small enough that the sensitivities below are those of
+//     any machine of its geometry), each with its noise covariance L L^T.
+//  2. The prediction is the method's own computation linearised: the method's
+//     firmware_core routine (the very code the module runs) is evaluated on
+//     the readings and on each reading moved by one column of its L (one
+//     sigma; forward differences), giving g_ij = f(moved) - f, and
+//         Cov = sum_ij g_ij g_ij^T,
+//     the covariance of the outputs to first order. Where the method is a
+//     least-squares fit with the instrument's weights this is the inverse of
+//     its Fisher information, mapped to the outputs; where it is a chain of
+//     fits (M2, M3) it is that chain's own propagation, not an ideal
+//     estimator's bound. A plan the method refuses is reported with the
+//     module's error, as the module would refuse it.
+//  3. Outputs: per method the figures OUT.json reports, each with its unit
+//     and, where the check judges it (check.hpp), the check's default
+//     tolerance. The plan's valuation V = max over those of 2 sigma /
+//     tolerance, and its worst output the one that gives it: with V < 1 the
+//     plan resolves every tolerance at 2 sigma; a check against a table
+//     calibrated with the same plan sees sqrt(2) sigma (both measurements'
+//     noise), so it warns on noise alone from V > 0.7 on.
+//  4. Inseparable outputs: pairs whose correlation |rho| > kInseparable (the
+//     plan moves them together; only their combination is measured), derived
+//     outputs left out.
+//  5. Suggestions: each method offers changes of about one pose's cost
+//     (PlanModel::candidates: an A pose or the ball higher on its stem, a
+//     probe point, a wider arc or one more pass, one more revolution); the
+//     best change by the resulting valuation, then the best second change
+//     after it (greedy).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "trueaxis/core/types.hpp"
+
+namespace trueaxis::sim {
+
+inline constexpr double kInseparable = 0.99;
+
+// Contract 1: one reading, noise-free, and the factor of its noise covariance.
+struct PlanReading {
+  core::Vec3 value = core::Vec3::Zero();
+  core::Mat3 noise_factor = core::Mat3::Zero();  // L: covariance L L^T (mm^2)
+};
+
+// Contract 3: one output of the method.
+struct PlanOutput {
+  std::string name;       // as OUT.json names it, with the item: "A=30 rotation_vector_x"
+  std::string unit;       // "mm", "arcsec"
+  double tolerance = 0.0;  // the check's default (same unit); 0: not judged
+  bool derived = false;    // a function of other outputs (M1's A and C of its normal): never "not separated"
+};
+
+class PlanModel;
+
+// A change to a plan (contract 5) and the plan it makes.
+struct PlanChange {
+  std::string what;  // "add the A pose 45 deg (36 C positions)"
+  std::shared_ptr<const PlanModel> plan;
+};
+
+// One method on one plan (contract 1).
+class PlanModel {
+ public:
+  virtual ~PlanModel() = default;
+  virtual const char* method() const = 0;
+  // The plan in one line: "7 A poses -90..90 x 36 C, ball 1 um".
+  virtual std::string description() const = 0;
+  virtual const std::vector<PlanReading>& readings() const = 0;
+  virtual const std::vector<PlanOutput>& outputs() const = 0;
+  // The outputs from `values` (one per reading, in order) by the method's own
+  // code; false with `error` the module's refusal ("module error 210 ...").
+  virtual bool evaluate(const std::vector<core::Vec3>& values, std::vector<double>& out, std::string& error) const = 0;
+  virtual std::vector<PlanChange> candidates() const = 0;
+};
+
+// A pair of outputs the plan cannot separate (contract 4).
+struct PlanInseparable {
+  std::size_t first = 0;
+  std::size_t second = 0;
+  double rho = 0.0;
+};
+
+struct PlanPrediction {
+  bool ok = false;
+  std::string error;                   // when !ok: the method's refusal
+  std::vector<PlanOutput> outputs;
+  std::vector<double> value;           // at the noise-free readings
+  std::vector<double> sigma;           // 1 sigma, contract 2
+  std::vector<double> covariance;      // n x n, row-major
+  double valuation = 0.0;              // contract 3
+  std::size_t worst = 0;               // the output that gives it
+  std::vector<PlanInseparable> inseparable;
+  std::size_t readings = 0;
+  std::size_t evaluations = 0;
+};
+
+// Contract 2; `progress` (may be empty) is told evaluations done of total.
+PlanPrediction predict_plan(const PlanModel& model,
+                            const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+struct PlanSuggestion {
+  std::string what;
+  double valuation = 0.0;  // of the plan with this change and those before it
+  std::string worst;       // its worst output
+  std::string description; // that plan
+};
+
+// Contract 5: up to `count` changes, each the best after those before it;
+// stops early when no change lowers the valuation.
+std::vector<PlanSuggestion> suggest_changes(const PlanModel& model, const PlanPrediction& base, int count,
+                                            const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+// ---- the methods' plans -----------------------------------------------------------
+
+// M3: A poses, each with its C positions, the ball at ball_table_mm on the
+// table (table coordinates, calibration_ball.hpp), its centre read to
+// sigma_mm per coordinate; on the simulator's cradle (realistic errors).
+struct RigidityPlan {
+  std::vector<std::pair<double, std::vector<double>>> poses;  // (A, C positions), deg
+  core::Vec3 ball_table_mm = core::Vec3(200.0, 0.0, 50.0);
+  double sigma_mm = 0.001;
+  double a_min_deg = -120.0;  // the candidates' A range (contract 5)
+  double a_max_deg = 120.0;
+};
+// A from a_from to a_to every a_step (0 included), C every c_step over a turn.
+RigidityPlan rigidity_plan(double a_from, double a_to, double a_step, double c_step);
+std::shared_ptr<const PlanModel> rigidity_model(const RigidityPlan& plan);
+
+// M2: the simulator's gantry (realistic_gantry) and tracker placement
+// (TrackerPlacement, at tracker_distance_m), measured by gantry_measure.hpp's plan; the tracker's stated noise
+// (laser_tracker.hpp convention 3: radial and transverse).
+struct GantryPlanSpec {
+  int pad_grid = 5;
+  int side_rows = 4;
+  int side_cols = 5;
+  int passes = 3;
+  int pass_points = 15;
+  int circle_points = 24;
+  double c_from_deg = 0.0;
+  double c_to_deg = 345.0;
+  double a_from_deg = -90.0;
+  double a_to_deg = 90.0;
+  double radial_mpe_mm = 0.010;      // read as 2 sigma
+  double transverse_mpe_mm = 0.015;
+  double transverse_mpe_per_m_mm = 0.006;
+  double tracker_distance_m = 2.5;   // in front of the machine (laser_tracker.hpp convention 2)
+  double a_limit_deg = 120.0;        // the candidates' widest A arc (contract 5)
+};
+std::shared_ptr<const PlanModel> gantry_model(const GantryPlanSpec& plan);
+
+// M4: the analyser's encoder-synchronous sampling (spindle_analyser.hpp
+// convention 1) of the simulator's spindle (realistic_spindle), balls at
+// ball_mm below the gauge line, each centre read to sigma_mm per axis.
+struct SpindlePlan {
+  int revolutions = 3;
+  int samples_per_revolution = 72;
+  double ball_mm[2] = {50.0, 150.0};
+  double sigma_mm = 15e-6;
+};
+std::shared_ptr<const PlanModel> spindle_model(const SpindlePlan& plan);
+
+// M1: probe points (x, y, machine frame, table at zero) on the simulator's
+// inclined face (FaceConfig), each read to sigma_mm per coordinate.
+struct LevelPlan {
+  std::vector<std::pair<double, double>> points;
+  double sigma_mm = 0.0005;
+};
+// trueaxis-level's triangle: three points on a circle of radius side / sqrt(3).
+LevelPlan level_plan(double side_mm);
+std::shared_ptr<const PlanModel> level_model(const LevelPlan& plan);
+
+// ---- the command's texts -------------------------------------------------------
+
+// The prediction as a table: every output's value and sigma, the valuation,
+// the inseparable pairs, the suggestions (`searched`: changes were looked for).
+std::string plan_table(const PlanModel& model, const PlanPrediction& p, const std::vector<PlanSuggestion>& s,
+                       bool searched);
+// The same as JSON (PLAN.json).
+std::string plan_json(const PlanModel& model, const PlanPrediction& p, const std::vector<PlanSuggestion>& s);
+
+}  // namespace trueaxis::sim

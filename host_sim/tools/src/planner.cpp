@@ -1,0 +1,213 @@
+// trueaxis-calibrate plan: the linearised prediction, the suggestions and the
+// texts (planner.hpp contracts 2-5).
+#include "trueaxis/sim/tools/planner.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <limits>
+
+namespace trueaxis::sim {
+
+namespace {
+
+// printf into a string (the format checked by the compiler).
+[[gnu::format(printf, 1, 2)]] std::string fixed(const char* format, ...) {
+  char buf[256];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buf, sizeof buf, format, args);
+  va_end(args);
+  return buf;
+}
+
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string number(double v) {
+  if (!std::isfinite(v)) return "null";
+  return fixed("%.9g", v);
+}
+
+}  // namespace
+
+PlanPrediction predict_plan(const PlanModel& model, const std::function<void(std::size_t, std::size_t)>& progress) {
+  PlanPrediction p;
+  p.outputs = model.outputs();
+  const std::vector<PlanReading>& readings = model.readings();
+  p.readings = readings.size();
+  std::vector<core::Vec3> values(readings.size());
+  for (std::size_t i = 0; i < readings.size(); ++i) values[i] = readings[i].value;
+  if (!model.evaluate(values, p.value, p.error)) return p;
+  ++p.evaluations;
+  const std::size_t n = p.outputs.size();
+  if (p.value.size() != n) {
+    p.error = "the method gave " + std::to_string(p.value.size()) + " outputs, not " + std::to_string(n);
+    return p;
+  }
+  p.covariance.assign(n * n, 0.0);
+  // Forward differences of one sigma: the methods are smooth on the scale of
+  // their noise (micrometres against the plan's millimetres), so the step's
+  // second-order error is ~1e-5 of the derivative, and half the evaluations
+  // of central differences.
+  const std::vector<double> nominal = p.value;
+  std::vector<double> moved, g(n);
+  const std::size_t total = 1 + 3 * readings.size();
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const core::Vec3 step = readings[i].noise_factor.col(k);
+      if (step.squaredNorm() == 0.0) continue;
+      values[i] = readings[i].value + step;
+      const bool ok = model.evaluate(values, moved, p.error);
+      values[i] = readings[i].value;
+      ++p.evaluations;
+      if (!ok) {
+        p.error = "one sigma of noise on reading " + std::to_string(i + 1) + " makes the method refuse: " + p.error;
+        return p;
+      }
+      for (std::size_t a = 0; a < n; ++a) g[a] = moved[a] - nominal[a];
+      for (std::size_t a = 0; a < n; ++a) {
+        for (std::size_t b = 0; b < n; ++b) p.covariance[a * n + b] += g[a] * g[b];
+      }
+    }
+    if (progress) progress(p.evaluations, total);
+  }
+  p.sigma.resize(n);
+  for (std::size_t a = 0; a < n; ++a) p.sigma[a] = std::sqrt(std::max(0.0, p.covariance[a * n + a]));
+  p.valuation = 0.0;
+  bool judged = false;
+  for (std::size_t a = 0; a < n; ++a) {
+    if (p.outputs[a].tolerance <= 0.0) continue;
+    const double v = 2.0 * p.sigma[a] / p.outputs[a].tolerance;
+    if (!judged || v > p.valuation) {
+      p.valuation = v;
+      p.worst = a;
+      judged = true;
+    }
+  }
+  // Contract 4. Outputs that do not move (a reference pose's zeros) have no
+  // correlation.
+  double largest = 0.0;
+  for (const double s : p.sigma) largest = std::max(largest, s);
+  for (std::size_t a = 0; a < n; ++a) {
+    for (std::size_t b = a + 1; b < n; ++b) {
+      if (!(p.sigma[a] > 1e-12 * largest) || !(p.sigma[b] > 1e-12 * largest)) continue;
+      if (p.outputs[a].derived || p.outputs[b].derived) continue;
+      const double rho = p.covariance[a * n + b] / (p.sigma[a] * p.sigma[b]);
+      if (std::fabs(rho) > kInseparable) p.inseparable.push_back({a, b, rho});
+    }
+  }
+  p.ok = true;
+  return p;
+}
+
+std::vector<PlanSuggestion> suggest_changes(const PlanModel& model, const PlanPrediction& base, int count,
+                                            const std::function<void(std::size_t, std::size_t)>& progress) {
+  std::vector<PlanSuggestion> out;
+  if (!base.ok) return out;
+  std::shared_ptr<const PlanModel> current;
+  const PlanModel* from = &model;
+  double valuation = base.valuation;
+  for (int round = 0; round < count; ++round) {
+    const std::vector<PlanChange> changes = from->candidates();
+    double best = valuation;
+    std::size_t best_index = changes.size();
+    PlanPrediction best_prediction;
+    for (std::size_t i = 0; i < changes.size(); ++i) {
+      const PlanPrediction p = predict_plan(*changes[i].plan);
+      if (progress) progress(i + 1, changes.size());
+      if (p.ok && p.valuation < best) {
+        best = p.valuation;
+        best_index = i;
+        best_prediction = p;
+      }
+    }
+    if (best_index == changes.size()) break;
+    PlanSuggestion s;
+    s.what = changes[best_index].what;
+    s.valuation = best;
+    s.worst = best_prediction.outputs[best_prediction.worst].name;
+    s.description = changes[best_index].plan->description();
+    out.push_back(s);
+    current = changes[best_index].plan;
+    from = current.get();
+    valuation = best;
+  }
+  return out;
+}
+
+std::string plan_table(const PlanModel& model, const PlanPrediction& p, const std::vector<PlanSuggestion>& s,
+                       bool searched) {
+  std::string t = std::string("plan ") + model.method() + ": " + model.description() + "\n";
+  if (!p.ok) return t + "the method refuses this plan: " + p.error + "\n";
+  t += std::to_string(p.readings) + " readings, " + std::to_string(p.evaluations) + " evaluations of the method\n";
+  t += "output                                      value        1-sigma      tolerance   2 sigma / tol\n";
+  for (std::size_t i = 0; i < p.outputs.size(); ++i) {
+    const PlanOutput& o = p.outputs[i];
+    char line[256];
+    if (o.tolerance > 0.0) {
+      std::snprintf(line, sizeof line, "%-40s %12.6g %12.4g %-6s %8.4g %10.3f%s\n", o.name.c_str(), p.value[i],
+                    p.sigma[i], o.unit.c_str(), o.tolerance, 2.0 * p.sigma[i] / o.tolerance,
+                    i == p.worst ? "  <- worst" : "");
+    } else {
+      std::snprintf(line, sizeof line, "%-40s %12.6g %12.4g %-6s %8s %10s\n", o.name.c_str(), p.value[i], p.sigma[i],
+                    o.unit.c_str(), "-", "-");
+    }
+    t += line;
+  }
+  t += fixed("valuation %.3f", p.valuation) + " (the worst 2 sigma / tolerance: " + p.outputs[p.worst].name +
+       "; below 1 the plan resolves every tolerance; a check against a table from the same plan warns on noise "
+       "alone from 0.7)\n";
+  if (p.inseparable.empty()) {
+    t += "every output separated (no correlation beyond 0.99)\n";
+  } else {
+    for (const PlanInseparable& q : p.inseparable) {
+      t += "not separated: " + p.outputs[q.first].name + " and " + p.outputs[q.second].name +
+           fixed(" (rho %+.4f)\n", q.rho);
+    }
+  }
+  if (s.empty() && searched) t += "no change of one pose lowers the valuation\n";
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    t += "suggestion " + std::to_string(i + 1) + ": " + s[i].what + fixed(": valuation %.3f", s[i].valuation) +
+         " (worst " + s[i].worst + ")\n";
+  }
+  return t;
+}
+
+std::string plan_json(const PlanModel& model, const PlanPrediction& p, const std::vector<PlanSuggestion>& s) {
+  std::string j = std::string("{\n  \"method\": ") + quoted(model.method()) + ",\n  \"plan\": " +
+                  quoted(model.description()) + ",\n";
+  if (!p.ok) return j + "  \"refused\": " + quoted(p.error) + "\n}\n";
+  j += "  \"readings\": " + std::to_string(p.readings) + ",\n  \"evaluations\": " + std::to_string(p.evaluations) +
+       ",\n  \"outputs\": [\n";
+  for (std::size_t i = 0; i < p.outputs.size(); ++i) {
+    const PlanOutput& o = p.outputs[i];
+    j += "    { \"name\": " + quoted(o.name) + ", \"unit\": " + quoted(o.unit) + ", \"value\": " + number(p.value[i]) +
+         ", \"sigma\": " + number(p.sigma[i]) + ", \"tolerance\": " + (o.tolerance > 0.0 ? number(o.tolerance) : "null") +
+         " }" + (i + 1 < p.outputs.size() ? ",\n" : "\n");
+  }
+  j += "  ],\n  \"valuation\": " + number(p.valuation) + ",\n  \"worst\": " + quoted(p.outputs[p.worst].name) +
+       ",\n  \"inseparable\": [";
+  for (std::size_t i = 0; i < p.inseparable.size(); ++i) {
+    const PlanInseparable& q = p.inseparable[i];
+    j += std::string(i ? ", " : "") + "{ \"outputs\": [" + quoted(p.outputs[q.first].name) + ", " +
+         quoted(p.outputs[q.second].name) + "], \"rho\": " + number(q.rho) + " }";
+  }
+  j += "],\n  \"suggestions\": [";
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    j += std::string(i ? ",\n    " : "\n    ") + "{ \"change\": " + quoted(s[i].what) +
+         ", \"valuation\": " + number(s[i].valuation) + ", \"worst\": " + quoted(s[i].worst) +
+         ", \"plan\": " + quoted(s[i].description) + " }";
+  }
+  j += s.empty() ? "]\n}\n" : "\n  ]\n}\n";
+  return j;
+}
+
+}  // namespace trueaxis::sim
