@@ -41,6 +41,16 @@ void pose_fields(Io& io, RigidityPose& p, double& count) {
   io(count);
 }
 
+// Puts doubles into an array, in the layout's order.
+struct RealWriter {
+  double* p;
+  void operator()(double v) { *p++ = v; }
+  template <typename V>
+  void operator()(const V& v) {
+    for (int i = 0; i < static_cast<int>(v.size()); ++i) (*this)(static_cast<double>(v(i)));
+  }
+};
+
 bool unit(const Vec3& v) { return std::abs(v.norm() - 1.0) <= kCodecUnitTolerance; }
 
 bool nonnegative(const Vec3& v) { return v.minCoeff() >= 0.0; }
@@ -69,6 +79,40 @@ std::size_t encode_rigidity_table(const RigidityTable& t, std::uint8_t* out, std
     double count = static_cast<double>(p.c_count);
     pose_fields(w, p, count);
   }
+  return size;
+}
+
+void rigidity_header_reals(const RigidityTable& t, double out[kRigidityHeaderReals]) {
+  RealWriter w{out};
+  Vec3 a_point = t.a_axis_point_mm;
+  Vec3 a_dir = t.a_axis_direction;
+  double offset = t.c_to_a_offset_mm;
+  double offset_sigma = t.c_to_a_offset_sigma_mm;
+  double square = t.c_to_a_squareness_rad;
+  double square_sigma = t.c_to_a_squareness_sigma_rad;
+  header_fields(w, a_point, a_dir, offset, offset_sigma, square, square_sigma);
+}
+
+void rigidity_pose_reals(const RigidityTable& t, std::size_t pose, double out[kRigidityPoseReals]) {
+  if (pose >= t.pose_count || pose >= kMaxAPoses) return;
+  RealWriter w{out};
+  RigidityPose p = t.poses[pose];
+  double count = static_cast<double>(p.c_count);
+  pose_fields(w, p, count);
+}
+
+std::size_t encode_rigidity_reals(std::size_t m, std::size_t reference, const double* header_reals,
+                                  const double* pose_reals, std::uint8_t* out, std::size_t capacity) {
+  if (m < kMinAPoses || m > kMaxAPoses || reference >= m) return 0;
+  const std::size_t size = rigidity_table_bytes(m);
+  if (out == nullptr || header_reals == nullptr || pose_reals == nullptr || capacity < size) return 0;
+  put_u16(out, kRigidityLayoutVersion);
+  put_u16(out + 2, static_cast<std::uint16_t>(m));
+  put_u16(out + 4, static_cast<std::uint16_t>(reference));
+  put_u16(out + 6, 0);
+  F64Writer w{out + 8};
+  for (std::size_t i = 0; i < kRigidityHeaderReals; ++i) w(header_reals[i]);
+  for (std::size_t i = 0; i < m * kRigidityPoseReals; ++i) w(pose_reals[i]);
   return size;
 }
 

@@ -17,6 +17,7 @@
 #include "store_harness.hpp"
 #include "trueaxis/hal/nv_storage.hpp"
 #include "trueaxis/macros/keyed_store.hpp"
+#include "trueaxis/macros/record_file.hpp"
 #include "trueaxis/macros/records.hpp"
 
 #ifndef TRUEAXIS_STORE_CYCLES
@@ -215,4 +216,31 @@ TA_TEST("random cut-and-restart cycles keep every key whole, both outcomes of a 
   TA_CHECK(r.cuts > kCycles * 8 / 10);
   TA_CHECK(r.took_new > kCycles / 100);
   TA_CHECK(r.cuts - r.took_new > kCycles / 100);
+}
+
+TA_TEST("a record file reads back its payload; every bit flipped, every shorter or longer size and another key are refused") {
+  static std::uint8_t payload[200];
+  for (std::size_t i = 0; i < sizeof payload; ++i) payload[i] = static_cast<std::uint8_t>(i * 37 + 11);
+  static std::uint8_t file[sizeof payload + m::kRecordFileOverhead + 8];
+  const std::size_t size = m::encode_record_file(3, payload, sizeof payload, file, sizeof file);
+  TA_REQUIRE(size == sizeof payload + m::kRecordFileOverhead);
+  TA_CHECK_EQ(m::encode_record_file(3, payload, sizeof payload, file, size - 1), 0u);  // does not fit
+  const std::uint8_t* got = nullptr;
+  std::size_t length = 0;
+  TA_REQUIRE(m::decode_record_file(3, file, size, got, length) == m::RecordFileError::kNone);
+  TA_CHECK(got == file + 16 && length == sizeof payload && std::memcmp(got, payload, length) == 0);
+  TA_CHECK(m::decode_record_file(5, file, size, got, length) == m::RecordFileError::kWrongRecord);
+  for (std::size_t bit = 0; bit < 8 * size; ++bit) {
+    TA_CASE_INDEX(static_cast<int>(bit));
+    file[bit / 8] ^= static_cast<std::uint8_t>(1u << (bit % 8));
+    TA_CHECK(m::decode_record_file(3, file, size, got, length) != m::RecordFileError::kNone);
+    file[bit / 8] ^= static_cast<std::uint8_t>(1u << (bit % 8));
+  }
+  for (std::size_t n = 0; n < size + 8; ++n) {
+    if (n == size) continue;
+    TA_CASE_INDEX(static_cast<int>(n));
+    const m::RecordFileError e = m::decode_record_file(3, file, n, got, length);
+    TA_CHECK(e == (n < m::kRecordFileOverhead ? m::RecordFileError::kNotAFile : m::RecordFileError::kLength));
+  }
+  TA_CHECK(m::decode_record_file(3, file, size, got, length) == m::RecordFileError::kNone);
 }

@@ -1,10 +1,11 @@
 // M3 through the module, as a controller drives it (docs/INTERFACE.md macros
-// 9830..9835), on the closed-form cradle of rigidity_fixture.hpp: the session,
+// 9830..9837), on the closed-form cradle of rigidity_fixture.hpp: the session,
 // the build in steps with and without storing, the queries against the closed
 // form, every refusal with its code leaving the outputs and the stored table
 // as they were, and the shared arenas (session_closed, result_replaced).
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "method_tests.hpp"
 #include "module_rig.hpp"
@@ -12,6 +13,7 @@
 #include "rigidity_fixture.hpp"
 #include "split_mix64.hpp"
 #include "trueaxis/core/residual_noise.hpp"
+#include "trueaxis/core/rigidity_codec.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 
@@ -393,6 +395,64 @@ TA_TEST("a stored record with a good CRC that does not decode says table_invalid
   expect_everywhere(rig, Status::kTableInvalid);
 }
 
+namespace {
+
+// 9837 for part q (0 the header, n pose n) of the last built (R = 0) or the stored (R = 1) table: its #9001.
+double reals(ModuleRig& rig, double q, double r) {
+  rig.set(v::kArgQ, q);
+  rig.set(v::kArgR, r);
+  return rig.run(9837);
+}
+
+}  // namespace
+
+TA_TEST("9837's reals, rebuilt by encode_rigidity_reals, are the stored record bit for bit, from the built and the stored table") {
+  ModuleRig rig;
+  rf::stored(rig);
+  static std::uint8_t scratch[m::kStoreScratchBytes];
+  m::KeyedStore store(rig.storage(), m::kRecordSpecs.data(), m::kRecordCount, scratch, sizeof scratch);
+  TA_REQUIRE(store.mount() == Status::kOk);
+  static std::uint8_t record[trueaxis::core::kRigidityTableMaxBytes];
+  std::size_t length = 0;
+  TA_REQUIRE(store.load(m::RigidityTableRecord::kRecord.key, record, sizeof record, length) == Status::kOk);
+  for (const double r : {0.0, 1.0}) {
+    TA_CASE_INDEX(static_cast<int>(r));
+    TA_REQUIRE(reals(rig, 0.0, r) == kDone);
+    const auto poses = static_cast<std::size_t>(rig.get(v::kRealsPoseCount));
+    const auto reference = static_cast<std::size_t>(rig.get(v::kRealsReference));
+    TA_REQUIRE(poses == static_cast<std::size_t>(rf::kPoses));
+    TA_REQUIRE(reference >= 1 && reference <= poses);
+    static double header[trueaxis::core::kRigidityHeaderReals];
+    static double pose_reals[trueaxis::core::kMaxAPoses * trueaxis::core::kRigidityPoseReals];
+    for (std::size_t k = 0; k < trueaxis::core::kRigidityHeaderReals; ++k) {
+      header[k] = rig.get(static_cast<std::uint16_t>(v::kRealsFirst + k));
+    }
+    // The header leaves the pose's further places 0.
+    TA_CHECK_EQ(rig.get(static_cast<std::uint16_t>(v::kRealsFirst + trueaxis::core::kRigidityHeaderReals)), 0.0);
+    for (std::size_t q = 1; q <= poses; ++q) {
+      TA_REQUIRE(reals(rig, static_cast<double>(q), r) == kDone);
+      TA_CHECK_EQ(rig.get(v::kRealsFirst), rf::pose_a_deg(static_cast<int>(q) - 1));
+      for (std::size_t k = 0; k < trueaxis::core::kRigidityPoseReals; ++k) {
+        pose_reals[(q - 1) * trueaxis::core::kRigidityPoseReals + k] = rig.get(static_cast<std::uint16_t>(v::kRealsFirst + k));
+      }
+    }
+    static std::uint8_t rebuilt[trueaxis::core::kRigidityTableMaxBytes];
+    const std::size_t n =
+        trueaxis::core::encode_rigidity_reals(poses, reference - 1, header, pose_reals, rebuilt, sizeof rebuilt);
+    TA_CHECK_EQ(n, length);
+    TA_CHECK(std::memcmp(rebuilt, record, length) == 0);
+  }
+  const ModuleRig::Results kept = rig.results();
+  for (const double q : {-1.0, 0.5, static_cast<double>(rf::kPoses) + 1.0}) {
+    TA_CASE_INDEX(static_cast<int>(10 * q));
+    TA_CHECK_EQ(reals(rig, q, 1.0), kError);
+    TA_CHECK_EQ(rig.code(), Status::kArgumentOutOfRange);
+  }
+  TA_CHECK_EQ(reals(rig, 1.0, 2.0), kError);
+  TA_CHECK_EQ(rig.code(), Status::kArgumentOutOfRange);
+  TA_CHECK(rig.results() == kept);
+}
+
 TA_TEST("9831 and 9832 answer session_closed once another method's session replaced this one; 9830 opens it again") {
   ModuleRig rig;
   rf::stream(rig);
@@ -486,3 +546,4 @@ TA_RECIPE(9833, stored, query_arguments);
 TA_RECIPE(9834, stored, pose_arguments);
 TA_RECIPE(9835, stored, convert_arguments);
 TA_RECIPE(9836, stored, nullptr);  // the build stored is the build checked: every figure 0, pass
+TA_RECIPE(9837, stored, pose_arguments);

@@ -1,6 +1,6 @@
 // trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
 //                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
-//                   [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE]
+//                   [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE] [--linuxcnc-kins FILE]
 //                   [--check] [--operator NAME] [--time WHEN]
 // trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]
 // trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]
@@ -28,6 +28,7 @@
 // figure, and --csv writes it as CSV. `plan` predicts, before measuring, the
 // 1-sigma of every output of a planned measurement (planner.hpp): it needs no
 // module, it runs the method's own routine on the simulator's machine.
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -62,7 +63,7 @@ using trueaxis::sim::FlowResult;
 constexpr const char* kUsage =
     "usage: trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]\n"
     "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n"
-    "                          [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE]\n"
+    "                          [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE] [--linuxcnc-kins FILE]\n"
     "                          [--check] [--operator NAME] [--time WHEN]\n"
     "       trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]\n"
     "       trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]\n";
@@ -77,7 +78,7 @@ constexpr const char* kPlanHelp =
     "            a pose per A, its C positions; other columns ignored), --ball X,Y,Z (mm, table\n"
     "            coordinates; 200,0,50), --noise-um U (ball centre, 1 sigma per axis; 1),\n"
     "            --a-limits MIN,MAX (deg; the suggested poses' range; -120,120)\n"
-    "  gantry    --pad-grid N (5) --side-grid ROWS,COLS (4,5) --passes N (3) --pass-points N (15) --circle-points N (24)\n"
+    "  gantry    --pad-grid N (5) --side-grid ROWS,COLS (4,5) --passes N (3) --pass-points N (15) --circle-points N (5..36; 24)\n"
     "            --c-arc FROM,TO (0,345) --a-arc FROM,TO (-90,90) --mpe UM,UM_PER_M (15,6: the tracker's\n"
     "            point MPE, read as 2 sigma across the line of sight) --radial-mpe UM (10)\n"
     "            --tracker-distance M (in front of the machine's front; 2.5)\n"
@@ -161,6 +162,8 @@ void print_help() {
               "  --unlock-code CODE     the machine's unlock code (#900) for --store, 1..9999 (default 2718)\n"
               "  --linuxcnc-comp FILE   rigidity: also M3's A positioning error as a LinuxCNC joint\n"
               "                         compensation file for the A joint (COMP_FILE_TYPE = 1)\n"
+              "  --linuxcnc-kins FILE   rigidity with --store: also the stored table as the file the LinuxCNC\n"
+              "                         kinematics trueaxis_kins load (integrations/linuxcnc/kins)\n"
               "  --accept-change        with --store: store even a result that differs from the stored\n"
               "                         calibration by more than the method's change limit (its build\n"
               "                         macro's M = 1); check the machine first\n"
@@ -383,6 +386,9 @@ int run_plan(int argc, char** argv) {
     std::printf("%s\n%s", kUsage, kPlanHelp);
     return 0;
   }
+  if (method != "rigidity" && method != "gantry" && method != "spindle" && method != "level") {
+    return usage_error("plan: unknown METHOD '" + method + "' (rigidity, gantry, spindle, level)");
+  }
   ts::RigidityPlan rigidity = ts::rigidity_plan(-90.0, 90.0, 30.0, 10.0);
   ts::GantryPlanSpec gantry;
   ts::SpindlePlan spindle;
@@ -390,6 +396,7 @@ int run_plan(int argc, char** argv) {
   std::vector<double> a_range = {-90.0, 90.0, 30.0};
   double c_step = 10.0;
   std::string in_path, json_path;
+  bool poses_described = false;  // --a or --c-step given
   int suggest = 2;
   std::vector<double> v;
   for (int i = 3; i < argc; ++i) {
@@ -402,12 +409,16 @@ int run_plan(int argc, char** argv) {
       return 0;
     } else if (arg == "--json") {
       json_path = value;
+      ok = ok && !value.empty();
     } else if (arg == "--suggest") {
       ok = ok && whole(value, 0, 2, suggest);
     } else if (method == "rigidity" && arg == "--a") {
-      ok = ok && numbers(value, 3, a_range) && a_range[2] > 0.0 && a_range[0] <= 0.0 && a_range[1] >= 0.0;
+      ok = ok && numbers(value, 3, a_range) && a_range[2] > 0.0 && a_range[0] <= 0.0 && a_range[1] >= 0.0 &&
+           a_range[0] >= -360.0 && a_range[1] <= 360.0;
+      poses_described = true;
     } else if (method == "rigidity" && arg == "--c-step") {
-      ok = ok && positive(value, c_step) && c_step < 360.0;
+      ok = ok && positive(value, c_step) && c_step >= 10.0 && c_step <= 90.0;
+      poses_described = true;
     } else if (method == "rigidity" && arg == "--in") {
       in_path = value;
     } else if (method == "rigidity" && arg == "--ball") {
@@ -431,7 +442,7 @@ int run_plan(int argc, char** argv) {
     } else if (method == "gantry" && arg == "--pass-points") {
       ok = ok && whole(value, 3, 60, gantry.pass_points);
     } else if (method == "gantry" && arg == "--circle-points") {
-      ok = ok && whole(value, 4, 60, gantry.circle_points);
+      ok = ok && whole(value, 5, 36, gantry.circle_points);
     } else if (method == "gantry" && arg == "--c-arc") {
       ok = ok && numbers(value, 2, v) && v[0] < v[1] && v[1] - v[0] < 360.0;
       if (ok) gantry.c_from_deg = v[0], gantry.c_to_deg = v[1];
@@ -465,13 +476,13 @@ int run_plan(int argc, char** argv) {
     } else if (method == "level" && arg == "--points") {
       level.points.clear();
       std::size_t from = 0;
-      while (ok && from <= value.size()) {
+      while (ok && from < value.size()) {
         const std::size_t semi = value.find(';', from);
         const std::string point = value.substr(from, semi == std::string::npos ? std::string::npos : semi - from);
         ok = numbers(point, 2, v);
         if (ok) level.points.emplace_back(v[0], v[1]);
         if (semi == std::string::npos) break;
-        from = semi + 1;
+        from = semi + 1;  // a trailing ';' ends the list
       }
       ok = ok && level.points.size() >= 3;
     } else {
@@ -480,8 +491,8 @@ int run_plan(int argc, char** argv) {
     if (!ok) {
       static const char* const kForms[][2] = {
           {"--suggest", "0, 1 or 2"},
-          {"--a", "FROM,TO,STEP in degrees, FROM <= 0 <= TO, STEP > 0"},
-          {"--c-step", "degrees, 0 < STEP < 360"},
+          {"--a", "FROM,TO,STEP in degrees, -360 <= FROM <= 0 <= TO <= 360, STEP > 0"},
+          {"--c-step", "degrees, 10..90 (a pose takes 4..36 C positions)"},
           {"--ball", "X,Y,Z in mm (table coordinates)"},
           {"--noise-um", "micrometres, > 0"},
           {"--a-limits", "MIN,MAX in degrees, MIN < MAX"},
@@ -489,7 +500,7 @@ int run_plan(int argc, char** argv) {
           {"--side-grid", "ROWS,COLS: 2..20 each"},
           {"--passes", "1..8"},
           {"--pass-points", "3..60"},
-          {"--circle-points", "4..60"},
+          {"--circle-points", "5..36 (a circle group's capacity)"},
           {"--c-arc", "FROM,TO in degrees, FROM < TO, less than a turn"},
           {"--a-arc", "FROM,TO in degrees, FROM < TO, less than a turn"},
           {"--mpe", "UM,UM_PER_M: micrometres > 0 and micrometres per metre >= 0"},
@@ -510,6 +521,17 @@ int run_plan(int argc, char** argv) {
     }
     ++i;
   }
+  if (!in_path.empty() && poses_described) {
+    return usage_error("plan rigidity: --in gives the poses: not with --a or --c-step");
+  }
+  // PLAN.json's place is tried before the work, not after it.
+  const std::string json_tmp = json_path.empty() ? "" : json_path + ".tmp";
+  if (!json_tmp.empty()) {
+    struct stat st {};
+    const bool directory = ::stat(json_path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+    if (directory || !write_text_file(json_tmp, "")) return fail(json_path + ": cannot be written");
+    std::remove(json_tmp.c_str());
+  }
   std::shared_ptr<const ts::PlanModel> model;
   if (method == "rigidity") {
     if (!in_path.empty()) {
@@ -524,10 +546,8 @@ int run_plan(int argc, char** argv) {
     model = ts::gantry_model(gantry);
   } else if (method == "spindle") {
     model = ts::spindle_model(spindle);
-  } else if (method == "level") {
-    model = ts::level_model(level);
   } else {
-    return usage_error("plan: unknown METHOD '" + method + "' (rigidity, gantry, spindle, level)");
+    model = ts::level_model(level);
   }
   ts::Progress progress("plan " + method, "evaluations");
   const ts::PlanPrediction p =
@@ -535,14 +555,24 @@ int run_plan(int argc, char** argv) {
   ts::Progress searching("plan " + method + ": changes", "plans");
   const std::vector<ts::PlanSuggestion> s = ts::suggest_changes(
       *model, p, suggest, [&searching](std::size_t done, std::size_t total) { searching.update(done, total); });
-  if (!json_path.empty()) {
-    const std::string tmp = json_path + ".tmp";
-    if (!write_text_file(tmp, ts::plan_json(*model, p, s)) || std::rename(tmp.c_str(), json_path.c_str()) != 0) {
-      std::remove(tmp.c_str());
+  std::string table = ts::plan_table(*model, p, s, suggest > 0);
+  if (!p.ok && method == "rigidity" && p.error.find("arc_too_short") != std::string::npos) {
+    double widest = 0.0;
+    for (const auto& pose : rigidity.poses) {
+      const auto [lo, hi] = std::minmax_element(pose.second.begin(), pose.second.end());
+      widest = std::max(widest, *hi - *lo);
+    }
+    if (widest <= 2.0 * 3.14159265358979323846 + 1e-9) {
+      table += "(every pose's C positions span at most 2 pi: are they in radians? the columns are degrees)\n";
+    }
+  }
+  std::printf("%s", table.c_str());
+  if (!json_tmp.empty()) {
+    if (!write_text_file(json_tmp, ts::plan_json(*model, p, s)) || std::rename(json_tmp.c_str(), json_path.c_str()) != 0) {
+      std::remove(json_tmp.c_str());
       return fail(json_path + ": cannot be written");
     }
   }
-  std::printf("%s", ts::plan_table(*model, p, s, suggest > 0).c_str());
   return p.ok ? 0 : 3;
 }
 
@@ -603,6 +633,8 @@ int main(int argc, char** argv) {
       o.report_dir = argv[++i];
     } else if (arg == "--linuxcnc-comp" && has_value) {
       o.linuxcnc_comp_path = argv[++i];
+    } else if (arg == "--linuxcnc-kins" && has_value) {
+      o.linuxcnc_kins_path = argv[++i];
     } else if (arg == "--accept-change") {
       o.accept_change = true;
     } else if (arg == "--unlock-code" && has_value) {
@@ -634,6 +666,9 @@ int main(int argc, char** argv) {
   }
   if (!o.linuxcnc_comp_path.empty() && o.method != "rigidity") {
     return usage_error("--linuxcnc-comp goes with rigidity (M3's A positioning error)");
+  }
+  if (!o.linuxcnc_kins_path.empty() && (o.method != "rigidity" || !o.store)) {
+    return usage_error("--linuxcnc-kins goes with rigidity and --store (the kinematics take the stored table)");
   }
 
   trueaxis::sim::VariableClient client;
@@ -689,10 +724,12 @@ int main(int argc, char** argv) {
   // nothing is stored.
   const std::string tmp = o.json_path + ".tmp";
   const std::string comp_tmp = o.linuxcnc_comp_path.empty() ? "" : o.linuxcnc_comp_path + ".tmp";
+  const std::string kins_tmp = o.linuxcnc_kins_path.empty() ? "" : o.linuxcnc_kins_path + ".tmp";
   std::string report_tmp;
-  const auto fail_clean = [&tmp, &comp_tmp, &report_tmp](const std::string& line) {
+  const auto fail_clean = [&tmp, &comp_tmp, &kins_tmp, &report_tmp](const std::string& line) {
     std::remove(tmp.c_str());
     if (!comp_tmp.empty()) std::remove(comp_tmp.c_str());
+    if (!kins_tmp.empty()) std::remove(kins_tmp.c_str());
     remove_tree(report_tmp);
     return fail(line);
   };
@@ -700,8 +737,16 @@ int main(int argc, char** argv) {
   if (!comp_tmp.empty() && !write_text_file(comp_tmp, r.linuxcnc_comp)) {
     return fail_clean(o.linuxcnc_comp_path + ": cannot be written");
   }
+  if (!kins_tmp.empty()) {
+    // The table just built (R = 0): the store builds the same session again,
+    // deterministically, so this is the table stored.
+    std::string file;
+    if (!trueaxis::sim::rigidity_kins_file(client, false, file, r)) return fail_clean(r.error);
+    if (!write_text_file(kins_tmp, file)) return fail_clean(o.linuxcnc_kins_path + ": cannot be written");
+  }
   std::string summary = r.summary + "; wrote " + o.json_path;
   if (!comp_tmp.empty()) summary += ", " + o.linuxcnc_comp_path;
+  if (!kins_tmp.empty()) summary += ", " + o.linuxcnc_kins_path;
   if (!o.report_dir.empty()) {
     std::string dir = o.report_dir;
     while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
@@ -738,6 +783,9 @@ int main(int argc, char** argv) {
   report_tmp.clear();
   if (!comp_tmp.empty() && std::rename(comp_tmp.c_str(), o.linuxcnc_comp_path.c_str()) != 0) {
     return fail_clean(o.linuxcnc_comp_path + ": cannot be written");
+  }
+  if (!kins_tmp.empty() && std::rename(kins_tmp.c_str(), o.linuxcnc_kins_path.c_str()) != 0) {
+    return fail_clean(o.linuxcnc_kins_path + ": cannot be written");
   }
   if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
   std::printf("%s\n", summary.c_str());

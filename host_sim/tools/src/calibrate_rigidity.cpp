@@ -5,10 +5,13 @@
 #include <cstdio>
 #include <vector>
 
+#include "trueaxis/core/rigidity_codec.hpp"
 #include "trueaxis/core/rigidity_table.hpp"
 #include "trueaxis/core/status.hpp"
 
+#include "trueaxis/macros/record_file.hpp"
 #include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/macros/services.hpp"
 #include "trueaxis/macros/rigidity/rigidity_map.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
 #include "trueaxis/sim/tools/csv.hpp"
@@ -23,6 +26,7 @@ constexpr std::uint16_t kClear = 9830;
 constexpr std::uint16_t kAdd = 9831;
 constexpr std::uint16_t kBuild = 9832;
 constexpr std::uint16_t kPose = 9834;
+constexpr std::uint16_t kReals = 9837;
 
 }  // namespace
 
@@ -158,5 +162,43 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
 }
 
 bool store_rigidity(VariableClient& client, FlowResult& fail) { return store_built(client, kBuild, fail); }
+
+bool rigidity_kins_file(VariableClient& client, bool stored, std::string& file, FlowResult& fail) {
+  const std::size_t n = core::kRigidityPoseReals;
+  double out[2 + core::kRigidityPoseReals];
+  std::vector<double> header(core::kRigidityHeaderReals);
+  std::vector<double> poses;
+  std::size_t count = 0;
+  std::size_t reference = 0;
+  for (std::size_t q = 0; q == 0 || q <= count; ++q) {
+    const double args[2] = {static_cast<double>(q), stored ? 1.0 : 0.0};  // Q, R
+    if (!transport(client, client.write(var::kArgQ, 2, args), fail)) return false;
+    if (!run_or_fail(client, kReals, "", fail)) return false;
+    if (!transport(client, client.read(var::kRealsPoseCount, static_cast<std::uint16_t>(2 + n), out), fail)) {
+      return false;
+    }
+    if (q == 0) {
+      count = static_cast<std::size_t>(out[0]);
+      reference = static_cast<std::size_t>(out[1]);
+      std::copy(out + 2, out + 2 + core::kRigidityHeaderReals, header.begin());
+    } else {
+      poses.insert(poses.end(), out + 2, out + 2 + n);
+    }
+  }
+  std::uint8_t record[core::kRigidityTableMaxBytes];
+  const std::size_t length =
+      reference >= 1 ? core::encode_rigidity_reals(count, reference - 1, header.data(), poses.data(), record, sizeof record)
+                     : 0;
+  core::RigidityTable check;
+  if (length == 0 || core::decode_rigidity_table(record, length, check) != core::Status::kOk) {
+    fail.error = "the module's table (9837) does not form a valid rigidity record";
+    return false;
+  }
+  std::vector<std::uint8_t> bytes(length + macros::kRecordFileOverhead);
+  const std::size_t size = macros::encode_record_file(macros::RigidityTableRecord::kRecord.key, record, length,
+                                                      bytes.data(), bytes.size());
+  file.assign(reinterpret_cast<const char*>(bytes.data()), size);
+  return true;
+}
 
 }  // namespace trueaxis::sim

@@ -66,20 +66,32 @@ class RigidityModel final : public PlanModel {
       poses.push_back(pose.first);
     }
     std::sort(poses.begin(), poses.end());
+    int group = 0;
     for (const double a : poses) {
       if (std::fabs(a) <= core::kPoseAToleranceDeg) continue;
       const std::string at = text("A=%g ", a);
       const double rot = macros::rigidity::kDefaultCheckRotationArcsec;
-      outputs_.push_back({at + "rotation_vector_x", "arcsec", rot});
-      outputs_.push_back({at + "rotation_vector_y", "arcsec", rot});
-      outputs_.push_back({at + "rotation_vector_z", "arcsec", rot});
+      ++group;  // the check judges the rotation vector's change by its length
+      outputs_.push_back({at + "rotation_vector_x", "arcsec", rot, false, group});
+      outputs_.push_back({at + "rotation_vector_y", "arcsec", rot, false, group});
+      outputs_.push_back({at + "rotation_vector_z", "arcsec", rot, false, group});
       outputs_.push_back({at + "a_positioning_error", "arcsec", macros::rigidity::kDefaultCheckAErrorArcsec});
     }
     for (const char* k : {"x", "y", "z"}) outputs_.push_back({std::string("a_axis_point_") + k, "mm", 0.0});
     outputs_.push_back({"a_axis_direction_y", "arcsec", 0.0});
     outputs_.push_back({"a_axis_direction_z", "arcsec", 0.0});
-    outputs_.push_back({"c_to_a_offset", "mm", 0.0});
+    // Signed along the nominal n_ref x nA: the length the table holds folds at 0.
+    outputs_.push_back({"c_to_a_offset_signed", "mm", 0.0});
     outputs_.push_back({"c_to_a_squareness", "arcsec", 0.0});
+    std::vector<Vec3> values;
+    for (const PlanReading& r : readings_) values.push_back(r.value);
+    std::vector<double> ignored;
+    std::string error;
+    if (evaluate(values, ignored, error)) {
+      const core::RigidityTable& t = builder_->table();
+      const Vec3 across = t.poses[t.reference].c_direction.cross(t.a_axis_direction);
+      if (across.norm() > 0.0) offset_direction_ = across.normalized();
+    }
   }
 
   const char* method() const override { return "rigidity"; }
@@ -120,7 +132,7 @@ class RigidityModel final : public PlanModel {
     for (int k = 0; k < 3; ++k) out.push_back(t.a_axis_point_mm(k));
     out.push_back(t.a_axis_direction.y() * kArcsecPerRad);
     out.push_back(t.a_axis_direction.z() * kArcsecPerRad);
-    out.push_back(t.c_to_a_offset_mm);
+    out.push_back((t.a_axis_point_mm - t.poses[t.reference].c_centre_mm).dot(offset_direction_));
     out.push_back(t.c_to_a_squareness_rad * kArcsecPerRad);
     return true;
   }
@@ -155,6 +167,7 @@ class RigidityModel final : public PlanModel {
   std::vector<PlanOutput> outputs_;
   mutable std::vector<core::RigiditySample> samples_;
   std::unique_ptr<core::RigidityBuilder> builder_;  // about 26 kB
+  Vec3 offset_direction_ = Vec3::UnitZ();  // unit(n_ref x nA) of the noise-free table
 };
 
 // ---- M2 -----------------------------------------------------------------------------
@@ -202,11 +215,14 @@ class GantryModel final : public PlanModel {
       const SubMachineConfig& c = machine_.config().sub_machines[i];
       tools_.push_back(tracker.tracker_T_machine().rotation * c.tool_nominal);
       const std::string sp = "sp" + std::to_string(c.id) + " ";
+      // The check judges the origin's move and the frame's turn by their lengths.
+      const int origin_group = 2 * static_cast<int>(i) + 1;
       for (const char* k : {"x", "y", "z"}) {
-        outputs_.push_back({sp + "origin_" + k, "mm", macros::gantry::kDefaultCheckOriginMm});
+        outputs_.push_back({sp + "origin_" + k, "mm", macros::gantry::kDefaultCheckOriginMm, false, origin_group});
       }
       for (const char* k : {"x", "y", "z"}) {
-        outputs_.push_back({sp + "axes_turn_" + k, "arcsec", macros::gantry::kDefaultCheckAngleArcsec});
+        outputs_.push_back(
+            {sp + "axes_turn_" + k, "arcsec", macros::gantry::kDefaultCheckAngleArcsec, false, origin_group + 1});
       }
       for (const char* k : {"xy", "yz", "zx"}) outputs_.push_back({sp + "squareness_" + k, "arcsec", 0.0});
       // Signed along the nominal c x a: the length OUT.json reports folds at 0,
@@ -234,8 +250,9 @@ class GantryModel final : public PlanModel {
            " passes of " + std::to_string(spec_.pass_points) + " points per axis, C circle " +
            std::to_string(spec_.circle_points) + text(" points %g..%g deg, A circle ", spec_.c_from_deg, spec_.c_to_deg) +
            std::to_string(spec_.circle_points) + text(" points %g..%g deg", spec_.a_from_deg, spec_.a_to_deg) +
-           text("; tracker %g m in front, MPE +-(%g um + %g um/m), read as 2 sigma", spec_.tracker_distance_m,
-                spec_.transverse_mpe_mm * 1000.0, spec_.transverse_mpe_per_m_mm * 1000.0);
+           text("; tracker %g m in front, MPE +-(%g um + %g um/m), distance meter +-%g um, read as 2 sigma",
+                spec_.tracker_distance_m, spec_.transverse_mpe_mm * 1000.0, spec_.transverse_mpe_per_m_mm * 1000.0,
+                spec_.radial_mpe_mm * 1000.0);
   }
   const std::vector<PlanReading>& readings() const override { return readings_; }
   const std::vector<PlanOutput>& outputs() const override { return outputs_; }
@@ -265,8 +282,8 @@ class GantryModel final : public PlanModel {
       out.push_back({what, std::make_shared<GantryModel>(next)});
     };
     GantryPlanSpec next = spec_;
-    if (spec_.a_from_deg - 15.0 >= -spec_.a_limit_deg && spec_.a_to_deg + 15.0 <= spec_.a_limit_deg) {
-      const double step = (spec_.a_to_deg - spec_.a_from_deg) / std::max(1, spec_.circle_points - 1);
+    const double step = (spec_.a_to_deg - spec_.a_from_deg) / std::max(1, spec_.circle_points - 1);
+    if (spec_.a_from_deg - step >= -spec_.a_limit_deg && spec_.a_to_deg + step <= spec_.a_limit_deg) {
       next = spec_;
       next.a_from_deg -= step;
       next.a_to_deg += step;
@@ -413,11 +430,12 @@ class SpindleModel final : public PlanModel {
     std::vector<PlanChange> out;
     SpindlePlan next = plan_;
     next.revolutions += 1;
-    out.push_back({"one more revolution", std::make_shared<SpindleModel>(next)});
+    out.push_back({text("one more revolution (%d)", next.revolutions), std::make_shared<SpindleModel>(next)});
     if (plan_.samples_per_revolution * 2 <= kMaxSamplesPerRevolution) {
       next = plan_;
       next.samples_per_revolution *= 2;
-      out.push_back({"twice the angles a revolution", std::make_shared<SpindleModel>(next)});
+      out.push_back({text("twice the angles a revolution (%d)", next.samples_per_revolution),
+                     std::make_shared<SpindleModel>(next)});
     }
     next = plan_;
     next.ball_mm[1] += 50.0;
@@ -451,8 +469,9 @@ class LevelModel final : public PlanModel {
     // tilt, e_level (the face's level line) swings it about the vertical.
     e_level_ = normal_.cross(Vec3::UnitZ()).normalized();
     e_slope_ = normal_.cross(e_level_);
-    outputs_ = {{"normal_turn_tilt", "arcsec", macros::level::kDefaultCheckToleranceArcsec},
-                {"normal_turn_level_line", "arcsec", macros::level::kDefaultCheckToleranceArcsec},
+    // 9816 judges the tilt left, the normal's whole turn: one length.
+    outputs_ = {{"normal_turn_tilt", "arcsec", macros::level::kDefaultCheckToleranceArcsec, false, 1},
+                {"normal_turn_level_line", "arcsec", macros::level::kDefaultCheckToleranceArcsec, false, 1},
                 {"level_a", "arcsec", 0.0, true},
                 {"level_c", "arcsec", 0.0, true}};
   }
@@ -460,7 +479,7 @@ class LevelModel final : public PlanModel {
   const char* method() const override { return "level"; }
   std::string description() const override {
     std::string p;
-    for (const auto& q : plan_.points) p += (p.empty() ? "" : ", ") + text("(%g, %g)", q.first, q.second);
+    for (const auto& q : plan_.points) p += (p.empty() ? "" : ", ") + text("(%.1f, %.1f)", q.first + 0.0, q.second + 0.0);
     return std::to_string(plan_.points.size()) + " probe points " + p +
            text(" mm on the simulator's face, read to %g um (1 sigma per axis)", plan_.sigma_mm * 1000.0);
   }
@@ -496,7 +515,9 @@ class LevelModel final : public PlanModel {
     for (int k = 0; k < 8; ++k) {
       const double angle = k * core::kPi / 4.0;
       LevelPlan next = plan_;
-      next.points.emplace_back(cx + 1.5 * r * std::cos(angle), cy + 1.5 * r * std::sin(angle));
+      // Rounded to 0.1 mm, as an operator would write it (and no -0.0).
+      next.points.emplace_back(std::round(10.0 * (cx + 1.5 * r * std::cos(angle))) / 10.0 + 0.0,
+                               std::round(10.0 * (cy + 1.5 * r * std::sin(angle))) / 10.0 + 0.0);
       out.push_back({text("add the probe point (%.1f, %.1f) mm", next.points.back().first, next.points.back().second),
                      std::make_shared<LevelModel>(next)});
     }

@@ -59,4 +59,22 @@ std::size_t encode_rigidity_table(const RigidityTable& table, std::uint8_t* out,
 // included. kTableInvalid on any failed check; `out` is untouched then.
 [[nodiscard]] Status decode_rigidity_table(const std::uint8_t* bytes, std::size_t size, RigidityTable& out);
 
+// The layout's reals apart from its bytes, for a transport that carries
+// doubles exactly (the registers: macro 9837): the header's ten (offset 8 on)
+// and each pose's 27 (its c_count as a real), in layout order, as stored.
+inline constexpr std::size_t kRigidityHeaderReals = 10;
+inline constexpr std::size_t kRigidityPoseReals = 27;
+static_assert(kRigidityHeaderBytes == 8 + 8 * kRigidityHeaderReals && kRigidityPoseBytes == 8 * kRigidityPoseReals,
+              "the reals are the layout's");
+void rigidity_header_reals(const RigidityTable& table, double out[kRigidityHeaderReals]);
+// Pose `pose` (< table.pose_count, 0-based in A order); nothing written beyond it.
+void rigidity_pose_reals(const RigidityTable& table, std::size_t pose, double out[kRigidityPoseReals]);
+
+// The layout's bytes from its reals (rigidity_header_reals, then
+// pose_count x rigidity_pose_reals): encode_rigidity_table's bytes bit for
+// bit. Returns the bytes written, or 0 as encode_rigidity_table; it checks
+// nothing else (decode_rigidity_table does).
+std::size_t encode_rigidity_reals(std::size_t pose_count, std::size_t reference, const double* header_reals,
+                                  const double* pose_reals, std::uint8_t* out, std::size_t capacity);
+
 }  // namespace trueaxis::core

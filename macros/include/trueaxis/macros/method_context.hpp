@@ -161,6 +161,13 @@ class MethodContext {
     staged_[N - var::kResultFirst] = value;
   }
 
+  // Result #First + k of a run of Count results (k >= Count writes nothing).
+  template <std::uint16_t First, std::size_t Count>
+  void out_at(std::size_t k, double value) {
+    static_assert(First >= var::kResultFirst && First + Count - 1 <= var::kResultLast, "results are #100..#199");
+    if (k < Count) staged_[First - var::kResultFirst + k] = value;
+  }
+
   // Results #X..#X+2 from a vector, each times `scale` (a unit conversion).
   template <std::uint16_t X>
   void out3(const core::Vec3& v, double scale = 1.0) {

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "trueaxis/core/residual_noise.hpp"
+#include "trueaxis/core/rigidity_codec.hpp"
 #include "trueaxis/macros/arguments.hpp"
 #include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/gates.hpp"
@@ -241,6 +242,38 @@ MacroStep run_pose(Context& ctx, State& state) {
   if (!state.built) return done(core::Status::kNoTable);
   const Work* work = ctx.work();
   return work != nullptr ? report_pose(ctx, work->builder.table()) : done(core::Status::kResultReplaced);
+}
+
+namespace {
+
+MacroStep report_reals(Context& ctx, const core::RigidityTable& t) {
+  const double q = ctx.in<var::kArgQ>();
+  if (!whole_in(q, 0.0, static_cast<double>(t.pose_count))) return done(core::Status::kArgumentOutOfRange);
+  ctx.out<var::kRealsPoseCount>(static_cast<double>(t.pose_count));
+  ctx.out<var::kRealsReference>(static_cast<double>(t.reference + 1));
+  double reals[core::kRigidityPoseReals] = {};
+  std::size_t count = core::kRigidityHeaderReals;
+  if (q == 0.0) {
+    core::rigidity_header_reals(t, reals);
+  } else {
+    core::rigidity_pose_reals(t, static_cast<std::size_t>(q) - 1, reals);
+    count = core::kRigidityPoseReals;
+  }
+  for (std::size_t k = 0; k < core::kRigidityPoseReals; ++k) {
+    ctx.out_at<var::kRealsFirst, core::kRigidityPoseReals>(k, k < count ? reals[k] : 0.0);
+  }
+  return done(core::Status::kOk);
+}
+
+}  // namespace
+
+MacroStep run_reals(Context& ctx, State& state) {
+  bool stored = false;
+  if (!flag_of(ctx.in<var::kArgR>(), stored)) return done(core::Status::kArgumentOutOfRange);
+  if (stored) return state.table.read_or([&](const core::RigidityTable& t) { return report_reals(ctx, t); });
+  if (!state.built) return done(core::Status::kNoTable);
+  const Work* work = ctx.work();
+  return work != nullptr ? report_reals(ctx, work->builder.table()) : done(core::Status::kResultReplaced);
 }
 
 MacroStep run_convert(Context& ctx, State& state) {

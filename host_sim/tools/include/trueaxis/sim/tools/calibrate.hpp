@@ -43,6 +43,7 @@ struct CalibrateOptions {
   std::string machine_path;  // "" when absent
   std::string report_dir;    // "" when absent
   std::string linuxcnc_comp_path;  // --linuxcnc-comp (rigidity): "" when absent
+  std::string linuxcnc_kins_path;  // --linuxcnc-kins (rigidity, with --store): "" when absent
   bool store = false;
   bool check = false;          // --check: compare with the stored calibration (check.hpp), store nothing
   std::string operator_name;   // --operator NAME: who measured, for the report
@@ -136,6 +137,12 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
 // Stores the table of the samples already in the module's session (unlock,
 // build with R = 1, lock again); false with fail.error set otherwise.
 bool store_rigidity(VariableClient& client, FlowResult& fail);
+
+// The LinuxCNC kinematics' table file (integrations/linuxcnc/kins): the table
+// built last (stored false: 9837 R = 0) or the stored one (true), read exactly
+// through macro 9837, as record_file.hpp's file of the rigidity record; false
+// with fail.error set otherwise.
+bool rigidity_kins_file(VariableClient& client, bool stored, std::string& file, FlowResult& fail);
 
 // Streams the tracker points (grouped by name, measuring order kept) and the
 // MACHINE rows, computes the frames WITHOUT storing them; reads back what the

@@ -22,11 +22,17 @@
 //     module's error, as the module would refuse it.
 //  3. Outputs: per method the figures OUT.json reports, each with its unit
 //     and, where the check judges it (check.hpp), the check's default
-//     tolerance. The plan's valuation V = max over those of 2 sigma /
-//     tolerance, and its worst output the one that gives it: with V < 1 the
-//     plan resolves every tolerance at 2 sigma; a check against a table
-//     calibrated with the same plan sees sqrt(2) sigma (both measurements'
-//     noise), so it warns on noise alone from V > 0.7 on.
+//     tolerance. A check judges some figures by a vector's length (M3's
+//     rotation vector, M2's origin and frame turn, M1's tilt): their
+//     components share a `group`. The plan's valuation V is the largest of
+//     q95 / tolerance over the judged figures, q95 the 95th percentile of the
+//     figure's noise: 1.96 sigma for a scalar, the length's for a group (from
+//     the group's covariance block; 2.80 sigma for three equal, independent
+//     components). With V < 1 the plan's own noise stays within every
+//     tolerance 95 % of the time. A check compares two such measurements and
+//     adds a guard band of 2 sigma, so an unchanged machine passes a check
+//     against a table from the same plan 95 % of the time only below about
+//     V = 0.35 (scalar; 0.41 for a group of three).
 //  4. Inseparable outputs: pairs whose correlation |rho| > kInseparable (the
 //     plan moves them together; only their combination is measured), derived
 //     outputs left out.
@@ -62,6 +68,7 @@ struct PlanOutput {
   std::string unit;       // "mm", "arcsec"
   double tolerance = 0.0;  // the check's default (same unit); 0: not judged
   bool derived = false;    // a function of other outputs (M1's A and C of its normal): never "not separated"
+  int group = 0;           // > 0: a component of a vector the check judges by its length (contract 3)
 };
 
 class PlanModel;
@@ -102,13 +109,17 @@ struct PlanPrediction {
   std::vector<double> sigma;           // 1 sigma, contract 2
   std::vector<double> covariance;      // n x n, row-major
   double valuation = 0.0;              // contract 3
-  std::size_t worst = 0;               // the output that gives it
+  std::size_t worst = 0;               // the output that gives it (a group's first component)
+  std::vector<double> q95;             // per output: its figure's 95th percentile (contract 3; 0 unjudged)
   std::vector<PlanInseparable> inseparable;
   std::size_t readings = 0;
   std::size_t evaluations = 0;
 };
 
 // Contract 2; `progress` (may be empty) is told evaluations done of total.
+// A plan with more than kMaxPlanReadings readings is refused (each of its 3 n
+// evaluations runs the method over all n).
+inline constexpr std::size_t kMaxPlanReadings = 12000;
 PlanPrediction predict_plan(const PlanModel& model,
                             const std::function<void(std::size_t, std::size_t)>& progress = {});
 

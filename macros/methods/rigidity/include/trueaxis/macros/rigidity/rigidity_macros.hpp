@@ -52,6 +52,12 @@
 //  (#4..#6) at commanded A = #1, C = #3 from where the ideal (theory) machine
 //  puts them to where the real (actual) one does; R = #18 = 1 the other way.
 //  Blend Q = #17 as 9833, no clamping. Out: #100..#105 (kConvertOutputs).
+// Macro 9837: the table's stored reals (rigidity_codec.hpp): R = #18 0 the
+//  table built last, 1 the stored one; Q = #17 0 the header, 1..n pose Q.
+//  Out: #100 pose count, #101 the reference pose (1-based), #102.. the reals
+//  (Q = 0: 10, Q = n: 27), exactly as stored (radians, mm): a client rebuilds
+//  the stored record bit for bit (core::encode_rigidity_reals), e.g. the
+//  LinuxCNC kinematics' table file. Statuses as 9834.
 // Macro 9836: check (check.hpp): the table built last (9832 with R = 0)
 //  against the stored one, nothing stored. Per pose of the build but the
 //  reference that the stored table has too (A within kPoseAToleranceDeg; the
@@ -113,6 +119,7 @@ MacroStep run_query(Context& ctx, State& state);
 MacroStep run_pose(Context& ctx, State& state);
 MacroStep run_convert(Context& ctx, State& state);
 MacroStep run_check(Context& ctx, State& state);
+MacroStep run_reals(Context& ctx, State& state);
 
 // clang-format off
 inline constexpr InputRef kAddInputs[] = {
@@ -149,6 +156,11 @@ inline constexpr InputRef kConvertInputs[] = {
   {var::kArgX, 3, "Point X, Y, Z (mm, machine frame)."},
 };
 
+inline constexpr InputRef kRealsInputs[] = {
+  {var::kArgQ, 1, "0 the header, 1..n a pose in A order."},
+  {var::kArgR, 1, "0 the table built last, 1 the stored table."},
+};
+
 inline constexpr InputRef kRigidityCheckInputs[] = {
   {var::kArgQ, 1, "The figure to publish in #104..#111: 1..#101, 0 the worst."},
   {var::kRigidityCheckRotation, 1, "The rotation vector's tolerance."},
@@ -173,6 +185,9 @@ inline constexpr MacroInfo kMacros[] = {
   macro<&run_check>(9836, "rigidity_check",
         "Check: the table built last (R = 0) against the stored table, nothing stored; a verdict against #605, #606.",
         kRigidityCheckInputs, kCheckOutputs),
+  macro<&run_reals>(9837, "rigidity_table_reals",
+        "The table's stored reals, header (Q = 0) or pose Q, exactly: for a client that rebuilds the stored record.",
+        kRealsInputs, kRealsOutputs),
 };
 // clang-format on
 

@@ -66,6 +66,10 @@ inline constexpr std::uint16_t kPoseCCircleRmsFloor = 120;
 // 9835
 inline constexpr std::uint16_t kConvertPointX = 100;
 inline constexpr std::uint16_t kConvertDirectionX = 103;
+// 9837
+inline constexpr std::uint16_t kRealsPoseCount = 100;
+inline constexpr std::uint16_t kRealsReference = 101;
+inline constexpr std::uint16_t kRealsFirst = 102;
 }  // namespace var
 
 namespace rigidity {
@@ -188,6 +192,38 @@ inline constexpr OutputInfo kPoseOutputs[] = {
   {var::kPoseAErrorSigma, "pose_a_positioning_error_sigma", "arcsec", "1-sigma uncertainty of the A positioning error, from the circle fits' own scatter (as the rotation vector's)."},
   {var::kPoseCCircleRmsSigma, "pose_c_circle_rms_sigma", "mm", "1-sigma uncertainty of the C-circle RMS, from the ball noise (#601)."},
   {var::kPoseCCircleRmsFloor, "pose_c_circle_rms_noise_floor", "mm", "The C-circle RMS the ball noise (#601) alone would give at this pose's sample count: an RMS within 3 sigma of it is noise, not geometry."},
+};
+
+inline constexpr OutputInfo kRealsOutputs[] = {
+  {var::kRealsPoseCount, "table_pose_count", "", "Number of poses in the table."},
+  {var::kRealsReference, "table_reference_pose", "", "The reference pose (A = 0), 1-based in A order."},
+  {var::kRealsFirst, "table_real_1", "", "Q = 0: the header's a_axis_point_x (mm); Q = n: the pose's a (deg); exactly as stored (rigidity_codec.hpp)."},
+  {var::kRealsFirst + 1, "table_real_2", "", "Q = 0: the header's a_axis_point_y (mm); Q = n: the pose's rotvec_x (rad); exactly as stored (rigidity_codec.hpp)."},
+  {var::kRealsFirst + 2, "table_real_3", "", "Q = 0: the header's a_axis_point_z (mm); Q = n: the pose's rotvec_y (rad); exactly as stored (rigidity_codec.hpp)."},
+  {var::kRealsFirst + 3, "table_real_4", "", "Q = 0: the header's a_axis_direction_x (unit); Q = n: the pose's rotvec_z (rad); exactly as stored (rigidity_codec.hpp)."},
+  {var::kRealsFirst + 4, "table_real_5", "", "Q = 0: the header's a_axis_direction_y (unit); Q = n: the pose's rotvec_sigma_x (rad); exactly as stored (rigidity_codec.hpp)."},
+  {var::kRealsFirst + 5, "table_real_6", "", "Q = 0: the header's a_axis_direction_z (unit); Q = n: the pose's rotvec_sigma_y (rad); exactly as stored (rigidity_codec.hpp)."},
+  {var::kRealsFirst + 6, "table_real_7", "", "Q = 0: the header's c_to_a_offset (mm); Q = n: the pose's rotvec_sigma_z (rad); exactly as stored (rigidity_codec.hpp)."},
+  {var::kRealsFirst + 7, "table_real_8", "", "Q = 0: the header's c_to_a_offset_sigma (mm); Q = n: the pose's rigidity (rad); exactly as stored (rigidity_codec.hpp)."},
+  {var::kRealsFirst + 8, "table_real_9", "", "Q = 0: the header's c_to_a_squareness (rad); Q = n: the pose's rigidity_sigma (rad); exactly as stored (rigidity_codec.hpp)."},
+  {var::kRealsFirst + 9, "table_real_10", "", "Q = 0: the header's c_to_a_squareness_sigma (rad); Q = n: the pose's theta (rad); exactly as stored (rigidity_codec.hpp)."},
+  {var::kRealsFirst + 10, "table_real_11", "", "Q = n: the pose's a_error (rad); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 11, "table_real_12", "", "Q = n: the pose's a_error_sigma (rad); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 12, "table_real_13", "", "Q = n: the pose's origin_offset_x (mm); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 13, "table_real_14", "", "Q = n: the pose's origin_offset_y (mm); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 14, "table_real_15", "", "Q = n: the pose's origin_offset_z (mm); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 15, "table_real_16", "", "Q = n: the pose's c_centre_x (mm); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 16, "table_real_17", "", "Q = n: the pose's c_centre_y (mm); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 17, "table_real_18", "", "Q = n: the pose's c_centre_z (mm); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 18, "table_real_19", "", "Q = n: the pose's c_direction_x (unit); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 19, "table_real_20", "", "Q = n: the pose's c_direction_y (unit); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 20, "table_real_21", "", "Q = n: the pose's c_direction_z (unit); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 21, "table_real_22", "", "Q = n: the pose's c_x_axis_x (unit); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 22, "table_real_23", "", "Q = n: the pose's c_x_axis_y (unit); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 23, "table_real_24", "", "Q = n: the pose's c_x_axis_z (unit); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 24, "table_real_25", "", "Q = n: the pose's c_circle_rms (mm); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 25, "table_real_26", "", "Q = n: the pose's c_arc (deg); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsFirst + 26, "table_real_27", "", "Q = n: the pose's c_count (unit); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
 };
 
 inline constexpr OutputInfo kConvertOutputs[] = {

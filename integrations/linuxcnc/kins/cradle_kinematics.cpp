@@ -1,0 +1,87 @@
+#include "cradle_kinematics.hpp"
+
+#include <cmath>
+
+#include "trueaxis/core/leveling.hpp"
+#include "trueaxis/core/rigidity_codec.hpp"
+#include "trueaxis/macros/record_file.hpp"
+#include "trueaxis/macros/services.hpp"
+
+namespace trueaxis::linuxcnc {
+
+namespace {
+
+constexpr core::Blend kBlend = core::Blend::kCubicNotAKnot;
+
+bool finite(const core::Vec3& v, double a, double c) { return v.allFinite() && std::isfinite(a) && std::isfinite(c); }
+
+// Convention 2's turn.
+core::Mat3 ideal_rotation(double a_deg, double c_deg) {
+  return core::table_rotation(core::TablePose{a_deg, c_deg}, core::LevelConfig{});
+}
+
+}  // namespace
+
+void CradleKinematics::make_ideal() { calibrated_ = false; }
+
+LoadResult CradleKinematics::load_table(const std::uint8_t* file, std::size_t size) {
+  const std::uint8_t* payload = nullptr;
+  std::size_t length = 0;
+  const macros::RecordFileError e =
+      macros::decode_record_file(macros::RigidityTableRecord::kRecord.key, file, size, payload, length);
+  if (e != macros::RecordFileError::kNone) return {false, macros::record_file_text(e)};
+  core::RigidityTable table;
+  if (core::decode_rigidity_table(payload, length, table) != core::Status::kOk) {
+    return {false, "the rigidity table in it does not decode (a file of another build, or written by hand?)"};
+  }
+  const core::Result<core::RigidityFrames> zero = core::rigidity_frames(table, 0.0, 0.0, kBlend, true);
+  if (!zero.ok()) return {false, "the rigidity table in it gives no frame at A = 0, C = 0"};
+  table_ = table;
+  world_T_table_ = zero.value().machine_T_table_actual;
+  table_T_world_ = world_T_table_.inverse();
+  calibrated_ = true;
+  return {true, ""};
+}
+
+bool CradleKinematics::theory_point(const core::Vec3& world_mm, double a_deg, double c_deg, core::Vec3& p_mm) const {
+  if (!finite(world_mm, a_deg, c_deg)) return false;
+  if (!calibrated_) {
+    p_mm = ideal_rotation(a_deg, c_deg) * world_mm;
+    return true;
+  }
+  const core::Result<core::RigidityFrames> f = core::rigidity_frames(table_, a_deg, c_deg, kBlend, true);
+  if (!f.ok()) return false;
+  p_mm = f.value().machine_T_table_theory.point(table_T_world_.point(world_mm));
+  return true;
+}
+
+bool CradleKinematics::inverse(const core::Vec3& world_mm, double a_deg, double c_deg, core::Vec3& joint_mm) const {
+  if (!finite(world_mm, a_deg, c_deg)) return false;
+  if (!calibrated_) {
+    joint_mm = ideal_rotation(a_deg, c_deg) * world_mm;
+    return true;
+  }
+  const core::Result<core::RigidityFrames> f = core::rigidity_frames(table_, a_deg, c_deg, kBlend, true);
+  if (!f.ok()) return false;
+  const core::Vec3 p = f.value().machine_T_table_theory.point(table_T_world_.point(world_mm));
+  // core::rigidity_correction's arithmetic on the same frames: 9835's K.
+  const core::RigidTransform k = f.value().machine_T_table_actual * f.value().machine_T_table_theory.inverse();
+  joint_mm = k.point(p);
+  return true;
+}
+
+bool CradleKinematics::forward(const core::Vec3& joint_mm, double a_deg, double c_deg, core::Vec3& world_mm) const {
+  if (!finite(joint_mm, a_deg, c_deg)) return false;
+  if (!calibrated_) {
+    world_mm = ideal_rotation(a_deg, c_deg).transpose() * joint_mm;
+    return true;
+  }
+  const core::Result<core::RigidityFrames> f = core::rigidity_frames(table_, a_deg, c_deg, kBlend, true);
+  if (!f.ok()) return false;
+  const core::RigidTransform k = f.value().machine_T_table_actual * f.value().machine_T_table_theory.inverse();
+  const core::Vec3 p = k.inverse().point(joint_mm);
+  world_mm = world_T_table_.point(f.value().machine_T_table_theory.inverse().point(p));
+  return true;
+}
+
+}  // namespace trueaxis::linuxcnc

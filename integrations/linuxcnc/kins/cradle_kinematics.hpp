@@ -1,0 +1,77 @@
+// The kinematics of an XYZAC cradle (trunnion) machine on its calibrated axes:
+// what trueaxis_kins.so (trueaxis_kins.cpp beside this file) runs in
+// LinuxCNC's servo thread. No heap, no exceptions, no I/O: the module reads the
+// table file at its start and hands the bytes over.
+//
+// Conventions (mm, commanded degrees)
+//  1. World coordinates (a program's X, Y, Z, "table coordinates"): where a
+//     point fixed to the table is in the machine frame with the table at A = 0,
+//     C = 0. Joints: the machine's X, Y, Z of the tool tip, and A, C as
+//     commanded (world A, C = joint A, C).
+//  2. Ideal (no table loaded): joints = Rx(A) Rz(C) world, both turns about the
+//     machine origin, right-handed (core::table_rotation with signs +1): the
+//     cradle of host_sim's cradle_machine.hpp and of the rigidity program.
+//  3. Calibrated (a stored M3 table, rigidity_compensation.hpp): with
+//     F(A, C) the table's theory frame and K(A, C) = actual_T_theory (exactly
+//     what macro 9835 computes, core::rigidity_correction's arithmetic on
+//     core::rigidity_frames), and T0 = the actual frame at A = 0, C = 0,
+//         theory point  p = F(A, C) T0^-1 world   (where the ideal machine on
+//                        the measured axes puts it),
+//         joints        = K(A, C) p               (9835 of p, R = 0).
+//     forward is the same backwards: world = T0 F^-1 K^-1 joints. Outside the
+//     table's measured A range the end pose's correction applies (9833's
+//     R = 1), so the servo thread never meets a refusal; inside it the joints
+//     are 9835's answer bit for bit. Blend: the not-a-knot cubic (Q = 3), as
+//     leveling on the calibrated axes.
+//  4. Identity (switchkins type 0, as xyzac-trt-kins' identityfirst): joints =
+//     world, for probing programs in machine coordinates.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#include "trueaxis/core/rigid_transform.hpp"
+#include "trueaxis/core/rigidity_compensation.hpp"
+#include "trueaxis/core/rigidity_table.hpp"
+#include "trueaxis/core/status.hpp"
+#include "trueaxis/core/types.hpp"
+
+namespace trueaxis::linuxcnc {
+
+// Why a table file was refused, one line (record_file.hpp's or the codec's).
+struct LoadResult {
+  bool ok = false;
+  const char* why = "";
+};
+
+class CradleKinematics {
+ public:
+  // Convention 2 (the state after construction).
+  void make_ideal();
+
+  // Convention 3 from a table file's bytes (record_file.hpp of the rigidity
+  // record, as `trueaxis-calibrate rigidity --store --linuxcnc-kins` writes
+  // it); on refusal the kinematics stay as they were.
+  LoadResult load_table(const std::uint8_t* file, std::size_t size);
+
+  bool calibrated() const { return calibrated_; }
+  std::size_t poses() const { return calibrated_ ? table_.pose_count : 0; }
+  double a_min_deg() const { return calibrated_ ? table_.poses[0].a_deg : 0.0; }
+  double a_max_deg() const { return calibrated_ ? table_.poses[table_.pose_count - 1].a_deg : 0.0; }
+
+  // Conventions 2, 3: false only for a non-finite input (joints untouched).
+  bool inverse(const core::Vec3& world_mm, double a_deg, double c_deg, core::Vec3& joint_mm) const;
+  bool forward(const core::Vec3& joint_mm, double a_deg, double c_deg, core::Vec3& world_mm) const;
+
+  // Convention 3's theory point p of a world point (the ideal machine's where
+  // no table is loaded): the point 9835 converts into the joints.
+  bool theory_point(const core::Vec3& world_mm, double a_deg, double c_deg, core::Vec3& p_mm) const;
+
+ private:
+  core::RigidityTable table_;
+  core::RigidTransform table_T_world_;  // T0^-1
+  core::RigidTransform world_T_table_;  // T0
+  bool calibrated_ = false;
+};
+
+}  // namespace trueaxis::linuxcnc
