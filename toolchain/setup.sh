@@ -38,8 +38,34 @@ make_ci_user() {
   fi
 }
 
+# LinuxCNC's rtapi_app loads real-time modules only from its own folder: the
+# project's kinematics module (integrations/linuxcnc/kins, trueaxis_kins.so) is
+# linked there to a file in a folder that belongs to the user who ran this
+# script, so that the LinuxCNC tests can put the module they built in place
+# without root (tests/linuxcnc/kins_module.py). A controller installs its
+# module with root instead (integrations/linuxcnc/kins/README.md).
+kins_link=/usr/lib/linuxcnc/modules/trueaxis_kins.so
+kins_dir=/var/lib/trueaxis
+link_kins_module() {
+  [ -d "$(dirname "$kins_link")" ] || return 0
+  [ -L "$kins_link" ] && [ -d "$kins_dir" ] && return 0
+  local owner="${SUDO_USER:-$(id -un)}"
+  local as_root=()
+  if [ "$(id -u)" -ne 0 ]; then
+    if ! command -v sudo >/dev/null; then
+      echo "setup: cannot link $kins_link (needs root): the LinuxCNC kinematics tests will fail" >&2
+      return 0
+    fi
+    as_root=(sudo)
+  fi
+  "${as_root[@]}" mkdir -p "$kins_dir"
+  "${as_root[@]}" chown "$owner" "$kins_dir"
+  "${as_root[@]}" ln -sfn "$kins_dir/trueaxis_kins.so" "$kins_link"
+}
+
 if [ "${#missing[@]}" -eq 0 ]; then
   make_ci_user
+  link_kins_module
   exit 0
 fi
 
@@ -50,3 +76,4 @@ export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -q
 "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
 make_ci_user
+link_kins_module

@@ -4,6 +4,7 @@
 //                   [--check] [--operator NAME] [--time WHEN]
 // trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]
 // trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]
+// trueaxis-calibrate linuxcnc-kins --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]
 // The integrator's command (docs/INTERFACE.md, "The integrator's command"):
 // reads the samples, streams them to the module over Modbus (default
 // 127.0.0.1:502), runs the method's macros there and writes what the module
@@ -66,7 +67,8 @@ constexpr const char* kUsage =
     "                          [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE] [--linuxcnc-kins FILE]\n"
     "                          [--check] [--operator NAME] [--time WHEN]\n"
     "       trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]\n"
-    "       trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]\n";
+    "       trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]\n"
+    "       trueaxis-calibrate linuxcnc-kins --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]\n";
 
 constexpr const char* kPlanHelp =
     "plan METHOD: the 1-sigma of every output of a planned measurement, predicted before it is\n"
@@ -180,6 +182,8 @@ void print_help() {
               "log: the module's measuring log (every calibration, store and check of M2, M3, M4), newest\n"
               "last, and per checked figure its drift (a weighted line through its deviations) with the\n"
               "date it reaches its tolerance; --csv FILE writes the entries as CSV too.\n"
+              "linuxcnc-kins: the controller's stored M3 table as the file the LinuxCNC kinematics\n"
+              "trueaxis_kins load (integrations/linuxcnc/kins), however it was stored.\n"
               "%s"
               "Exit 0 with one summary line on stdout; 1 with one line on stderr on any failure, and\n"
               "then no OUT.json and nothing stored; 3 when --check's verdict is fail (OUT.json and the\n"
@@ -375,6 +379,65 @@ bool read_rigidity_plan(const std::string& path, trueaxis::sim::RigidityPlan& pl
     return false;
   }
   return true;
+}
+
+// trueaxis-calibrate linuxcnc-kins --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]:
+// the controller's stored M3 table as the LinuxCNC kinematics' file, however it
+// was stored (trueaxis-calibrate, an operator program's G65, an HMI).
+int run_kins_export(int argc, char** argv) {
+  std::string host = "127.0.0.1";
+  int port = 502;
+  int wait_s = 120;
+  std::string out_path;
+  for (int i = 2; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--help" || arg == "-h") {
+      print_help();
+      return 0;
+    } else if (arg == "--out" && has_value) {
+      out_path = argv[++i];
+    } else if (arg == "--host" && has_value) {
+      host = argv[++i];
+    } else if (arg == "--port" && has_value) {
+      char* end = nullptr;
+      const long p = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || p < 1 || p > 65535) return usage_error("--port takes 1..65535");
+      port = static_cast<int>(p);
+    } else if (arg == "--wait" && has_value) {
+      char* end = nullptr;
+      const long seconds = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || seconds < 0 || seconds > 3600) return usage_error("--wait takes 0..3600 (seconds)");
+      wait_s = static_cast<int>(seconds);
+    } else {
+      return usage_error("unknown or incomplete option '" + arg + "' for linuxcnc-kins");
+    }
+  }
+  if (out_path.empty()) return usage_error("linuxcnc-kins needs --out FILE");
+  trueaxis::sim::VariableClient client;
+  if (!client.connect(host, port)) {
+    return fail("cannot connect to " + host + ":" + std::to_string(port) + ": " + client.error_text());
+  }
+  const std::string busy = "controller busy: another client holds the macro interface";
+  const bool taken = client.take_interface(wait_s * 1000, [&busy, wait_s] {
+    std::fprintf(stderr, "trueaxis-calibrate: %s, waiting (up to %d s)\n", busy.c_str(), wait_s);
+  });
+  if (!taken) {
+    const std::string why = client.failure_text();
+    return fail(why == busy ? busy + " (waited " + std::to_string(wait_s) + " s; --wait SECONDS)" : why);
+  }
+  std::string file;
+  FlowResult r;
+  if (!trueaxis::sim::rigidity_kins_file(client, true, file, r)) return fail(r.error);
+  client.give_back_interface();
+  client.close();
+  const std::string tmp = out_path + ".tmp";
+  if (!write_text_file(tmp, file) || std::rename(tmp.c_str(), out_path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    return fail(out_path + ": cannot be written");
+  }
+  std::printf("linuxcnc-kins: the stored rigidity table, %zu bytes; wrote %s\n", file.size(), out_path.c_str());
+  return 0;
 }
 
 // trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N].
@@ -583,6 +646,7 @@ int main(int argc, char** argv) {
   const std::string first = argv[1];
   if (first == "log") return run_log(argc, argv);
   if (first == "plan") return run_plan(argc, argv);
+  if (first == "linuxcnc-kins") return run_kins_export(argc, argv);
   const CalibrateMethod* method = trueaxis::sim::find_calibrate_method(first);
   // --help and --version anywhere after METHOD, or in its place.
   const int options_from = method != nullptr ? 2 : 1;
@@ -713,6 +777,12 @@ int main(int argc, char** argv) {
   if (!client.read_one(trueaxis::macros::var::kInterfaceVersion, interface_version)) interface_version = 0.0;
   r.report_extras = with_record(r.report_extras, o, o.check ? trueaxis::macros::verdict_name(verdict) : "",
                                 machine_id, interface_version);
+  // The kinematics' table file: the table just built (R = 0, 9837); the store
+  // builds the same session again, deterministically, so it is the table stored.
+  std::string kins_file;
+  if (!o.linuxcnc_kins_path.empty() && !trueaxis::sim::rigidity_kins_file(client, false, kins_file, r)) {
+    return fail(r.error);
+  }
   // The macros this run has counted: the store checks that no other client ran
   // one since (the interface is free after 30 s without a write, and the
   // report is made meanwhile), so that what it stores is built from this run's session.
@@ -737,12 +807,8 @@ int main(int argc, char** argv) {
   if (!comp_tmp.empty() && !write_text_file(comp_tmp, r.linuxcnc_comp)) {
     return fail_clean(o.linuxcnc_comp_path + ": cannot be written");
   }
-  if (!kins_tmp.empty()) {
-    // The table just built (R = 0): the store builds the same session again,
-    // deterministically, so this is the table stored.
-    std::string file;
-    if (!trueaxis::sim::rigidity_kins_file(client, false, file, r)) return fail_clean(r.error);
-    if (!write_text_file(kins_tmp, file)) return fail_clean(o.linuxcnc_kins_path + ": cannot be written");
+  if (!kins_tmp.empty() && !write_text_file(kins_tmp, kins_file)) {
+    return fail_clean(o.linuxcnc_kins_path + ": cannot be written");
   }
   std::string summary = r.summary + "; wrote " + o.json_path;
   if (!comp_tmp.empty()) summary += ", " + o.linuxcnc_comp_path;

@@ -1,0 +1,290 @@
+// The LinuxCNC cradle kinematics (integrations/linuxcnc/kins/cradle_kinematics.hpp)
+// on a table measured on the realistic virtual cradle and stored through the
+// user's command (trueaxis-calibrate rigidity --store --linuxcnc-kins, against
+// a simulator served in this process): forward and inverse invert each other
+// to 1e-9 mm everywhere; inside the measured range the joints are macro
+// 9835's answer for the theory point bit for bit; at A = C = 0 the world is
+// the machine; the ideal kinematics are Rx(A) Rz(C); the calibrated ones put
+// the ball where the true cradle has it and the ideal ones miss it; no call
+// allocates; a damaged, truncated, foreign or missing file is refused with its
+// reason and changes nothing.
+#include <catch2/catch.hpp>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "alloc_counter.hpp"
+#include "calibrate_support.hpp"
+#include "cradle_kinematics.hpp"
+#include "in_process_sim.hpp"
+#include "kins_api.h"
+#include "trueaxis/core/spindle_model.hpp"
+#include "trueaxis/macros/record_file.hpp"
+#include "trueaxis/macros/rigidity/rigidity_map.hpp"
+#include "trueaxis/sim/instruments/calibration_ball.hpp"
+#include "trueaxis/sim/machines/cradle_errors.hpp"
+#include "trueaxis/sim/machines/cradle_machine.hpp"
+
+namespace {
+
+namespace core = trueaxis::core;
+namespace sim = trueaxis::sim;
+namespace t = trueaxis::test;
+namespace v = trueaxis::macros::var;
+using core::Vec3;
+
+constexpr double kArcsec = 206264.80624709636;
+
+// The ball on the realistic cradle at A -90..90 every 30, C every 10, read to
+// sigma_mm: the samples file of docs/INTERFACE.md "M3 rigidity".
+std::string ball_csv(const sim::CradleMachine& machine, double sigma_mm, std::uint64_t seed) {
+  sim::CalibrationBall ball;
+  ball.sigma_mm = sigma_mm;
+  sim::SimRng rng(seed);
+  std::string csv = "a_deg,c_deg,x_mm,y_mm,z_mm\n";
+  for (int a = -90; a <= 90; a += 30) {
+    for (int c = 0; c < 360; c += 10) {
+      const sim::RigidTransform pose = machine.machine_T_table(a, c);
+      const Vec3 p = sigma_mm > 0.0 ? ball.measure(pose, rng) : ball.centre_mm(pose);
+      char line[160];
+      std::snprintf(line, sizeof line, "%d,%d,%.12f,%.12f,%.12f\n", a, c, p.x(), p.y(), p.z());
+      csv += line;
+    }
+  }
+  return csv;
+}
+
+// The table file of a calibration on the simulator `sim` (the user's command).
+std::vector<std::uint8_t> stored_table_file(t::InProcessSim& sim, const t::Workspace& w, const std::string& csv) {
+  const t::Run r = t::run({TRUEAXIS_CALIBRATE_BINARY, "rigidity", "--in", w.write("ball.csv", csv), "--json",
+                           w.file("out.json"), "--store", "--linuxcnc-kins", w.file("m3.table"), "--port",
+                           std::to_string(sim.port())},
+                          w.file("stderr"));
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::string bytes = t::slurp(w.file("m3.table"));
+  return std::vector<std::uint8_t>(bytes.begin(), bytes.end());
+}
+
+// Macro 9835 (R = 0, Q = 3: theory to actual, the not-a-knot blend) of a point.
+Vec3 convert(sim::VariableClient& client, double a, double c, const Vec3& p) {
+  const double ac[3] = {a, 0.0, c};
+  const double xyz[3] = {p.x(), p.y(), p.z()};
+  const double qr[2] = {3.0, 0.0};
+  REQUIRE(client.write(v::kArgA, 3, ac));
+  REQUIRE(client.write(v::kArgX, 3, xyz));
+  REQUIRE(client.write(v::kArgQ, 2, qr));
+  REQUIRE(client.run_macro(9835).status == 2);
+  double out[3];
+  REQUIRE(client.read(v::kConvertPointX, 3, out));
+  return Vec3(out[0], out[1], out[2]);
+}
+
+bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), sizeof(double) * 3) == 0; }
+
+}  // namespace
+
+TEST_CASE("kins: the table file of the stored calibration; forward and inverse invert each other; 9835 bit for bit",
+          "[kins]") {
+  t::InProcessSim sim;
+  t::Workspace w("trueaxis-kins");
+  const sim::CradleMachine machine(sim::FaceConfig{}, sim::realistic_errors());
+  const std::vector<std::uint8_t> file = stored_table_file(sim, w, ball_csv(machine, 0.001, 7));
+  trueaxis::linuxcnc::CradleKinematics kins;
+  const trueaxis::linuxcnc::LoadResult loaded = kins.load_table(file.data(), file.size());
+  INFO(loaded.why);
+  REQUIRE(loaded.ok);
+  CHECK(kins.poses() == 7);
+  CHECK(kins.a_min_deg() == -90.0);
+  CHECK(kins.a_max_deg() == 90.0);
+  // The stored table exported on its own (an operator program's store) is the same file.
+  const t::Run exported = t::run({TRUEAXIS_CALIBRATE_BINARY, "linuxcnc-kins", "--out", w.file("exported.table"),
+                                  "--port", std::to_string(sim.port())},
+                                 w.file("stderr"));
+  INFO(exported.err);
+  REQUIRE(exported.exit_code == 0);
+  CHECK(t::slurp(w.file("exported.table")) == std::string(file.begin(), file.end()));
+
+  sim::SimRng rng(2027);
+  double worst = 0.0;
+  int bit_for_bit = 0;
+  for (int i = 0; i < 400; ++i) {
+    // A over the measured range and 30 deg beyond it, at the poses too.
+    const double a = i % 20 == 0 ? -90.0 + 30.0 * (i / 20 % 7) : -120.0 + 240.0 * rng.uniform01();
+    const double c = -720.0 + 1440.0 * rng.uniform01();
+    const Vec3 world(600.0 * rng.uniform01() - 300.0, 600.0 * rng.uniform01() - 300.0, 400.0 * rng.uniform01() - 100.0);
+    Vec3 joint, back;
+    REQUIRE(kins.inverse(world, a, c, joint));
+    REQUIRE(kins.forward(joint, a, c, back));
+    worst = std::max(worst, (back - world).norm());
+    if (i % 10 == 0 && a >= -90.0 && a <= 90.0) {
+      Vec3 p;
+      REQUIRE(kins.theory_point(world, a, c, p));
+      INFO("A " << a << " C " << c);
+      CHECK(same_bits(convert(sim.client(), a, c, p), joint));
+      ++bit_for_bit;
+    }
+  }
+  INFO("round trip worst " << worst << " mm");
+  CHECK(worst < 1e-9);
+  CHECK(bit_for_bit >= 20);
+
+  // At A = 0, C = 0 the world is the machine (convention 1).
+  for (const Vec3& world : {Vec3(0, 0, 0), Vec3(200, 0, 50), Vec3(-150, 80, 120)}) {
+    Vec3 joint;
+    REQUIRE(kins.inverse(world, 0.0, 0.0, joint));
+    CHECK((joint - world).norm() < 1e-9);
+  }
+  // Nothing allocates, calibrated or ideal; a non-finite input is refused.
+  {
+    t::AllocationScope scope;
+    Vec3 joint, back;
+    for (int i = 0; i < 50; ++i) {
+      REQUIRE(kins.inverse(Vec3(10.0 * i, 5, 3), -95.0 + 4.0 * i, 7.0 * i, joint));
+      REQUIRE(kins.forward(joint, -95.0 + 4.0 * i, 7.0 * i, back));
+    }
+    CHECK(scope.count() == 0);
+  }
+  Vec3 kept(1, 2, 3);
+  CHECK_FALSE(kins.inverse(Vec3(NAN, 0, 0), 10.0, 0.0, kept));
+  CHECK_FALSE(kins.forward(Vec3(0, 0, 0), INFINITY, 0.0, kept));
+  CHECK(kept == Vec3(1, 2, 3));
+}
+
+TEST_CASE("kins: the ideal cradle is Rx(A) Rz(C); the calibrated one puts the ball where the true cradle has it",
+          "[kins]") {
+  trueaxis::linuxcnc::CradleKinematics ideal;
+  sim::SimRng rng(11);
+  for (int i = 0; i < 100; ++i) {
+    const double a = -120.0 + 240.0 * rng.uniform01();
+    const double c = -400.0 + 800.0 * rng.uniform01();
+    const Vec3 world(300.0 * rng.uniform01(), -200.0 * rng.uniform01(), 100.0 * rng.uniform01());
+    const core::Mat3 r = (Eigen::AngleAxisd(a * M_PI / 180.0, Vec3::UnitX()) *
+                          Eigen::AngleAxisd(c * M_PI / 180.0, Vec3::UnitZ()))
+                             .toRotationMatrix();
+    Vec3 joint, back;
+    REQUIRE(ideal.inverse(world, a, c, joint));
+    CHECK((joint - r * world).norm() < 1e-9);
+    REQUIRE(ideal.forward(joint, a, c, back));
+    CHECK((back - world).norm() < 1e-9);
+  }
+
+  // The ball: its world position is where the true cradle has it at A = C = 0;
+  // at each measured A and any C the calibrated kinematics send the probe to
+  // where the true cradle has it then. Noise-free, exactly (the table's frames
+  // are the ball's own circles); measured to 1 um, within 3 sigma of the table
+  // at that pose (its rotation vector's and A error's sigmas over the ball's
+  // 206 mm from the A axis, and the C centre's); the ideal kinematics miss by
+  // the cradle's errors.
+  const sim::CradleMachine machine(sim::FaceConfig{}, sim::realistic_errors());
+  const sim::CalibrationBall ball;
+  // The ball, and two points of a workpiece elsewhere on the table (table
+  // coordinates): the table's frames carry the whole table, not the ball alone.
+  const Vec3 on_table[3] = {ball.centre_table_mm, Vec3(-150.0, 80.0, 120.0), Vec3(60.0, -170.0, 10.0)};
+  for (const double sigma : {0.0, 0.001}) {
+    t::InProcessSim sim;
+    t::Workspace w("trueaxis-kins");
+    const std::vector<std::uint8_t> file = stored_table_file(sim, w, ball_csv(machine, sigma, 31));
+    trueaxis::linuxcnc::CradleKinematics kins;
+    REQUIRE(kins.load_table(file.data(), file.size()).ok);
+    for (const double a : {-60.0, -30.0, 30.0, 60.0}) {
+      // The table's sigmas at this pose (9834, R = 1).
+      const double q = (a + 90.0) / 30.0 + 1.0;
+      const double args[2] = {q, 1.0};
+      REQUIRE(sim.client().write(v::kArgQ, 2, args));
+      REQUIRE(sim.client().run_macro(9834).status == 2);
+      double pose[21];
+      REQUIRE(sim.client().read(v::kPoseA, 21, pose));
+      REQUIRE(pose[0] == a);
+      const double rotation = std::hypot(std::hypot(pose[4], pose[5]), std::hypot(pose[6], pose[18])) / kArcsec;
+      const double centre = ball.sigma_mm / std::sqrt(36.0 / 2.0);
+      for (std::size_t k = 0; k < 3; ++k) {
+      const Vec3 world = machine.machine_T_table(0.0, 0.0).apply(on_table[k]);
+      // The point's lever about the C centre at the ball's height, where the table's frames sit.
+      const double lever = (on_table[k] - Vec3(0.0, 0.0, ball.centre_table_mm.z())).norm();
+      const double sigma_mm = std::hypot(rotation * lever, centre);
+      for (const double c : {0.0, 95.0, 200.0, 315.0}) {
+        const Vec3 truth = machine.machine_T_table(a, c).apply(on_table[k]);
+        Vec3 calibrated, uncompensated;
+        REQUIRE(kins.inverse(world, a, c, calibrated));
+        REQUIRE(ideal.inverse(world, a, c, uncompensated));
+        const double error = (calibrated - truth).norm();
+        const double miss = (uncompensated - truth).norm();
+        INFO("point " << k << ", noise " << sigma << " mm, A " << a << " C " << c << ": calibrated " << error * 1000.0
+                      << " um (sigma " << sigma_mm * 1000.0 << " um), ideal " << miss * 1000.0 << " um");
+        if (sigma == 0.0) {
+          CHECK(error < 1e-6);
+        } else {
+          CHECK(error < 3.0 * sigma_mm);
+        }
+        CHECK(miss > 10.0 * std::max(error, 1e-3));
+        if (std::getenv("TRUEAXIS_FIGURES") != nullptr && c == 95.0) {
+          std::printf("point %zu, noise %.3f mm, A %+5.1f C %5.1f: calibrated %.2f um (3 sigma %.2f um), ideal "
+                      "kinematics %.1f um\n",
+                      k, sigma, a, c, error * 1000.0, 3.0 * sigma_mm * 1000.0, miss * 1000.0);
+        }
+      }
+      }
+    }
+  }
+}
+
+TEST_CASE("kins: a damaged, truncated, foreign or missing table file is refused with its reason; nothing changes",
+          "[kins]") {
+  t::InProcessSim sim;
+  t::Workspace w("trueaxis-kins");
+  const sim::CradleMachine machine(sim::FaceConfig{}, sim::realistic_errors());
+  const std::vector<std::uint8_t> good = stored_table_file(sim, w, ball_csv(machine, 0.001, 5));
+  trueaxis::linuxcnc::CradleKinematics kins;
+  REQUIRE(kins.load_table(good.data(), good.size()).ok);
+  Vec3 before;
+  REQUIRE(kins.inverse(Vec3(100, 20, 30), 45.0, 30.0, before));
+  const auto refused = [&](const std::vector<std::uint8_t>& file, const char* says) {
+    const trueaxis::linuxcnc::LoadResult r = kins.load_table(file.data(), file.size());
+    INFO(r.why);
+    CHECK_FALSE(r.ok);
+    CHECK(std::string(r.why).find(says) != std::string::npos);
+    Vec3 after;
+    REQUIRE(kins.inverse(Vec3(100, 20, 30), 45.0, 30.0, after));
+    CHECK(same_bits(after, before));
+  };
+  for (const std::size_t at : {0u, 9u, 17u, 400u}) {
+    std::vector<std::uint8_t> flipped = good;
+    flipped[at] ^= 0x10;
+    refused(flipped, at == 0 ? "not a trueaxis record file" : at == 9 ? "layout" : "damaged");
+  }
+  refused(std::vector<std::uint8_t>(good.begin(), good.end() - 1), "truncated");
+  refused({}, "not a trueaxis record file");
+  // A spindle record's file, and a good CRC around bytes that are no table.
+  std::vector<std::uint8_t> foreign(good.size());
+  const std::size_t payload = good.size() - trueaxis::macros::kRecordFileOverhead;
+  foreign.resize(trueaxis::macros::encode_record_file(5, good.data() + 16, payload, foreign.data(), foreign.size()));
+  refused(foreign, "another record");
+  std::vector<std::uint8_t> garbage(good.size());
+  const std::vector<std::uint8_t> noise(payload, 0x5A);
+  garbage.resize(trueaxis::macros::encode_record_file(3, noise.data(), noise.size(), garbage.data(), garbage.size()));
+  refused(garbage, "does not decode");
+
+  // Nothing stored: the export says so and writes nothing.
+  {
+    t::InProcessSim empty;
+    const t::Run none = t::run({TRUEAXIS_CALIBRATE_BINARY, "linuxcnc-kins", "--out", w.file("none.table"), "--port",
+                                std::to_string(empty.port())},
+                               w.file("stderr"));
+    CHECK(none.exit_code == 1);
+    CHECK(none.err.find("module error 404 no_table") != std::string::npos);
+    CHECK_FALSE(t::exists(w.file("none.table")));
+  }
+  // The C interface the real-time module calls: a missing file says so.
+  const char* why = "";
+  CHECK(trueaxis_kins_load(w.file("absent.table").c_str(), &why) == -1);
+  CHECK(std::string(why) == "No such file or directory");
+  CHECK(trueaxis_kins_poses() == 0);
+  CHECK(trueaxis_kins_load(w.file("m3.table").c_str(), &why) == 0);
+  CHECK(trueaxis_kins_poses() == 7);
+}
