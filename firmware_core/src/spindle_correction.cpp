@@ -7,6 +7,24 @@
 
 namespace trueaxis::core {
 
+double spindle_phi_rad(double phi_deg) {
+  // n = trunc(phi_deg / 360) is fmod's quotient or, the division rounded up to
+  // an integer, one more, put right by the sign test; phi_deg - 360 n is exact
+  // below 2^44 deg (a multiple of phi_deg's ulp, at most 2^-8, under 360 deg),
+  // and takes phi_deg's sign as fmod's result does (issue 18).
+  double reduced = phi_deg;
+  if (!(std::abs(phi_deg) < 360.0)) {
+    if (std::abs(phi_deg) < 0x1p44) {
+      reduced = phi_deg - 360.0 * std::trunc(phi_deg / 360.0);
+      if (reduced * phi_deg < 0.0) reduced += std::copysign(360.0, phi_deg);
+      reduced = std::copysign(reduced, phi_deg);
+    } else {
+      reduced = std::fmod(phi_deg, 360.0);
+    }
+  }
+  return deg_to_rad(reduced);
+}
+
 namespace {
 
 // R(phi) x for x normal to a (convention 2).

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "calibrate_spindle_support.hpp"
 #include "calibrate_support.hpp"
 #include "cradle_kinematics.hpp"
 #include "in_process_sim.hpp"
@@ -26,6 +27,7 @@
 #include "trueaxis/core/spindle_model.hpp"
 #include "trueaxis/macros/record_file.hpp"
 #include "trueaxis/macros/rigidity/rigidity_map.hpp"
+#include "trueaxis/macros/spindle/spindle_map.hpp"
 #include "trueaxis/sim/instruments/calibration_ball.hpp"
 #include "trueaxis/sim/machines/cradle_errors.hpp"
 #include "trueaxis/sim/machines/cradle_machine.hpp"
@@ -103,7 +105,7 @@ TEST_CASE("kins: the table file of the stored calibration; forward and inverse i
   CHECK(kins.a_min_deg() == -90.0);
   CHECK(kins.a_max_deg() == 90.0);
   // The stored table exported on its own (an operator program's store) is the same file.
-  const t::Run exported = t::run({TRUEAXIS_CALIBRATE_BINARY, "linuxcnc-kins", "--out", w.file("exported.table"),
+  const t::Run exported = t::run({TRUEAXIS_CALIBRATE_BINARY, "linuxcnc-kins", "rigidity", "--out", w.file("exported.table"),
                                   "--port", std::to_string(sim.port())},
                                  w.file("stderr"));
   INFO(exported.err);
@@ -273,7 +275,7 @@ TEST_CASE("kins: a damaged, truncated, foreign or missing table file is refused 
   // Nothing stored: the export says so and writes nothing.
   {
     t::InProcessSim empty;
-    const t::Run none = t::run({TRUEAXIS_CALIBRATE_BINARY, "linuxcnc-kins", "--out", w.file("none.table"), "--port",
+    const t::Run none = t::run({TRUEAXIS_CALIBRATE_BINARY, "linuxcnc-kins", "rigidity", "--out", w.file("none.table"), "--port",
                                 std::to_string(empty.port())},
                                w.file("stderr"));
     CHECK(none.exit_code == 1);
@@ -287,4 +289,94 @@ TEST_CASE("kins: a damaged, truncated, foreign or missing table file is refused 
   CHECK(trueaxis_kins_poses() == 0);
   CHECK(trueaxis_kins_load(w.file("m3.table").c_str(), &why) == 0);
   CHECK(trueaxis_kins_poses() == 7);
+}
+
+TEST_CASE("kins: the tool tip (M4): the stored model's file, its error 9843's bit for bit, taken off the joints",
+          "[kins]") {
+  t::InProcessSim sim;
+  t::Workspace w("trueaxis-kins");
+  const t::SpindleFiles f = t::measure_spindle(w, "s", 3, 3);
+  const t::Run r = t::run({TRUEAXIS_CALIBRATE_BINARY, "spindle", "--in", f.samples, "--machine", f.machine, "--json",
+                           w.file("s.json"), "--store", "--linuxcnc-kins", w.file("m4.model"), "--port",
+                           std::to_string(sim.port())},
+                          w.file("stderr"));
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::string bytes = t::slurp(w.file("m4.model"));
+  const std::vector<std::uint8_t> file(bytes.begin(), bytes.end());
+  const t::Run exported = t::run({TRUEAXIS_CALIBRATE_BINARY, "linuxcnc-kins", "spindle", "--out", w.file("x.model"),
+                                  "--port", std::to_string(sim.port())},
+                                 w.file("stderr"));
+  REQUIRE(exported.exit_code == 0);
+  CHECK(t::slurp(w.file("x.model")) == bytes);
+
+  trueaxis::linuxcnc::CradleKinematics kins;
+  Vec3 none;
+  CHECK_FALSE(kins.tip_error(0.0, 100.0, none));  // no model yet
+  REQUIRE(kins.load_spindle(file.data(), file.size()).ok);
+  for (const double phi : {0.0, 37.5, 359.9, 360.0, 725.25, -90.0, -1000.0}) {
+    for (const double tool : {0.0, 100.0, 250.0}) {
+      INFO("phi " << phi << " tool " << tool);
+      Vec3 error;
+      REQUIRE(kins.tip_error(phi, tool, error));
+      const double st[2] = {phi, tool};
+      REQUIRE(sim.client().write_one(v::kArgS, st[0]));
+      REQUIRE(sim.client().write_one(v::kArgZ, st[1]));
+      REQUIRE(sim.client().run_macro(9843).status == 2);
+      double out[3];
+      REQUIRE(sim.client().read(v::kSpindleTipX, 3, out));
+      CHECK(same_bits(error, Vec3(out[0], out[1], out[2])));
+    }
+  }
+  Vec3 kept(1, 2, 3);
+  CHECK_FALSE(kins.tip_error(0.0, -0.001, kept));
+  CHECK_FALSE(kins.tip_error(NAN, 100.0, kept));
+  CHECK(kept == Vec3(1, 2, 3));
+  // A rigidity table is not a spindle model, and a damaged model file is refused.
+  std::vector<std::uint8_t> damaged = file;
+  damaged[100] ^= 0x02;
+  const trueaxis::linuxcnc::LoadResult refused = kins.load_spindle(damaged.data(), damaged.size());
+  CHECK_FALSE(refused.ok);
+  CHECK(std::string(refused.why).find("damaged") != std::string::npos);
+  CHECK(kins.spindle_loaded());
+
+  // The C interface the module calls: the correction off the joints and back.
+  const char* why = "";
+  CHECK(trueaxis_kins_load_spindle(w.file("absent.model").c_str(), &why) == -1);
+  REQUIRE(trueaxis_kins_load_spindle(w.file("m4.model").c_str(), &why) == 0);
+  CHECK(trueaxis_kins_spindle_loaded() == 1);
+  double e[3];
+  REQUIRE(trueaxis_kins_tip_error(37.5, 100.0, e) == 0);
+  Vec3 error;
+  REQUIRE(kins.tip_error(37.5, 100.0, error));
+  CHECK(same_bits(Vec3(e[0], e[1], e[2]), error));
+  CHECK(trueaxis_kins_tip_error(37.5, -1.0, e) == -1);
+
+  // What the module's kinematicsInverse and kinematicsForward run (kins_api.h):
+  // identity or cradle, the tip's error taken off the joints while it is on,
+  // and back; a tool length the model refuses is an error, not an uncorrected move.
+  REQUIRE(trueaxis_kins_load(w.file("absent.table").c_str(), &why) == -1);  // the ideal cradle stays
+  sim::SimRng rng(99);
+  for (int i = 0; i < 50; ++i) {
+    const int type = i % 2;
+    const double a = -100.0 + 200.0 * rng.uniform01();
+    const double c = 720.0 * rng.uniform01();
+    const double phi = 360.0 * rng.uniform01();
+    const double world[3] = {200.0 * rng.uniform01(), -100.0 * rng.uniform01(), 50.0 * rng.uniform01()};
+    double plain[3], corrected[3], back[3];
+    REQUIRE(trueaxis_kins_to_joints(type, world, a, c, 0, phi, 120.0, plain) == 0);
+    REQUIRE(trueaxis_kins_to_joints(type, world, a, c, 1, phi, 120.0, corrected) == 0);
+    REQUIRE(trueaxis_kins_tip_error(phi, 120.0, e) == 0);
+    for (int k = 0; k < 3; ++k) CHECK(corrected[k] == plain[k] - e[k]);
+    REQUIRE(trueaxis_kins_to_world(type, corrected, a, c, 1, phi, 120.0, back) == 0);
+    CHECK(std::hypot(std::hypot(back[0] - world[0], back[1] - world[1]), back[2] - world[2]) < 1e-9);
+    if (type == 0) CHECK((plain[0] == world[0] && plain[1] == world[1] && plain[2] == world[2]));
+  }
+  const double world[3] = {10.0, 20.0, 30.0};
+  double joints[3] = {7.0, 7.0, 7.0};
+  CHECK(trueaxis_kins_to_joints(1, world, 30.0, 0.0, 1, 10.0, -5.0, joints) == -1);
+  CHECK(trueaxis_kins_to_world(1, world, 30.0, 0.0, 1, 10.0, -5.0, joints) == -1);
+  CHECK((joints[0] == 7.0 && joints[1] == 7.0 && joints[2] == 7.0));
+  const double bad[3] = {NAN, 0.0, 0.0};
+  CHECK(trueaxis_kins_to_joints(0, bad, 0.0, 0.0, 0, 0.0, 0.0, joints) == -1);
 }

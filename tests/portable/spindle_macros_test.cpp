@@ -6,12 +6,15 @@
 // were, and the shared arenas (session_closed, result_replaced).
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "method_tests.hpp"
 #include "module_rig.hpp"
 #include "portable_test.hpp"
 #include "spindle_fixture.hpp"
+#include "trueaxis/core/byte_order.hpp"
+#include "trueaxis/core/spindle_correction.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
 
@@ -445,8 +448,61 @@ void model_arguments(ModuleRig& rig) {
   rig.set(v::kArgR, 1.0);
   rig.set(v::kArgQ, 9.0);
 }
+void words_arguments(ModuleRig& rig) {
+  rig.set(v::kArgR, 1.0);
+  rig.set(v::kArgQ, 1.0);
+}
+
+// 9847 for part q of the last identification (R = 0) or the stored model (R = 1): its #9001.
+double words(ModuleRig& rig, double q, double r) {
+  rig.set(v::kArgQ, q);
+  rig.set(v::kArgR, r);
+  return rig.run(9847);
+}
 
 }  // namespace
+
+TA_TEST("9847's words are the stored model's record bit for bit, from the identification and the stored model") {
+  ModuleRig rig;
+  sf::stored(rig);
+  static std::uint8_t scratch[m::kStoreScratchBytes];
+  m::KeyedStore store(rig.storage(), m::kRecordSpecs.data(), m::kRecordCount, scratch, sizeof scratch);
+  TA_REQUIRE(store.mount() == Status::kOk);
+  static std::uint8_t record[trueaxis::core::kSpindleModelBytes];
+  std::size_t length = 0;
+  TA_REQUIRE(store.load(sp::ModelRecord::kRecord.key, record, sizeof record, length) == Status::kOk);
+  TA_REQUIRE(length == sizeof record);
+  for (const double r : {0.0, 1.0}) {
+    TA_CASE_INDEX(static_cast<int>(r));
+    static std::uint8_t rebuilt[trueaxis::core::kSpindleModelBytes];
+    std::size_t at = 0;
+    for (const double q : {0.0, 1.0}) {
+      TA_REQUIRE(words(rig, q, r) == kDone);
+      TA_CHECK_EQ(rig.get(v::kSpindleWordsBytes), 512.0);
+      const auto n = static_cast<std::size_t>(rig.get(v::kSpindleWordsCount));
+      TA_CHECK_EQ(n, q == 0.0 ? 98u : 30u);
+      for (std::size_t k = 0; k < sp::kWordsPerPart; ++k) {
+        const double w = rig.get(static_cast<std::uint16_t>(v::kSpindleWordsFirst + k));
+        if (k >= n) {
+          TA_CHECK_EQ(w, 0.0);
+          continue;
+        }
+        TA_REQUIRE(w >= 0.0 && w <= 4294967295.0 && w == static_cast<double>(static_cast<std::uint32_t>(w)));
+        trueaxis::core::put_u32(rebuilt + at, static_cast<std::uint32_t>(w));
+        at += 4;
+      }
+    }
+    TA_CHECK_EQ(at, length);
+    TA_CHECK(std::memcmp(rebuilt, record, length) == 0);
+  }
+  const ModuleRig::Results kept = rig.results();
+  for (const double q : {-1.0, 0.5, 2.0}) {
+    TA_CASE_INDEX(static_cast<int>(10 * q));
+    TA_CHECK_EQ(words(rig, q, 1.0), kError);
+    TA_CHECK_EQ(rig.code(), Status::kArgumentOutOfRange);
+  }
+  TA_CHECK(rig.results() == kept);
+}
 
 TA_RECIPE(9840, nullptr, nullptr);
 TA_RECIPE(9841, nullptr, one_sample);
@@ -455,3 +511,4 @@ TA_RECIPE(9843, stored, correction_arguments);
 TA_RECIPE(9844, stored, report_arguments);
 TA_RECIPE(9845, stored, model_arguments);
 TA_RECIPE(9846, stored, nullptr);  // the build stored is the build checked: every figure 0, pass
+TA_RECIPE(9847, stored, words_arguments);

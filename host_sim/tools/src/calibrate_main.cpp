@@ -4,7 +4,7 @@
 //                   [--check] [--operator NAME] [--time WHEN]
 // trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]
 // trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]
-// trueaxis-calibrate linuxcnc-kins --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]
+// trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]
 // The integrator's command (docs/INTERFACE.md, "The integrator's command"):
 // reads the samples, streams them to the module over Modbus (default
 // 127.0.0.1:502), runs the method's macros there and writes what the module
@@ -68,7 +68,7 @@ constexpr const char* kUsage =
     "                          [--check] [--operator NAME] [--time WHEN]\n"
     "       trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]\n"
     "       trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]\n"
-    "       trueaxis-calibrate linuxcnc-kins --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]\n";
+    "       trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]\n";
 
 constexpr const char* kPlanHelp =
     "plan METHOD: the 1-sigma of every output of a planned measurement, predicted before it is\n"
@@ -164,8 +164,8 @@ void print_help() {
               "  --unlock-code CODE     the machine's unlock code (#900) for --store, 1..9999 (default 2718)\n"
               "  --linuxcnc-comp FILE   rigidity: also M3's A positioning error as a LinuxCNC joint\n"
               "                         compensation file for the A joint (COMP_FILE_TYPE = 1)\n"
-              "  --linuxcnc-kins FILE   rigidity with --store: also the stored table as the file the LinuxCNC\n"
-              "                         kinematics trueaxis_kins load (integrations/linuxcnc/kins)\n"
+              "  --linuxcnc-kins FILE   rigidity or spindle, with --store: also the stored table or model as\n"
+              "                         the file the LinuxCNC kinematics trueaxis_kins load (integrations/linuxcnc/kins)\n"
               "  --accept-change        with --store: store even a result that differs from the stored\n"
               "                         calibration by more than the method's change limit (its build\n"
               "                         macro's M = 1); check the machine first\n"
@@ -182,8 +182,8 @@ void print_help() {
               "log: the module's measuring log (every calibration, store and check of M2, M3, M4), newest\n"
               "last, and per checked figure its drift (a weighted line through its deviations) with the\n"
               "date it reaches its tolerance; --csv FILE writes the entries as CSV too.\n"
-              "linuxcnc-kins: the controller's stored M3 table as the file the LinuxCNC kinematics\n"
-              "trueaxis_kins load (integrations/linuxcnc/kins), however it was stored.\n"
+              "linuxcnc-kins METHOD: the controller's stored M3 table (rigidity) or M4 model (spindle) as\n"
+              "the file the LinuxCNC kinematics trueaxis_kins load (integrations/linuxcnc/kins).\n"
               "%s"
               "Exit 0 with one summary line on stdout; 1 with one line on stderr on any failure, and\n"
               "then no OUT.json and nothing stored; 3 when --check's verdict is fail (OUT.json and the\n"
@@ -381,15 +381,23 @@ bool read_rigidity_plan(const std::string& path, trueaxis::sim::RigidityPlan& pl
   return true;
 }
 
-// trueaxis-calibrate linuxcnc-kins --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]:
-// the controller's stored M3 table as the LinuxCNC kinematics' file, however it
-// was stored (trueaxis-calibrate, an operator program's G65, an HMI).
+// trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]:
+// the controller's stored M3 table or M4 model as the LinuxCNC kinematics'
+// file, however it was stored (trueaxis-calibrate, an operator program's G65, an HMI).
 int run_kins_export(int argc, char** argv) {
   std::string host = "127.0.0.1";
   int port = 502;
   int wait_s = 120;
   std::string out_path;
-  for (int i = 2; i < argc; ++i) {
+  const CalibrateMethod* method = argc > 2 ? trueaxis::sim::find_calibrate_method(argv[2]) : nullptr;
+  if (argc > 2 && (std::string(argv[2]) == "--help" || std::string(argv[2]) == "-h")) {
+    print_help();
+    return 0;
+  }
+  if (method == nullptr || method->kins_file == nullptr) {
+    return usage_error("linuxcnc-kins takes METHOD: rigidity or spindle");
+  }
+  for (int i = 3; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
     if (arg == "--help" || arg == "-h") {
@@ -428,7 +436,7 @@ int run_kins_export(int argc, char** argv) {
   }
   std::string file;
   FlowResult r;
-  if (!trueaxis::sim::rigidity_kins_file(client, true, file, r)) return fail(r.error);
+  if (!method->kins_file(client, true, file, r)) return fail(r.error);
   client.give_back_interface();
   client.close();
   const std::string tmp = out_path + ".tmp";
@@ -436,7 +444,8 @@ int run_kins_export(int argc, char** argv) {
     std::remove(tmp.c_str());
     return fail(out_path + ": cannot be written");
   }
-  std::printf("linuxcnc-kins: the stored rigidity table, %zu bytes; wrote %s\n", file.size(), out_path.c_str());
+  std::printf("linuxcnc-kins: the stored %s calibration, %zu bytes; wrote %s\n", method->name, file.size(),
+              out_path.c_str());
   return 0;
 }
 
@@ -731,8 +740,9 @@ int main(int argc, char** argv) {
   if (!o.linuxcnc_comp_path.empty() && o.method != "rigidity") {
     return usage_error("--linuxcnc-comp goes with rigidity (M3's A positioning error)");
   }
-  if (!o.linuxcnc_kins_path.empty() && (o.method != "rigidity" || !o.store)) {
-    return usage_error("--linuxcnc-kins goes with rigidity and --store (the kinematics take the stored table)");
+  if (!o.linuxcnc_kins_path.empty() && (method->kins_file == nullptr || !o.store)) {
+    return usage_error("--linuxcnc-kins goes with rigidity or spindle, and --store (the kinematics take the stored "
+                       "calibration)");
   }
 
   trueaxis::sim::VariableClient client;
@@ -777,10 +787,11 @@ int main(int argc, char** argv) {
   if (!client.read_one(trueaxis::macros::var::kInterfaceVersion, interface_version)) interface_version = 0.0;
   r.report_extras = with_record(r.report_extras, o, o.check ? trueaxis::macros::verdict_name(verdict) : "",
                                 machine_id, interface_version);
-  // The kinematics' table file: the table just built (R = 0, 9837); the store
-  // builds the same session again, deterministically, so it is the table stored.
+  // The kinematics' file: the table or model just built (R = 0, 9837 or 9847);
+  // the store builds the same session again, deterministically, so it is the
+  // one stored.
   std::string kins_file;
-  if (!o.linuxcnc_kins_path.empty() && !trueaxis::sim::rigidity_kins_file(client, false, kins_file, r)) {
+  if (!o.linuxcnc_kins_path.empty() && !method->kins_file(client, false, kins_file, r)) {
     return fail(r.error);
   }
   // The macros this run has counted: the store checks that no other client ran

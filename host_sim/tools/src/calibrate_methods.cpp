@@ -19,7 +19,7 @@ const CalibrateMethod kMethods[] = {
    "  (the reference); 3..16 poses, each with at least 4 distinct C over an arc of at least\n"
    "  #600 (45 deg by default) and at most 36 samples; at most 512 samples in all.\n"
    "MACHINE.csv: not read.\n",
-   calibrate_rigidity, store_rigidity, "rigidity"},
+   calibrate_rigidity, store_rigidity, "rigidity", rigidity_kins_file},
   {"gantry", "M2 gantry zero frames: laser-tracker points of the bed, the gantry and each sub-machine",
    "SAMPLES.csv: group,x_mm,y_mm,z_mm\n"
    "  group              bed, side_1, side_2, gantry_K, spN_x_K, spN_y_K, spN_z_K, spN_c, spN_a\n"
@@ -31,7 +31,7 @@ const CalibrateMethod kMethods[] = {
    "  sub_machine        N, 1..8, each once; a row for every sub-machine SAMPLES measures\n"
    "  swing_mm           the A axis' swing length, wrist centre to tool tip (mm)\n"
    "  tool_x, tool_y, tool_z  the nominal tool direction, tracker frame (only its sense is used)\n",
-   calibrate_gantry, store_gantry, "gantry"},
+   calibrate_gantry, store_gantry, "gantry", nullptr},
   {"spindle", "M4 spindle tool axis: a spindle analyser's two balls over whole revolutions",
    "SAMPLES.csv: phi_deg,ball,x_mm,y_mm,z_mm\n"
    "  phi_deg            the spindle angle from M19's zero, growing in the M03 sense (deg; may pass 360)\n"
@@ -43,7 +43,7 @@ const CalibrateMethod kMethods[] = {
    "  gauge_from_upper_bearing_mm  O1, the upper bearing seat's centre, to the gauge line\n"
    "  ball_1_mm, ball_2_mm         the balls' centres below the gauge line, 0 <= ball 1 < ball 2\n"
    "  tool_length_mm               the tool tip below the gauge line (where the tip error is given)\n",
-   calibrate_spindle, store_spindle, "spindle"},
+   calibrate_spindle, store_spindle, "spindle", spindle_kins_file},
 };
 // clang-format on
 

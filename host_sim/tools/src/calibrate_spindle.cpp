@@ -9,8 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "trueaxis/core/byte_order.hpp"
+#include "trueaxis/core/spindle_correction.hpp"
 #include "trueaxis/core/status.hpp"
+#include "trueaxis/macros/record_file.hpp"
 #include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/macros/spindle/spindle_macros.hpp"
 #include "trueaxis/macros/spindle/spindle_map.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
 #include "trueaxis/sim/tools/csv.hpp"
@@ -238,6 +242,40 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
   r.summary = line;
   r.ok = true;
   return r;
+}
+
+bool spindle_kins_file(VariableClient& client, bool stored, std::string& file, FlowResult& fail) {
+  std::vector<std::uint8_t> record;
+  for (const double q : {0.0, 1.0}) {
+    const double args[2] = {q, stored ? 1.0 : 0.0};  // Q, R
+    if (!transport(client, client.write(var::kArgQ, 2, args), fail)) return false;
+    if (!run_or_fail(client, 9847, "", fail)) return false;
+    // Modbus reads at most 125 registers (31 variables) a request.
+    double out[2 + macros::spindle::kWordsPerPart];
+    for (std::uint16_t at = 0; at < 2 + macros::spindle::kWordsPerPart; at += 25) {
+      const auto n = static_cast<std::uint16_t>(std::min<std::size_t>(25, 2 + macros::spindle::kWordsPerPart - at));
+      if (!transport(client, client.read(static_cast<std::uint16_t>(var::kSpindleWordsBytes + at), n, out + at), fail)) {
+        return false;
+      }
+    }
+    const auto words = static_cast<std::size_t>(out[1]);
+    for (std::size_t k = 0; k < words && k < macros::spindle::kWordsPerPart; ++k) {
+      std::uint8_t b[4];
+      core::put_u32(b, static_cast<std::uint32_t>(out[2 + k]));
+      record.insert(record.end(), b, b + 4);
+    }
+  }
+  core::SpindleModel check;
+  if (record.size() != core::kSpindleModelBytes ||
+      core::decode_spindle_model(record.data(), record.size(), check) != core::Status::kOk) {
+    fail.error = "the module's model (9847) does not form a valid spindle record";
+    return false;
+  }
+  std::vector<std::uint8_t> bytes(record.size() + macros::kRecordFileOverhead);
+  const std::size_t size = macros::encode_record_file(macros::spindle::ModelRecord::kRecord.key, record.data(),
+                                                      record.size(), bytes.data(), bytes.size());
+  file.assign(reinterpret_cast<const char*>(bytes.data()), size);
+  return true;
 }
 
 bool store_spindle(VariableClient& client, FlowResult& result) {

@@ -6,6 +6,7 @@
 #include "trueaxis/core/rigidity_codec.hpp"
 #include "trueaxis/macros/record_file.hpp"
 #include "trueaxis/macros/services.hpp"
+#include "trueaxis/macros/spindle/spindle_macros.hpp"
 
 namespace trueaxis::linuxcnc {
 
@@ -41,6 +42,30 @@ LoadResult CradleKinematics::load_table(const std::uint8_t* file, std::size_t si
   table_T_world_ = world_T_table_.inverse();
   calibrated_ = true;
   return {true, ""};
+}
+
+LoadResult CradleKinematics::load_spindle(const std::uint8_t* file, std::size_t size) {
+  const std::uint8_t* payload = nullptr;
+  std::size_t length = 0;
+  const macros::RecordFileError e =
+      macros::decode_record_file(macros::spindle::ModelRecord::kRecord.key, file, size, payload, length);
+  if (e != macros::RecordFileError::kNone) return {false, macros::record_file_text(e)};
+  core::SpindleModel model;
+  if (core::decode_spindle_model(payload, length, model) != core::Status::kOk) {
+    return {false, "the spindle model in it does not decode (a file of another build, or written by hand?)"};
+  }
+  spindle_ = model;
+  spindle_loaded_ = true;
+  return {true, ""};
+}
+
+bool CradleKinematics::tip_error(double phi_deg, double tool_mm, core::Vec3& error_mm) const {
+  if (!spindle_loaded_ || !std::isfinite(phi_deg) || !std::isfinite(tool_mm) || tool_mm < 0.0) return false;
+  const core::Result<core::SpindleCorrection> c = core::spindle_correction(
+      spindle_.axes, spindle_.geometry.gauge_mm, tool_mm, core::spindle_phi_rad(phi_deg));
+  if (!c.ok()) return false;
+  error_mm = c.value().tip_error_mm;
+  return true;
 }
 
 bool CradleKinematics::theory_point(const core::Vec3& world_mm, double a_deg, double c_deg, core::Vec3& p_mm) const {

@@ -25,6 +25,12 @@
 //     leveling on the calibrated axes.
 //  4. Identity (switchkins type 0, as xyzac-trt-kins' identityfirst): joints =
 //     world, for probing programs in machine coordinates.
+//  5. The tool tip (M4): with a stored spindle model loaded, tip_error gives
+//     the tool tip's error at an oriented spindle angle (M19's) and a tool
+//     length below the gauge line, in the machine's axes: exactly what macro
+//     9843 answers (core::spindle_phi_rad, core::spindle_correction). The
+//     module subtracts it from the joints' X, Y, Z (the real tip lands where
+//     the program says) and adds it back in the forward kinematics.
 #pragma once
 
 #include <cstddef>
@@ -33,6 +39,7 @@
 #include "trueaxis/core/rigid_transform.hpp"
 #include "trueaxis/core/rigidity_compensation.hpp"
 #include "trueaxis/core/rigidity_table.hpp"
+#include "trueaxis/core/spindle_correction.hpp"
 #include "trueaxis/core/status.hpp"
 #include "trueaxis/core/types.hpp"
 
@@ -63,12 +70,23 @@ class CradleKinematics {
   bool inverse(const core::Vec3& world_mm, double a_deg, double c_deg, core::Vec3& joint_mm) const;
   bool forward(const core::Vec3& joint_mm, double a_deg, double c_deg, core::Vec3& world_mm) const;
 
+  // Convention 5: a spindle model file (record_file.hpp of the spindle record,
+  // as `trueaxis-calibrate spindle --store --linuxcnc-kins` writes it); on
+  // refusal the model stays as it was.
+  LoadResult load_spindle(const std::uint8_t* file, std::size_t size);
+  bool spindle_loaded() const { return spindle_loaded_; }
+  // The tip error (mm) at phi_deg and tool_mm; false (error untouched) without
+  // a model, for a non-finite input, or a tool length 9843 refuses (below 0).
+  bool tip_error(double phi_deg, double tool_mm, core::Vec3& error_mm) const;
+
   // Convention 3's theory point p of a world point (the ideal machine's where
   // no table is loaded): the point 9835 converts into the joints.
   bool theory_point(const core::Vec3& world_mm, double a_deg, double c_deg, core::Vec3& p_mm) const;
 
  private:
   core::RigidityTable table_;
+  core::SpindleModel spindle_;
+  bool spindle_loaded_ = false;
   core::RigidTransform table_T_world_;  // T0^-1
   core::RigidTransform world_T_table_;  // T0
   bool calibrated_ = false;

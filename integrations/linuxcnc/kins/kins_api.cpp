@@ -43,22 +43,74 @@ extern "C" int trueaxis_kins_load(const char* path, const char** why) {
   return 0;
 }
 
+extern "C" int trueaxis_kins_load_spindle(const char* path, const char** why) {
+  std::FILE* f = std::fopen(path, "rb");
+  if (f == nullptr) {
+    *why = std::strerror(errno);
+    return -1;
+  }
+  const std::size_t n = std::fread(g_file, 1, sizeof g_file, f);
+  const bool failed = std::ferror(f) != 0;
+  std::fclose(f);
+  if (failed) {
+    *why = "it could not be read to its end";
+    return -1;
+  }
+  if (n == sizeof g_file) {
+    *why = "it is larger than any record file: not a spindle model file";
+    return -1;
+  }
+  const trueaxis::linuxcnc::LoadResult r = g_kins.load_spindle(g_file, n);
+  if (!r.ok) {
+    *why = r.why;
+    return -1;
+  }
+  return 0;
+}
+
+extern "C" int trueaxis_kins_spindle_loaded(void) { return g_kins.spindle_loaded() ? 1 : 0; }
+
+extern "C" int trueaxis_kins_tip_error(double phi_deg, double tool_mm, double error_mm[3]) {
+  Vec3 e;
+  if (!g_kins.tip_error(phi_deg, tool_mm, e)) return -1;
+  error_mm[0] = e.x();
+  error_mm[1] = e.y();
+  error_mm[2] = e.z();
+  return 0;
+}
+
 extern "C" size_t trueaxis_kins_poses(void) { return g_kins.poses(); }
 extern "C" double trueaxis_kins_a_min_deg(void) { return g_kins.a_min_deg(); }
 extern "C" double trueaxis_kins_a_max_deg(void) { return g_kins.a_max_deg(); }
 
-extern "C" int trueaxis_kins_inverse(const double world_mm[3], double a_deg, double c_deg, double joint_mm[3]) {
-  Vec3 j;
-  if (!g_kins.inverse(Vec3(world_mm[0], world_mm[1], world_mm[2]), a_deg, c_deg, j)) return -1;
+extern "C" int trueaxis_kins_to_joints(int type, const double world_mm[3], double a_deg, double c_deg, int tip,
+                                       double phi_deg, double tool_mm, double joint_mm[3]) {
+  const Vec3 w(world_mm[0], world_mm[1], world_mm[2]);
+  Vec3 j = w;
+  if (type == 1 && !g_kins.inverse(w, a_deg, c_deg, j)) return -1;
+  if (type != 1 && !w.allFinite()) return -1;
+  if (tip != 0 && g_kins.spindle_loaded()) {
+    Vec3 e;
+    if (!g_kins.tip_error(phi_deg, tool_mm, e)) return -1;
+    j -= e;  // the real tip is the joints' point plus e: it lands on the target
+  }
   joint_mm[0] = j.x();
   joint_mm[1] = j.y();
   joint_mm[2] = j.z();
   return 0;
 }
 
-extern "C" int trueaxis_kins_forward(const double joint_mm[3], double a_deg, double c_deg, double world_mm[3]) {
-  Vec3 w;
-  if (!g_kins.forward(Vec3(joint_mm[0], joint_mm[1], joint_mm[2]), a_deg, c_deg, w)) return -1;
+extern "C" int trueaxis_kins_to_world(int type, const double joint_mm[3], double a_deg, double c_deg, int tip,
+                                      double phi_deg, double tool_mm, double world_mm[3]) {
+  Vec3 at(joint_mm[0], joint_mm[1], joint_mm[2]);
+  if (tip != 0 && g_kins.spindle_loaded()) {
+    Vec3 e;
+    if (!g_kins.tip_error(phi_deg, tool_mm, e)) return -1;
+    at += e;
+  }
+  Vec3 w = at;
+  if (type == 1 && !g_kins.forward(at, a_deg, c_deg, w)) return -1;
+  if (type != 1 && !w.allFinite()) return -1;
   world_mm[0] = w.x();
   world_mm[1] = w.y();
   world_mm[2] = w.z();

@@ -22,11 +22,28 @@ size_t trueaxis_kins_poses(void);
 double trueaxis_kins_a_min_deg(void);
 double trueaxis_kins_a_max_deg(void);
 
-/* Table (world) coordinates to the joints' X, Y, Z at commanded A, C, and
-   back (cradle_kinematics.hpp conventions 1-3); 0 on success, -1 for a
-   non-finite input (the output untouched). */
-int trueaxis_kins_inverse(const double world_mm[3], double a_deg, double c_deg, double joint_mm[3]);
-int trueaxis_kins_forward(const double joint_mm[3], double a_deg, double c_deg, double world_mm[3]);
+/* Loads the spindle model file at `path` (record_file.hpp of the M4 record);
+   0, or -1 with *why (the model then stays as it was: none at start). */
+int trueaxis_kins_load_spindle(const char* path, const char** why);
+
+/* 1 when a spindle model is loaded. */
+int trueaxis_kins_spindle_loaded(void);
+
+/* The tool tip's error (mm, machine axes) at spindle angle phi_deg and tool
+   length tool_mm below the gauge line (cradle_kinematics.hpp convention 5,
+   9843's answer); 0, or -1 without a model or for an input 9843 refuses. */
+int trueaxis_kins_tip_error(double phi_deg, double tool_mm, double error_mm[3]);
+
+/* LinuxCNC's kinematics, whole: world (table) coordinates to the joints' X,
+   Y, Z at commanded A, C and back, `type` 0 the identity or 1 the cradle
+   (cradle_kinematics.hpp conventions 1-4), and, when `tip` is not 0 and a
+   spindle model is loaded, the tool tip's error at phi_deg and tool_mm taken
+   off the joints (added back going forward; convention 5). 0 on success, -1
+   for a non-finite input or a tip the model refuses (the output untouched). */
+int trueaxis_kins_to_joints(int type, const double world_mm[3], double a_deg, double c_deg, int tip, double phi_deg,
+                            double tool_mm, double joint_mm[3]);
+int trueaxis_kins_to_world(int type, const double joint_mm[3], double a_deg, double c_deg, int tip, double phi_deg,
+                           double tool_mm, double world_mm[3]);
 
 #ifdef __cplusplus
 }

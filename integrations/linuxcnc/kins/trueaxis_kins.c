@@ -5,11 +5,18 @@
        KINEMATICS = trueaxis_kins table=/path/to/m3.table
        JOINTS = 5
    `table` is the file `trueaxis-calibrate rigidity --store --linuxcnc-kins`
-   (or `trueaxis-calibrate linuxcnc-kins`) writes from the controller's stored
-   M3 table. Without `table` the machine is the ideal cradle; a `table` that
-   cannot be read or does not check stops LinuxCNC's start with one line
-   naming the file and why: a machine never runs on ideal axes in place of a
-   calibration it was given.
+   (or `trueaxis-calibrate linuxcnc-kins rigidity`) writes from the
+   controller's stored M3 table. Without `table` the machine is the ideal
+   cradle; a `table` that cannot be read or does not check stops LinuxCNC's
+   start with one line naming the file and why: a machine never runs on ideal
+   axes in place of a calibration it was given. `spindle=FILE` likewise loads
+   the stored M4 model (`trueaxis-calibrate spindle --store --linuxcnc-kins`):
+   while the pin trueaxis_kins.tip-enable is true, the tool tip's error at
+   trueaxis_kins.spindle-angle (deg, the oriented spindle's, M19) and
+   trueaxis_kins.tool-length (mm below the gauge line) is taken off the
+   joints' X, Y, Z, so that the tip lands where the program says; a tool
+   length the model refuses (below 0) is a kinematics error, not an
+   uncorrected move.
    Switchable (motion.switchkins-type): 0 identity (machine coordinates, for
    probing programs; the start), 1 the cradle's table coordinates. */
 #include "kins_api.h"
@@ -26,9 +33,24 @@ MODULE_LICENSE("GPL");
 
 static char* table = 0;
 RTAPI_MP_STRING(table, "the M3 table file (trueaxis-calibrate rigidity --store --linuxcnc-kins); absent: the ideal cradle");
+static char* spindle = 0;
+RTAPI_MP_STRING(spindle, "the M4 model file (trueaxis-calibrate spindle --store --linuxcnc-kins); absent: no tip correction");
 
 static int comp_id = -1;
 static int kins_type = 0; /* switchkins type: 0 identity, 1 the cradle */
+
+/* The tool tip's correction: its pins (convention 5 of cradle_kinematics.hpp). */
+struct tip_pins {
+  hal_bit_t* enable;
+  hal_float_t* angle_deg;
+  hal_float_t* tool_mm;
+};
+static struct tip_pins* tip = 0;
+
+/* The correction's pin values: on, angle, length (0, 0, 0 before the pins exist). */
+static int tip_on(void) { return tip != 0 && *tip->enable; }
+static double tip_angle(void) { return tip != 0 ? *tip->angle_deg : 0.0; }
+static double tip_tool(void) { return tip != 0 ? *tip->tool_mm : 0.0; }
 
 int rtapi_app_main(void) {
   comp_id = hal_init("trueaxis_kins");
@@ -48,6 +70,25 @@ int rtapi_app_main(void) {
   } else {
     rtapi_print_msg(RTAPI_MSG_INFO, "trueaxis_kins: no table: the ideal cradle Rx(A) Rz(C)\n");
   }
+  if (spindle != 0 && spindle[0] != '\0') {
+    const char* why = "";
+    if (trueaxis_kins_load_spindle(spindle, &why) != 0) {
+      rtapi_print_msg(RTAPI_MSG_ERR,
+                      "trueaxis_kins: spindle %s: %s; the machine does not start without the tip correction it "
+                      "was given (write the file again: trueaxis-calibrate spindle --store --linuxcnc-kins FILE)\n",
+                      spindle, why);
+      hal_exit(comp_id);
+      return -EINVAL;
+    }
+  }
+  tip = hal_malloc(sizeof *tip);
+  if (tip == 0 || hal_pin_bit_new("trueaxis_kins.tip-enable", HAL_IN, &tip->enable, comp_id) != 0 ||
+      hal_pin_float_new("trueaxis_kins.spindle-angle", HAL_IN, &tip->angle_deg, comp_id) != 0 ||
+      hal_pin_float_new("trueaxis_kins.tool-length", HAL_IN, &tip->tool_mm, comp_id) != 0) {
+    rtapi_print_msg(RTAPI_MSG_ERR, "trueaxis_kins: its pins could not be made\n");
+    hal_exit(comp_id);
+    return -ENOMEM;
+  }
   hal_ready(comp_id);
   return 0;
 }
@@ -66,10 +107,12 @@ int kinematicsSwitch(int switchkins_type) {
 
 int kinematicsForward(const double* joint, EmcPose* world, const KINEMATICS_FORWARD_FLAGS* fflags,
                       KINEMATICS_INVERSE_FLAGS* iflags) {
-  double w[3] = {joint[0], joint[1], joint[2]};
+  double w[3];
   (void)fflags;
   (void)iflags;
-  if (kins_type == 1 && trueaxis_kins_forward(joint, joint[3], joint[4], w) != 0) return -1;
+  if (trueaxis_kins_to_world(kins_type, joint, joint[3], joint[4], tip_on(), tip_angle(), tip_tool(), w) != 0) {
+    return -1;
+  }
   world->tran.x = w[0];
   world->tran.y = w[1];
   world->tran.z = w[2];
@@ -85,10 +128,12 @@ int kinematicsForward(const double* joint, EmcPose* world, const KINEMATICS_FORW
 int kinematicsInverse(const EmcPose* world, double* joint, const KINEMATICS_INVERSE_FLAGS* iflags,
                       KINEMATICS_FORWARD_FLAGS* fflags) {
   const double w[3] = {world->tran.x, world->tran.y, world->tran.z};
-  double j[3] = {w[0], w[1], w[2]};
+  double j[3];
   (void)iflags;
   (void)fflags;
-  if (kins_type == 1 && trueaxis_kins_inverse(w, world->a, world->c, j) != 0) return -1;
+  if (trueaxis_kins_to_joints(kins_type, w, world->a, world->c, tip_on(), tip_angle(), tip_tool(), j) != 0) {
+    return -1;
+  }
   joint[0] = j[0];
   joint[1] = j[1];
   joint[2] = j[2];

@@ -58,6 +58,11 @@ struct SpindleCorrection {
   Vec3 tip_error_mm = Vec3::Zero();
 };
 
+// A spindle angle in degrees as radians within one turn, fmod's result (its
+// sign) bit for bit, without fmod's cost below 2^44 deg: what 9843 and every
+// direct caller of the correction turn an angle into.
+double spindle_phi_rad(double phi_deg);
+
 // Conventions 2-3 at one angle (rad) and tool length (mm below the gauge line).
 [[nodiscard]] Result<SpindleCorrection> spindle_correction(const SpindleAxes& axes, double gauge_mm,
                                                            double tool_mm, double phi_rad);

@@ -1,7 +1,9 @@
 #include "trueaxis/macros/spindle/spindle_macros.hpp"
 
+#include <algorithm>
 #include <cmath>
 
+#include "trueaxis/core/byte_order.hpp"
 #include "trueaxis/macros/arguments.hpp"
 #include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/gates.hpp"
@@ -117,22 +119,8 @@ MacroStep finish_build(Context& ctx, State& state, Work& work, const core::Spind
 core::Result<core::SpindleCorrection> tool_tip_correction(const State& state, double phi_deg, double tool_mm) {
   if (!std::isfinite(phi_deg) || !std::isfinite(tool_mm)) return core::Status::kNotFinite;
   if (!tool_in_range(tool_mm)) return core::Status::kArgumentOutOfRange;
-  // radians(phi_deg) bit for bit (9844 gives the same outputs) without fmod's
-  // cost (issue 18): n = trunc(phi_deg / 360) is fmod's quotient or, the
-  // division rounded up to an integer, one more, put right by the sign test;
-  // phi_deg - 360 n is exact below 2^44 deg (a multiple of phi_deg's ulp, at
-  // most 2^-8, under 360 deg), and takes phi_deg's sign as fmod's result does.
-  double reduced = phi_deg;
-  if (!(std::abs(phi_deg) < 360.0)) {
-    if (std::abs(phi_deg) < 0x1p44) {
-      reduced = phi_deg - 360.0 * std::trunc(phi_deg / 360.0);
-      if (reduced * phi_deg < 0.0) reduced += std::copysign(360.0, phi_deg);
-      reduced = std::copysign(reduced, phi_deg);
-    } else {
-      reduced = std::fmod(phi_deg, 360.0);
-    }
-  }
-  const double phi = core::deg_to_rad(reduced);
+  // radians(phi_deg) bit for bit (9844 gives the same outputs) without fmod's cost.
+  const double phi = core::spindle_phi_rad(phi_deg);
   return state.table.read_or([&](const core::SpindleModel& m) {
     return core::spindle_correction(m.axes, m.geometry.gauge_mm, tool_mm, phi);
   });
@@ -230,6 +218,25 @@ MacroStep run_report(Context& ctx, State& state) {
     ctx.out3<var::kSpindleTipSigmaX>(s.value().tip_error_mm);
     ctx.out3<var::kSpindleMeanTipX>(core::spindle_mean_tip_error_mm(m.axes, m.geometry.gauge_mm, tool_mm));
     ctx.out3<var::kSpindleMeanTipSigmaX>(s.value().mean_tip_error_mm);
+    return done(core::Status::kOk);
+  });
+}
+
+MacroStep run_words(Context& ctx, State& state) {
+  bool stored = false;
+  const double q = ctx.in<var::kArgQ>();
+  if (!flag_of(ctx.in<var::kArgR>(), stored) || !whole_in(q, 0.0, 1.0)) return done(core::Status::kArgumentOutOfRange);
+  return with_model(ctx, state, stored, [&](const core::SpindleModel& m) -> MacroStep {
+    std::uint8_t bytes[core::kSpindleModelBytes];
+    if (core::encode_spindle_model(m, bytes, sizeof bytes) != sizeof bytes) return done(core::Status::kTableInvalid);
+    const std::size_t first = static_cast<std::size_t>(q) * kWordsPerPart;
+    const std::size_t words = std::min(kWordsPerPart, core::kSpindleModelBytes / 4 - first);
+    ctx.out<var::kSpindleWordsBytes>(static_cast<double>(core::kSpindleModelBytes));
+    ctx.out<var::kSpindleWordsCount>(static_cast<double>(words));
+    for (std::size_t k = 0; k < kWordsPerPart; ++k) {
+      const std::uint32_t w = k < words ? core::get_u32(bytes + 4 * (first + k)) : 0u;
+      ctx.out_at<var::kSpindleWordsFirst, kWordsPerPart>(k, static_cast<double>(w));
+    }
     return done(core::Status::kOk);
   });
 }

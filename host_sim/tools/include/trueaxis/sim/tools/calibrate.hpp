@@ -144,6 +144,11 @@ bool store_rigidity(VariableClient& client, FlowResult& fail);
 // with fail.error set otherwise.
 bool rigidity_kins_file(VariableClient& client, bool stored, std::string& file, FlowResult& fail);
 
+// The LinuxCNC kinematics' spindle file: the model identified last (stored
+// false: 9847 R = 0) or the stored one (true), its record read exactly
+// through macro 9847, as record_file.hpp's file of the spindle record.
+bool spindle_kins_file(VariableClient& client, bool stored, std::string& file, FlowResult& fail);
+
 // Streams the tracker points (grouped by name, measuring order kept) and the
 // MACHINE rows, computes the frames WITHOUT storing them; reads back what the
 // module computed (9824, 9826).
@@ -188,6 +193,9 @@ struct CalibrateMethod {
   FlowResult (*calibrate)(VariableClient&, const CalibrateOptions&);  // streams, computes; stores nothing
   bool (*store)(VariableClient&, FlowResult&);  // stores the session's result: unlock, build, lock
   const char* report_module;  // host_sim/report/<report_module>.py draws --report
+  // --linuxcnc-kins: the table built last (false) or stored (true) as the file
+  // the LinuxCNC kinematics load (record_file.hpp); nullptr when they take none.
+  bool (*kins_file)(VariableClient&, bool stored, std::string& file, FlowResult& fail);
 };
 
 // The check (check.hpp) of method `name` of the module's method list (its

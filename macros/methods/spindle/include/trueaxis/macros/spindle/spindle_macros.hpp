@@ -51,6 +51,12 @@
 //  Out: #100..#115 (kReportOutputs).
 // Macro 9845: the model: R as 9844, Q = #17 a parameter 1..9 (spindle_map.hpp
 //  convention 3). Out: #100..#111 (kModelOutputs).
+// Macro 9847: the model's record (core::encode_spindle_model, 512 bytes)
+//  exactly, in two parts of 32-bit words: R = #18 as 9845, Q = #17 0 words
+//  1..98, 1 words 99..128. Out: #100 the record's bytes, #101 the words in
+//  this part, #102.. the words (little-endian, whole numbers; 0 beyond the
+//  part): a client rebuilds the stored record bit for bit (the LinuxCNC
+//  kinematics' spindle file). Statuses as 9845.
 // Macro 9846: check (check.hpp): the last identification (9842 with R = 0)
 //  against the stored model, nothing stored: a_x, a_y, w_x, w_y (arcsec,
 //  tolerance #805) and e_x, e_y (mm, #806), each its parameter's difference
@@ -112,6 +118,7 @@ MacroStep run_build(Context& ctx, State& state);
 MacroStep run_correction(Context& ctx, State& state);
 MacroStep run_report(Context& ctx, State& state);
 MacroStep run_model(Context& ctx, State& state);
+MacroStep run_words(Context& ctx, State& state);
 MacroStep run_check(Context& ctx, State& state);
 
 // clang-format off
@@ -146,6 +153,14 @@ inline constexpr InputRef kModelInputs[] = {
   {var::kArgR, 1, "0 the last identification, 1 the stored model."},
 };
 
+inline constexpr InputRef kWordsInputs[] = {
+  {var::kArgQ, 1, "Part 0 (words 1..98) or 1 (words 99..128)."},
+  {var::kArgR, 1, "0 the last identification, 1 the stored model."},
+};
+
+// 9847's words a part.
+inline constexpr std::size_t kWordsPerPart = 98;
+
 inline constexpr InputRef kSpindleCheckInputs[] = {
   {var::kArgQ, 1, "The figure to publish in #104..#111: 1..#101, 0 the worst."},
   {var::kSpindleCheckTilt, 2, "The tilts' and the offset's tolerances."},
@@ -169,6 +184,9 @@ inline constexpr MacroInfo kMacros[] = {
   macro<&run_check>(9846, "spindle_check",
         "Check: the last identification (R = 0) against the stored model, nothing stored; a verdict against #805, #806.",
         kSpindleCheckInputs, kCheckOutputs),
+  macro<&run_words>(9847, "spindle_model_words",
+        "The model's stored record exactly, in two parts of 32-bit words: for a client that rebuilds it.",
+        kWordsInputs, kWordsOutputs),
 };
 // clang-format on
 
