@@ -149,7 +149,7 @@ void read_holding(std::vector<Case>& t) {
   t.push_back({"FC3 #9059 (the last variable)", fc3(reg(kLastVariable), 4), fc3_reply({0.0}), {}});
   t.push_back({"FC3 #9059..#9060 (runs past the map)", fc3(reg(kLastVariable), 8), exception(0x03, kIllegalAddress), {}});
   t.push_back({"FC3 #9060 (after the map)", fc3(reg(kLastVariable + 1), 4), exception(0x03, kIllegalAddress), {}});
-  t.push_back({"FC3 #12057 (after the simulator's variables)", fc3(reg(12057), 4), exception(0x03, kIllegalAddress), {}});
+  t.push_back({"FC3 #12063 (after the simulator's variables)", fc3(reg(12063), 4), exception(0x03, kIllegalAddress), {}});
   t.push_back({"FC3 register 0xFFFC (the last whole variable)", fc3(0xFFFC, 4), exception(0x03, kIllegalAddress), {}});
   t.push_back({"FC3 register 0xFFFF quantity 1 (ends at 0xFFFF)", fc3(0xFFFF, 1), exception(0x03, kIllegalAddress), {}});
   t.push_back({"FC3 register 0xFFFD quantity 4 (past 0xFFFF)", fc3(0xFFFD, 4), exception(0x03, kIllegalAddress), {}});

@@ -22,7 +22,8 @@ bool is_probe_target(double target) {
 
 Simulator::Simulator(macros::Module& module, const FaceConfig& face, std::uint64_t seed, bool errors_on,
                      const CradleErrors& errors)
-    : module_(module), face_(face), errors_(errors), ideal_(face), with_errors_(face, errors) {
+    : module_(module), face_(face), errors_(errors), ideal_(face), with_errors_(face, errors),
+      spindle_(realistic_spindle()) {
   for (const macros::VarInfo& v : kSimMap) state_.values[v.number - simvar::kFirst] = v.default_value;
   state_.values[simvar::kErrors - simvar::kFirst] = errors_on ? 1.0 : 0.0;
   state_.rng = SimRng(seed);
@@ -90,6 +91,13 @@ double Simulator::read_one(std::uint16_t number) const {
     case simvar::kBallMachineZ: {
       const core::Vec3 ball(v[simvar::kBallX - simvar::kFirst], v[simvar::kBallY - simvar::kFirst], ball_z);
       return m.machine_T_table(a, c).apply(ball)[number - simvar::kBallMachineX];
+    }
+    case simvar::kTipErrorX:
+    case simvar::kTipErrorY:
+    case simvar::kTipErrorZ: {
+      if (v[simvar::kSpindle - simvar::kFirst] != 1.0) return 0.0;
+      return spindle_.tool_tip_error_mm(v[simvar::kToolLength - simvar::kFirst],
+                                        v[simvar::kSpindleAngle - simvar::kFirst])[number - simvar::kTipErrorX];
     }
     default: return v[number - simvar::kFirst];
   }

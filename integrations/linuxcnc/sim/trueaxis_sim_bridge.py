@@ -17,9 +17,16 @@ Pins (component trueaxis-sim-bridge):
                                    and the square of BALL_RADIUS_MM (the ball's
                                    plus the stylus tip's radius)
   pose-a, pose-c (float out)       the pose the outputs are for
-Every 5 ms: when A, C or an enable has changed, it writes A and C to the
-simulator (#12000, #12001: sim variables, outside the module's macro
-interface) and reads #12048..#12054 back. Exit when the HAL component is
+  spindle-angle (float in)         the spindle's angle (deg; the HAL file nets
+                                   it to M68 E2): the probe's tip is the joints'
+                                   X, Y, Z plus the spindle's tool tip error
+                                   there (#12060..#12062, 0 unless the
+                                   simulator's sim_spindle is 1), so the face
+                                   and the ball are given shifted back by it
+Every 5 ms: when A, C, the spindle angle or an enable has changed, it writes
+A and C to the simulator (#12000, #12001: sim variables, outside the module's
+macro interface) and the angle (#12058) and reads #12048..#12054 and
+#12060..#12062 back. Exit when the HAL component is
 asked to (SIGTERM) or the simulator stops answering.
 """
 import os
@@ -43,7 +50,7 @@ def main(argv):
     if not client.connect():
         sys.exit(f"trueaxis_sim_bridge: no trueaxis-sim at {host}:{port}")
     h = hal.component("trueaxis-sim-bridge")
-    for name in ("a", "c"):
+    for name in ("a", "c", "spindle-angle"):
         h.newpin(name, hal.HAL_FLOAT, hal.HAL_IN)
     for name in ("face-enable", "ball-enable"):
         h.newpin(name, hal.HAL_BIT, hal.HAL_IN)
@@ -70,13 +77,15 @@ def main(argv):
     last = None
     try:
         while True:
-            now = (h["a"], h["c"], h["face-enable"], h["ball-enable"])
+            now = (h["a"], h["c"], h["face-enable"], h["ball-enable"], h["spindle-angle"])
             if now != last:
                 write(12000, [now[0], now[1]])
+                write(12058, [now[4]])
                 nx, ny, nz, d, bx, by, bz = read(12048, 7)
+                ex, ey, ez = read(12060, 3)
                 h["face-nx"], h["face-ny"], h["face-nz"] = nx, ny, nz
-                h["face-d"] = d if now[2] else NEVER
-                h["ball-x"], h["ball-y"], h["ball-z"] = bx, by, bz
+                h["face-d"] = d - (nx * ex + ny * ey + nz * ez) if now[2] else NEVER
+                h["ball-x"], h["ball-y"], h["ball-z"] = bx - ex, by - ey, bz - ez
                 h["ball-r2"] = radius * radius if now[3] else -1.0
                 h["pose-a"], h["pose-c"] = now[0], now[1]
                 last = now

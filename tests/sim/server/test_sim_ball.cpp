@@ -1,5 +1,5 @@
 // The calibration ball and the machine's errors over the simulator's variables
-// (#12020..#12056, simulator.hpp contracts 4-5 and 7), without a socket.
+// (#12020..#12062, simulator.hpp contracts 4-5 and 7), without a socket.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -13,6 +13,7 @@
 #include "module_rig.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/sim/instruments/calibration_ball.hpp"
+#include "trueaxis/sim/machines/virtual_spindle.hpp"
 #include "trueaxis/sim/server/simulator.hpp"
 
 namespace {
@@ -221,4 +222,23 @@ TEST_CASE("the face's plane and the ball's centre for an outside probe follow th
   const CradleMachine m(FaceConfig{}, trueaxis::sim::realistic_errors());
   const auto face = m.face_at(30.0, 45.0);
   CHECK(b.simulator.value(simvar::kFaceOffset) == face.normal.dot(face.point_mm));
+}
+
+TEST_CASE("sim_tip_error: the realistic spindle's tool tip error at sim_spindle_angle and sim_tool_length, 0 without") {
+  Bench b;
+  const trueaxis::sim::VirtualSpindle spindle(trueaxis::sim::realistic_spindle());
+  CHECK(b.simulator.value(simvar::kTipErrorX) == 0.0);  // sim_spindle = 0 at start: no spindle errors
+  REQUIRE(b.write(simvar::kSpindle, {1.0}) == AccessFault::kNone);
+  for (const double phi : {0.0, 90.0, 217.5, 725.0}) {
+    for (const double tool : {0.0, 100.0, 250.0}) {
+      REQUIRE(b.write(simvar::kSpindleAngle, {phi, tool}) == AccessFault::kNone);
+      const trueaxis::core::Vec3 truth = spindle.tool_tip_error_mm(tool, phi);
+      CHECK(b.simulator.value(simvar::kTipErrorX) == truth.x());
+      CHECK(b.simulator.value(simvar::kTipErrorY) == truth.y());
+      CHECK(b.simulator.value(simvar::kTipErrorZ) == truth.z());
+    }
+  }
+  CHECK(b.write(simvar::kTipErrorX, {0.0}) != AccessFault::kNone);  // ground truth is read-only
+  REQUIRE(b.write(simvar::kSpindle, {0.0}) == AccessFault::kNone);
+  CHECK(b.simulator.value(simvar::kTipErrorY) == 0.0);
 }

@@ -7,7 +7,8 @@
 // cradle_machine.hpp convention 3, cradle_errors.hpp); #12048..#12054: the
 // face's plane and the ball's centre in the machine frame at the table's
 // present pose, for a virtual probe outside the simulator (LinuxCNC's,
-// integrations/linuxcnc/sim); #12055..#12056: a drift of the machine with
+// integrations/linuxcnc/sim); #12057..#12062: the spindle's tool tip (M4,
+// for the LinuxCNC kinematics' proof); #12055..#12056: a drift of the machine with
 // errors, for scripting checks. #12014..#12019 are not defined.
 #pragma once
 
@@ -68,7 +69,13 @@ inline constexpr std::uint16_t kBallMachineY = 12053;
 inline constexpr std::uint16_t kBallMachineZ = 12054;
 inline constexpr std::uint16_t kDriftA = 12055;
 inline constexpr std::uint16_t kDriftArcsec = 12056;
-inline constexpr std::uint16_t kLast = 12056;
+inline constexpr std::uint16_t kSpindle = 12057;
+inline constexpr std::uint16_t kSpindleAngle = 12058;
+inline constexpr std::uint16_t kToolLength = 12059;
+inline constexpr std::uint16_t kTipErrorX = 12060;
+inline constexpr std::uint16_t kTipErrorY = 12061;
+inline constexpr std::uint16_t kTipErrorZ = 12062;
+inline constexpr std::uint16_t kLast = 12062;
 }  // namespace simvar
 
 namespace detail {
@@ -132,6 +139,12 @@ inline constexpr macros::VarInfo kSimMap[] = {
   {12054, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 50.0, "sim_ball_machine_z", "mm", "Simulator ground truth: Z of that centre."},
   {12055, 1, detail::Access::kReadWrite, detail::ValueKind::kReal, -180.0, 180.0, 60.0, "sim_drift_a", "deg", "Simulator: the commanded A at which the machine with errors (sim_errors = 1) shows the extra rigidity sim_drift_arcsec (a clamp worked loose at that tilt)."},
   {12056, 1, detail::Access::kReadWrite, detail::ValueKind::kReal, -3600.0, 3600.0, 0.0, "sim_drift_arcsec", "arcsec", "Simulator: that extra rigidity, about the table's Y axis, at exactly sim_drift_a; for scripting a machine that drifts between checks (0: none)."},
+  {12057, 1, detail::Access::kReadWrite, detail::ValueKind::kInteger, 0.0, 1.0, 0.0, "sim_spindle", "", "Simulator: the spindle's errors at the tool tip, 0 none, 1 the realistic spindle of trueaxis-measure-spindle (host_sim virtual_spindle.hpp realistic_spindle): sim_tip_error_x, _y, _z."},
+  {12058, 1, detail::Access::kReadWrite, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 0.0, "sim_spindle_angle", "deg", "Simulator: the spindle's angle (oriented, M19's; growing in the M03 sense) for sim_tip_error."},
+  {12059, 1, detail::Access::kReadWrite, detail::ValueKind::kReal, 0.0, detail::kTable, 250.0, "sim_tool_length", "mm", "Simulator: the tool's length below the gauge line for sim_tip_error (trueaxis-measure-spindle's default 250)."},
+  {12060, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 0.0, "sim_tip_error_x", "mm", "Simulator ground truth: X of the tool tip's error (the true tip minus the ideal one) at sim_spindle_angle and sim_tool_length, machine axes; 0 with sim_spindle = 0. Its Z holds the axial errors no analyser sees."},
+  {12061, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 0.0, "sim_tip_error_y", "mm", "Simulator ground truth: Y of the tool tip's error."},
+  {12062, 1, detail::Access::kReadOnly, detail::ValueKind::kReal, -detail::kBig, detail::kBig, 0.0, "sim_tip_error_z", "mm", "Simulator ground truth: Z of the tool tip's error."},
 };
 // clang-format on
 

@@ -44,6 +44,7 @@
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/variable_access.hpp"
 #include "trueaxis/sim/machines/cradle_machine.hpp"
+#include "trueaxis/sim/machines/virtual_spindle.hpp"
 #include "trueaxis/sim/server/sim_map.hpp"
 #include "trueaxis/sim/sim_math.hpp"
 
@@ -95,6 +96,7 @@ class Simulator final : public macros::VariableAccess {
   CradleErrors errors_;
   CradleMachine ideal_;
   CradleMachine with_errors_;
+  VirtualSpindle spindle_;  // sim_spindle = 1: the realistic spindle
   State state_;
 };
 
