@@ -42,25 +42,31 @@ make_ci_user() {
 # project's kinematics module (integrations/linuxcnc/kins, trueaxis_kins.so) is
 # linked there to a file in a folder that belongs to the user who ran this
 # script, so that the LinuxCNC tests can put the module they built in place
-# without root (tests/linuxcnc/kins_module.py). A controller installs its
-# module with root instead (integrations/linuxcnc/kins/README.md).
+# without root (tests/linuxcnc/test_scenarios.py). A controller installs its
+# module with root instead (integrations/linuxcnc/kins/README.md); a module
+# installed there as a file is left alone. The user who owns the folder can run
+# code as root through rtapi_app (setuid root): a development machine's setup.
 kins_link=/usr/lib/linuxcnc/modules/trueaxis_kins.so
 kins_dir=/var/lib/trueaxis
 link_kins_module() {
   [ -d "$(dirname "$kins_link")" ] || return 0
   [ -L "$kins_link" ] && [ -d "$kins_dir" ] && return 0
+  if [ -e "$kins_link" ] && [ ! -L "$kins_link" ]; then
+    echo "setup: $kins_link is an installed module: left alone (the LinuxCNC kinematics tests need the link)" >&2
+    return 0
+  fi
   local owner="${SUDO_USER:-$(id -un)}"
   local as_root=()
   if [ "$(id -u)" -ne 0 ]; then
-    if ! command -v sudo >/dev/null; then
-      echo "setup: cannot link $kins_link (needs root): the LinuxCNC kinematics tests will fail" >&2
+    if ! command -v sudo >/dev/null || ! sudo -n true 2>/dev/null; then
+      echo "setup: cannot link $kins_link (needs root: sudo bash toolchain/setup.sh): the LinuxCNC kinematics tests will fail" >&2
       return 0
     fi
-    as_root=(sudo)
+    as_root=(sudo -n)
   fi
-  "${as_root[@]}" mkdir -p "$kins_dir"
-  "${as_root[@]}" chown "$owner" "$kins_dir"
-  "${as_root[@]}" ln -sfn "$kins_dir/trueaxis_kins.so" "$kins_link"
+  "${as_root[@]}" mkdir -p "$kins_dir" && "${as_root[@]}" chown "$owner" "$kins_dir" &&
+    "${as_root[@]}" ln -sfn "$kins_dir/trueaxis_kins.so" "$kins_link" ||
+    echo "setup: linking $kins_link failed: the LinuxCNC kinematics tests will fail" >&2
 }
 
 if [ "${#missing[@]}" -eq 0 ]; then

@@ -330,6 +330,7 @@ TEST_CASE("kins: the tool tip (M4): the stored model's file, its error 9843's bi
   }
   Vec3 kept(1, 2, 3);
   CHECK_FALSE(kins.tip_error(0.0, -0.001, kept));
+  CHECK_FALSE(kins.tip_error(0.0, 1e5 + 1.0, kept));
   CHECK_FALSE(kins.tip_error(NAN, 100.0, kept));
   CHECK(kept == Vec3(1, 2, 3));
   // A rigidity table is not a spindle model, and a damaged model file is refused.
@@ -340,7 +341,15 @@ TEST_CASE("kins: the tool tip (M4): the stored model's file, its error 9843's bi
   CHECK(std::string(refused.why).find("damaged") != std::string::npos);
   CHECK(kins.spindle_loaded());
 
-  // The C interface the module calls: the correction off the joints and back.
+  // The C interface the module calls: the correction asked for before any
+  // model is loaded is an error, not an uncorrected move; then off the joints and back.
+  {
+    const double at[3] = {1.0, 2.0, 3.0};
+    double out[3] = {9.0, 9.0, 9.0};
+    CHECK(trueaxis_kins_to_joints(0, at, 0.0, 0.0, 1, 0.0, 100.0, out) == -1);
+    CHECK(trueaxis_kins_to_world(0, at, 0.0, 0.0, 1, 0.0, 100.0, out) == -1);
+    CHECK(out[0] == 9.0);
+  }
   const char* why = "";
   CHECK(trueaxis_kins_load_spindle(w.file("absent.model").c_str(), &why) == -1);
   REQUIRE(trueaxis_kins_load_spindle(w.file("m4.model").c_str(), &why) == 0);

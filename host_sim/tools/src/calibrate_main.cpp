@@ -436,9 +436,10 @@ int run_kins_export(int argc, char** argv) {
   }
   std::string file;
   FlowResult r;
-  if (!method->kins_file(client, true, file, r)) return fail(r.error);
-  client.give_back_interface();
+  const bool read = method->kins_file(client, true, file, r);
+  client.give_back_interface();  // at once, whatever happened
   client.close();
+  if (!read) return fail(r.error);
   const std::string tmp = out_path + ".tmp";
   if (!write_text_file(tmp, file) || std::rename(tmp.c_str(), out_path.c_str()) != 0) {
     std::remove(tmp.c_str());

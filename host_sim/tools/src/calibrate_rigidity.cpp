@@ -177,6 +177,14 @@ bool rigidity_kins_file(VariableClient& client, bool stored, std::string& file, 
     if (!transport(client, client.read(var::kRealsPoseCount, static_cast<std::uint16_t>(2 + n), out), fail)) {
       return false;
     }
+    // The pose count and the reference, whole numbers in range, the same in every part.
+    const bool whole = out[0] == std::floor(out[0]) && out[0] >= static_cast<double>(core::kMinAPoses) &&
+                       out[0] <= static_cast<double>(core::kMaxAPoses) && out[1] == std::floor(out[1]) &&
+                       out[1] >= 1.0 && out[1] <= out[0];
+    if (!whole || (q > 0 && (out[0] != static_cast<double>(count) || out[1] != static_cast<double>(reference)))) {
+      fail.error = "the module's table (9837) gave an impossible pose count or reference";
+      return false;
+    }
     if (q == 0) {
       count = static_cast<std::size_t>(out[0]);
       reference = static_cast<std::size_t>(out[1]);

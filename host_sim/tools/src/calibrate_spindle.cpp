@@ -258,10 +258,19 @@ bool spindle_kins_file(VariableClient& client, bool stored, std::string& file, F
         return false;
       }
     }
-    const auto words = static_cast<std::size_t>(out[1]);
-    for (std::size_t k = 0; k < words && k < macros::spindle::kWordsPerPart; ++k) {
+    const double expected_words = q == 0.0 ? 98.0 : 30.0;
+    if (out[0] != static_cast<double>(core::kSpindleModelBytes) || out[1] != expected_words) {
+      fail.error = "the module's model (9847) gave an unexpected length";
+      return false;
+    }
+    for (std::size_t k = 0; k < static_cast<std::size_t>(expected_words); ++k) {
+      const double w = out[2 + k];
+      if (!(w >= 0.0 && w <= 4294967295.0 && w == std::floor(w))) {
+        fail.error = "the module's model (9847) gave a word that is not one";
+        return false;
+      }
       std::uint8_t b[4];
-      core::put_u32(b, static_cast<std::uint32_t>(out[2 + k]));
+      core::put_u32(b, static_cast<std::uint32_t>(w));
       record.insert(record.end(), b, b + 4);
     }
   }

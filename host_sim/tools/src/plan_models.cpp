@@ -4,7 +4,6 @@
 // one-pose changes (contract 5).
 #include <algorithm>
 #include <cmath>
-#include <cstdarg>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -38,16 +37,6 @@ using core::Vec3;
 
 using core::kArcsecPerRad;
 
-// printf into a string (the format checked by the compiler).
-[[gnu::format(printf, 1, 2)]] std::string text(const char* format, ...) {
-  char buf[256];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buf, sizeof buf, format, args);
-  va_end(args);
-  return buf;
-}
-
 std::string refusal(core::Status s) { return module_error_text(static_cast<int>(s)); }
 
 // ---- M3 -----------------------------------------------------------------------------
@@ -69,7 +58,7 @@ class RigidityModel final : public PlanModel {
     int group = 0;
     for (const double a : poses) {
       if (std::fabs(a) <= core::kPoseAToleranceDeg) continue;
-      const std::string at = text("A=%g ", a);
+      const std::string at = plan_text("A=%g ", a);
       const double rot = macros::rigidity::kDefaultCheckRotationArcsec;
       ++group;  // the check judges the rotation vector's change by its length
       outputs_.push_back({at + "rotation_vector_x", "arcsec", rot, false, group});
@@ -104,11 +93,11 @@ class RigidityModel final : public PlanModel {
     }
     std::sort(a.begin(), a.end());
     std::string poses;
-    for (const double x : a) poses += (poses.empty() ? "" : ", ") + text("%g", x);
+    for (const double x : a) poses += (poses.empty() ? "" : ", ") + plan_text("%g", x);
     return std::to_string(a.size()) + " A poses (" + poses + ") x up to " + std::to_string(c) +
-           text(" C positions, ball at (%g, %g, %g) mm on the table", plan_.ball_table_mm.x(), plan_.ball_table_mm.y(),
+           plan_text(" C positions, ball at (%g, %g, %g) mm on the table", plan_.ball_table_mm.x(), plan_.ball_table_mm.y(),
                 plan_.ball_table_mm.z()) +
-           text(", read to %g um (1 sigma per axis)", plan_.sigma_mm * 1000.0);
+           plan_text(", read to %g um (1 sigma per axis)", plan_.sigma_mm * 1000.0);
   }
   const std::vector<PlanReading>& readings() const override { return readings_; }
   const std::vector<PlanOutput>& outputs() const override { return outputs_; }
@@ -150,13 +139,13 @@ class RigidityModel final : public PlanModel {
       if (present) continue;
       RigidityPlan next = plan_;
       next.poses.emplace_back(a, *cs);
-      out.push_back({text("add the A pose %g deg (%g C positions)", a, static_cast<double>(cs->size())),
+      out.push_back({plan_text("add the A pose %g deg (%g C positions)", a, static_cast<double>(cs->size())),
                      std::make_shared<RigidityModel>(next)});
     }
     // Not a pose but a fixture: the ball's lever about the A axis.
     RigidityPlan higher = plan_;
     higher.ball_table_mm.z() += 50.0;
-    out.push_back({text("the ball 50 mm higher on the table (z %g mm: a longer stem)", higher.ball_table_mm.z()),
+    out.push_back({plan_text("the ball 50 mm higher on the table (z %g mm: a longer stem)", higher.ball_table_mm.z()),
                    std::make_shared<RigidityModel>(higher)});
     return out;
   }
@@ -246,11 +235,11 @@ class GantryModel final : public PlanModel {
   const char* method() const override { return "gantry"; }
   std::string description() const override {
     return std::to_string(machine_.sub_machine_count()) + " sub-machines of the simulator's gantry; pads " +
-           text("%d x %d points, ", spec_.pad_grid, spec_.pad_grid) + std::to_string(spec_.passes) +
+           plan_text("%d x %d points, ", spec_.pad_grid, spec_.pad_grid) + std::to_string(spec_.passes) +
            " passes of " + std::to_string(spec_.pass_points) + " points per axis, C circle " +
-           std::to_string(spec_.circle_points) + text(" points %g..%g deg, A circle ", spec_.c_from_deg, spec_.c_to_deg) +
-           std::to_string(spec_.circle_points) + text(" points %g..%g deg", spec_.a_from_deg, spec_.a_to_deg) +
-           text("; tracker %g m in front, MPE +-(%g um + %g um/m), distance meter +-%g um, read as 2 sigma",
+           std::to_string(spec_.circle_points) + plan_text(" points %g..%g deg, A circle ", spec_.c_from_deg, spec_.c_to_deg) +
+           std::to_string(spec_.circle_points) + plan_text(" points %g..%g deg", spec_.a_from_deg, spec_.a_to_deg) +
+           plan_text("; tracker %g m in front, MPE +-(%g um + %g um/m), distance meter +-%g um, read as 2 sigma",
                 spec_.tracker_distance_m, spec_.transverse_mpe_mm * 1000.0, spec_.transverse_mpe_per_m_mm * 1000.0,
                 spec_.radial_mpe_mm * 1000.0);
   }
@@ -288,12 +277,12 @@ class GantryModel final : public PlanModel {
       next.a_from_deg -= step;
       next.a_to_deg += step;
       next.circle_points = spec_.circle_points;
-      add(text("widen every A circle by one step at each end (%g..%g deg)", next.a_from_deg, next.a_to_deg), next);
+      add(plan_text("widen every A circle by one step at each end (%g..%g deg)", next.a_from_deg, next.a_to_deg), next);
     }
     if (spec_.c_to_deg - spec_.c_from_deg < 330.0) {
       next = spec_;
       next.c_to_deg = std::min(spec_.c_from_deg + 345.0, spec_.c_to_deg + 45.0);
-      add(text("widen every C circle to %g..%g deg", next.c_from_deg, next.c_to_deg), next);
+      add(plan_text("widen every C circle to %g..%g deg", next.c_from_deg, next.c_to_deg), next);
     }
     if (spec_.circle_points + 4 <= static_cast<int>(core::kMaxCirclePoints)) {
       next = spec_;
@@ -404,7 +393,7 @@ class SpindleModel final : public PlanModel {
   const char* method() const override { return "spindle"; }
   std::string description() const override {
     return std::to_string(plan_.revolutions) + " revolutions x " + std::to_string(plan_.samples_per_revolution) +
-           text(" angles, balls %g and %g mm below the gauge line, read to %g nm (1 sigma per axis)", plan_.ball_mm[0],
+           plan_text(" angles, balls %g and %g mm below the gauge line, read to %g nm (1 sigma per axis)", plan_.ball_mm[0],
                 plan_.ball_mm[1], plan_.sigma_mm * 1e6);
   }
   const std::vector<PlanReading>& readings() const override { return readings_; }
@@ -430,16 +419,16 @@ class SpindleModel final : public PlanModel {
     std::vector<PlanChange> out;
     SpindlePlan next = plan_;
     next.revolutions += 1;
-    out.push_back({text("one more revolution (%d)", next.revolutions), std::make_shared<SpindleModel>(next)});
+    out.push_back({plan_text("one more revolution (%d)", next.revolutions), std::make_shared<SpindleModel>(next)});
     if (plan_.samples_per_revolution * 2 <= kMaxSamplesPerRevolution) {
       next = plan_;
       next.samples_per_revolution *= 2;
-      out.push_back({text("twice the angles a revolution (%d)", next.samples_per_revolution),
+      out.push_back({plan_text("twice the angles a revolution (%d)", next.samples_per_revolution),
                      std::make_shared<SpindleModel>(next)});
     }
     next = plan_;
     next.ball_mm[1] += 50.0;
-    out.push_back({text("ball 2 50 mm farther along the tool (%g mm)", next.ball_mm[1]),
+    out.push_back({plan_text("ball 2 50 mm farther along the tool (%g mm)", next.ball_mm[1]),
                    std::make_shared<SpindleModel>(next)});
     return out;
   }
@@ -479,9 +468,9 @@ class LevelModel final : public PlanModel {
   const char* method() const override { return "level"; }
   std::string description() const override {
     std::string p;
-    for (const auto& q : plan_.points) p += (p.empty() ? "" : ", ") + text("(%.1f, %.1f)", q.first + 0.0, q.second + 0.0);
+    for (const auto& q : plan_.points) p += (p.empty() ? "" : ", ") + plan_text("(%.1f, %.1f)", q.first + 0.0, q.second + 0.0);
     return std::to_string(plan_.points.size()) + " probe points " + p +
-           text(" mm on the simulator's face, read to %g um (1 sigma per axis)", plan_.sigma_mm * 1000.0);
+           plan_text(" mm on the simulator's face, read to %g um (1 sigma per axis)", plan_.sigma_mm * 1000.0);
   }
   const std::vector<PlanReading>& readings() const override { return readings_; }
   const std::vector<PlanOutput>& outputs() const override { return outputs_; }
@@ -518,7 +507,7 @@ class LevelModel final : public PlanModel {
       // Rounded to 0.1 mm, as an operator would write it (and no -0.0).
       next.points.emplace_back(std::round(10.0 * (cx + 1.5 * r * std::cos(angle))) / 10.0 + 0.0,
                                std::round(10.0 * (cy + 1.5 * r * std::sin(angle))) / 10.0 + 0.0);
-      out.push_back({text("add the probe point (%.1f, %.1f) mm", next.points.back().first, next.points.back().second),
+      out.push_back({plan_text("add the probe point (%.1f, %.1f) mm", next.points.back().first, next.points.back().second),
                      std::make_shared<LevelModel>(next)});
     }
     return out;

@@ -16,16 +16,6 @@ namespace trueaxis::sim {
 
 namespace {
 
-// printf into a string (the format checked by the compiler).
-[[gnu::format(printf, 1, 2)]] std::string fixed(const char* format, ...) {
-  char buf[256];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buf, sizeof buf, format, args);
-  va_end(args);
-  return buf;
-}
-
 std::string quoted(const std::string& s) {
   std::string out = "\"";
   for (const char c : s) {
@@ -37,7 +27,7 @@ std::string quoted(const std::string& s) {
 
 std::string number(double v) {
   if (!std::isfinite(v)) return "null";
-  return fixed("%.9g", v);
+  return plan_text("%.9g", v);
 }
 
 // The 95th percentile of |d|, d the normal vector of the outputs `members`
@@ -68,6 +58,15 @@ double length_q95(const std::vector<double>& cov, std::size_t n, const std::vect
 }
 
 }  // namespace
+
+std::string plan_text(const char* format, ...) {
+  char buf[256];
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buf, sizeof buf, format, args);
+  va_end(args);
+  return buf;
+}
 
 PlanPrediction predict_plan(const PlanModel& model, const std::function<void(std::size_t, std::size_t)>& progress) {
   PlanPrediction p;
@@ -230,7 +229,7 @@ std::string plan_table(const PlanModel& model, const PlanPrediction& p, const st
     }
     t += line;
   }
-  t += fixed("valuation %.3g", p.valuation) + " (the worst figure's 95th percentile / tolerance: " +
+  t += plan_text("valuation %.3g", p.valuation) + " (the worst figure's 95th percentile / tolerance: " +
        p.outputs[p.worst].name +
        "; below 1 the plan's noise stays within every tolerance 95 % of the time; an unchanged machine passes "
        "a check against a table from the same plan 95 % of the time below about 0.35)\n";
@@ -239,12 +238,12 @@ std::string plan_table(const PlanModel& model, const PlanPrediction& p, const st
   } else {
     for (const PlanInseparable& q : p.inseparable) {
       t += "not separated: " + p.outputs[q.first].name + " and " + p.outputs[q.second].name +
-           fixed(" (rho %+.4f)\n", q.rho);
+           plan_text(" (rho %+.4f)\n", q.rho);
     }
   }
   if (s.empty() && searched) t += "no change of one pose lowers the valuation\n";
   for (std::size_t i = 0; i < s.size(); ++i) {
-    t += "suggestion " + std::to_string(i + 1) + ": " + s[i].what + fixed(": valuation %.3g", s[i].valuation) +
+    t += "suggestion " + std::to_string(i + 1) + ": " + s[i].what + plan_text(": valuation %.3g", s[i].valuation) +
          " (worst " + s[i].worst + ")\n";
   }
   return t;

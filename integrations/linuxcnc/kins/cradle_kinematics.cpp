@@ -4,6 +4,7 @@
 
 #include "trueaxis/core/leveling.hpp"
 #include "trueaxis/core/rigidity_codec.hpp"
+#include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/macros/record_file.hpp"
 #include "trueaxis/macros/services.hpp"
 #include "trueaxis/macros/spindle/spindle_macros.hpp"
@@ -60,7 +61,8 @@ LoadResult CradleKinematics::load_spindle(const std::uint8_t* file, std::size_t 
 }
 
 bool CradleKinematics::tip_error(double phi_deg, double tool_mm, core::Vec3& error_mm) const {
-  if (!spindle_loaded_ || !std::isfinite(phi_deg) || !std::isfinite(tool_mm) || tool_mm < 0.0) return false;
+  // 9843's refusals: a length below 0 or beyond the map's bound (macros::rows::kBig).
+  if (!spindle_loaded_ || !std::isfinite(phi_deg) || !(tool_mm >= 0.0 && tool_mm <= macros::rows::kBig)) return false;
   const core::Result<core::SpindleCorrection> c = core::spindle_correction(
       spindle_.axes, spindle_.geometry.gauge_mm, tool_mm, core::spindle_phi_rad(phi_deg));
   if (!c.ok()) return false;

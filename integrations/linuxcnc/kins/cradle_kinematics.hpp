@@ -76,7 +76,8 @@ class CradleKinematics {
   LoadResult load_spindle(const std::uint8_t* file, std::size_t size);
   bool spindle_loaded() const { return spindle_loaded_; }
   // The tip error (mm) at phi_deg and tool_mm; false (error untouched) without
-  // a model, for a non-finite input, or a tool length 9843 refuses (below 0).
+  // a model, for a non-finite input, or a tool length 9843 refuses (below 0 or
+  // beyond 1e5 mm).
   bool tip_error(double phi_deg, double tool_mm, core::Vec3& error_mm) const;
 
   // Convention 3's theory point p of a world point (the ideal machine's where

@@ -6,6 +6,7 @@
 
 #include "cradle_kinematics.hpp"
 #include "trueaxis/core/rigidity_codec.hpp"
+#include "trueaxis/core/spindle_correction.hpp"
 #include "trueaxis/macros/record_file.hpp"
 
 namespace {
@@ -16,9 +17,17 @@ trueaxis::linuxcnc::CradleKinematics g_kins;
 // The file, one byte beyond the largest table file so that a longer file is seen.
 std::uint8_t g_file[trueaxis::core::kRigidityTableMaxBytes + trueaxis::macros::kRecordFileOverhead + 1];
 
+static_assert(trueaxis::core::kSpindleModelBytes <= trueaxis::core::kRigidityTableMaxBytes,
+              "the spindle model's file fits the buffer sized for the rigidity table's");
+
 }  // namespace
 
-extern "C" int trueaxis_kins_load(const char* path, const char** why) {
+namespace {
+
+// Reads the file at `path` into g_file and hands it to `load` (a
+// CradleKinematics loader); 0, or -1 with *why.
+template <typename Load>
+int load_file(const char* path, const char** why, Load load) {
   std::FILE* f = std::fopen(path, "rb");
   if (f == nullptr) {
     *why = std::strerror(errno);
@@ -32,10 +41,10 @@ extern "C" int trueaxis_kins_load(const char* path, const char** why) {
     return -1;
   }
   if (n == sizeof g_file) {
-    *why = "it is larger than any rigidity table file: not a table file";
+    *why = "it is larger than any trueaxis record file: not one";
     return -1;
   }
-  const trueaxis::linuxcnc::LoadResult r = g_kins.load_table(g_file, n);
+  const trueaxis::linuxcnc::LoadResult r = load(n);
   if (!r.ok) {
     *why = r.why;
     return -1;
@@ -43,29 +52,14 @@ extern "C" int trueaxis_kins_load(const char* path, const char** why) {
   return 0;
 }
 
+}  // namespace
+
+extern "C" int trueaxis_kins_load(const char* path, const char** why) {
+  return load_file(path, why, [](std::size_t n) { return g_kins.load_table(g_file, n); });
+}
+
 extern "C" int trueaxis_kins_load_spindle(const char* path, const char** why) {
-  std::FILE* f = std::fopen(path, "rb");
-  if (f == nullptr) {
-    *why = std::strerror(errno);
-    return -1;
-  }
-  const std::size_t n = std::fread(g_file, 1, sizeof g_file, f);
-  const bool failed = std::ferror(f) != 0;
-  std::fclose(f);
-  if (failed) {
-    *why = "it could not be read to its end";
-    return -1;
-  }
-  if (n == sizeof g_file) {
-    *why = "it is larger than any record file: not a spindle model file";
-    return -1;
-  }
-  const trueaxis::linuxcnc::LoadResult r = g_kins.load_spindle(g_file, n);
-  if (!r.ok) {
-    *why = r.why;
-    return -1;
-  }
-  return 0;
+  return load_file(path, why, [](std::size_t n) { return g_kins.load_spindle(g_file, n); });
 }
 
 extern "C" int trueaxis_kins_spindle_loaded(void) { return g_kins.spindle_loaded() ? 1 : 0; }
@@ -89,7 +83,7 @@ extern "C" int trueaxis_kins_to_joints(int type, const double world_mm[3], doubl
   Vec3 j = w;
   if (type == 1 && !g_kins.inverse(w, a_deg, c_deg, j)) return -1;
   if (type != 1 && !w.allFinite()) return -1;
-  if (tip != 0 && g_kins.spindle_loaded()) {
+  if (tip != 0) {  // on without a model, or with pins it refuses: an error, never an uncorrected move
     Vec3 e;
     if (!g_kins.tip_error(phi_deg, tool_mm, e)) return -1;
     j -= e;  // the real tip is the joints' point plus e: it lands on the target
@@ -103,7 +97,7 @@ extern "C" int trueaxis_kins_to_joints(int type, const double world_mm[3], doubl
 extern "C" int trueaxis_kins_to_world(int type, const double joint_mm[3], double a_deg, double c_deg, int tip,
                                       double phi_deg, double tool_mm, double world_mm[3]) {
   Vec3 at(joint_mm[0], joint_mm[1], joint_mm[2]);
-  if (tip != 0 && g_kins.spindle_loaded()) {
+  if (tip != 0) {
     Vec3 e;
     if (!g_kins.tip_error(phi_deg, tool_mm, e)) return -1;
     at += e;

@@ -36,10 +36,11 @@ int trueaxis_kins_tip_error(double phi_deg, double tool_mm, double error_mm[3]);
 
 /* LinuxCNC's kinematics, whole: world (table) coordinates to the joints' X,
    Y, Z at commanded A, C and back, `type` 0 the identity or 1 the cradle
-   (cradle_kinematics.hpp conventions 1-4), and, when `tip` is not 0 and a
-   spindle model is loaded, the tool tip's error at phi_deg and tool_mm taken
-   off the joints (added back going forward; convention 5). 0 on success, -1
-   for a non-finite input or a tip the model refuses (the output untouched). */
+   (cradle_kinematics.hpp conventions 1-4), and, when `tip` is not 0, the
+   tool tip's error at phi_deg and tool_mm taken off the joints (added back
+   going forward; convention 5). 0 on success, -1 for a non-finite input, a
+   tip asked for without a spindle model, or pins the model refuses (the
+   output untouched). */
 int trueaxis_kins_to_joints(int type, const double world_mm[3], double a_deg, double c_deg, int tip, double phi_deg,
                             double tool_mm, double joint_mm[3]);
 int trueaxis_kins_to_world(int type, const double joint_mm[3], double a_deg, double c_deg, int tip, double phi_deg,

@@ -14,9 +14,11 @@
    while the pin trueaxis_kins.tip-enable is true, the tool tip's error at
    trueaxis_kins.spindle-angle (deg, the oriented spindle's, M19) and
    trueaxis_kins.tool-length (mm below the gauge line) is taken off the
-   joints' X, Y, Z, so that the tip lands where the program says; a tool
-   length the model refuses (below 0) is a kinematics error, not an
-   uncorrected move.
+   joints' X, Y, Z, so that the tip lands where the program says; the
+   correction on without a model, or a tool length the model refuses, is a
+   kinematics error, not an uncorrected move. The pins act at once: change
+   them only while the machine stands still (an oriented spindle does), as the
+   joints move by the tip's error (tens of um) in one servo period.
    Switchable (motion.switchkins-type): 0 identity (machine coordinates, for
    probing programs; the start), 1 the cradle's table coordinates. */
 #include "kins_api.h"
@@ -81,15 +83,19 @@ int rtapi_app_main(void) {
       return -EINVAL;
     }
   }
-  tip = hal_malloc(sizeof *tip);
-  if (tip == 0 || hal_pin_bit_new("trueaxis_kins.tip-enable", HAL_IN, &tip->enable, comp_id) != 0 ||
-      hal_pin_float_new("trueaxis_kins.spindle-angle", HAL_IN, &tip->angle_deg, comp_id) != 0 ||
-      hal_pin_float_new("trueaxis_kins.tool-length", HAL_IN, &tip->tool_mm, comp_id) != 0) {
-    rtapi_print_msg(RTAPI_MSG_ERR, "trueaxis_kins: its pins could not be made\n");
-    hal_exit(comp_id);
-    return -ENOMEM;
+  {
+    /* The pins are published to the kinematics only once they all exist. */
+    struct tip_pins* pins = hal_malloc(sizeof *pins);
+    if (pins == 0 || hal_pin_bit_new("trueaxis_kins.tip-enable", HAL_IN, &pins->enable, comp_id) != 0 ||
+        hal_pin_float_new("trueaxis_kins.spindle-angle", HAL_IN, &pins->angle_deg, comp_id) != 0 ||
+        hal_pin_float_new("trueaxis_kins.tool-length", HAL_IN, &pins->tool_mm, comp_id) != 0) {
+      rtapi_print_msg(RTAPI_MSG_ERR, "trueaxis_kins: its pins could not be made\n");
+      hal_exit(comp_id);
+      return -ENOMEM;
+    }
+    hal_ready(comp_id);
+    tip = pins;
   }
-  hal_ready(comp_id);
   return 0;
 }
 

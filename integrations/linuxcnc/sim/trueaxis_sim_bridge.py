@@ -29,6 +29,7 @@ macro interface) and the angle (#12058) and reads #12048..#12054 and
 #12060..#12062 back. Exit when the HAL component is
 asked to (SIGTERM) or the simulator stops answering.
 """
+import math
 import os
 import signal
 import sys
@@ -80,7 +81,7 @@ def main(argv):
             now = (h["a"], h["c"], h["face-enable"], h["ball-enable"], h["spindle-angle"])
             if now != last:
                 write(12000, [now[0], now[1]])
-                write(12058, [now[4]])
+                write(12058, [math.fmod(now[4], 360.0) if math.isfinite(now[4]) else 0.0])  # within the map's range
                 nx, ny, nz, d, bx, by, bz = read(12048, 7)
                 ex, ey, ez = read(12060, 3)
                 h["face-nx"], h["face-ny"], h["face-nz"] = nx, ny, nz

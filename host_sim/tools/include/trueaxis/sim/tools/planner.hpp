@@ -194,6 +194,9 @@ struct LevelPlan {
 LevelPlan level_plan(double side_mm);
 std::shared_ptr<const PlanModel> level_model(const LevelPlan& plan);
 
+// printf into a string (the format checked by the compiler): the planner's texts.
+[[gnu::format(printf, 1, 2)]] std::string plan_text(const char* format, ...);
+
 // ---- the command's texts -------------------------------------------------------
 
 // The prediction as a table: every output's value and sigma, the valuation,
