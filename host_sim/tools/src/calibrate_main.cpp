@@ -264,49 +264,75 @@ double parse_time(const std::string& text) {
   return 0.0;
 }
 
-// trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS].
-int run_log(int argc, char** argv) {
+// The module's address and how long to wait for its macro interface, as
+// `log` and `linuxcnc-kins` take them (--host, --port, --wait).
+struct Connection {
   std::string host = "127.0.0.1";
   int port = 502;
   int wait_s = 120;
+
+  // argv[i] if it is one of the three (its value consumed): 1; not one: 0;
+  // one with a bad value: -1 with `error` the usage line.
+  int parse(int argc, char** argv, int& i, std::string& error) {
+    const std::string arg = argv[i];
+    if (i + 1 >= argc || (arg != "--host" && arg != "--port" && arg != "--wait")) return 0;
+    const char* value = argv[++i];
+    if (arg == "--host") {
+      host = value;
+      return 1;
+    }
+    char* end = nullptr;
+    const long v = std::strtol(value, &end, 10);
+    if (arg == "--port") {
+      if (*end != '\0' || v < 1 || v > 65535) return error = "--port takes 1..65535", -1;
+      port = static_cast<int>(v);
+    } else {
+      if (*end != '\0' || v < 0 || v > 3600) return error = "--wait takes 0..3600 (seconds)", -1;
+      wait_s = static_cast<int>(v);
+    }
+    return 1;
+  }
+
+  // Connects and takes the macro interface, waiting up to wait_s while another
+  // client holds it; "" or the one line that says why not.
+  std::string open(trueaxis::sim::VariableClient& client) const {
+    if (!client.connect(host, port)) {
+      return "cannot connect to " + host + ":" + std::to_string(port) + ": " + client.error_text();
+    }
+    const std::string busy = "controller busy: another client holds the macro interface";
+    const int wait = wait_s;
+    const bool taken = client.take_interface(wait * 1000, [&busy, wait] {
+      std::fprintf(stderr, "trueaxis-calibrate: %s, waiting (up to %d s)\n", busy.c_str(), wait);
+    });
+    if (taken) return "";
+    const std::string why = client.failure_text();
+    return why == busy ? busy + " (waited " + std::to_string(wait) + " s; --wait SECONDS)" : why;
+  }
+};
+
+// trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS].
+int run_log(int argc, char** argv) {
+  Connection connection;
   std::string csv_path;
   for (int i = 2; i < argc; ++i) {
     const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
+    std::string error;
+    const int parsed = connection.parse(argc, argv, i, error);
+    if (parsed < 0) return usage_error(error);
+    if (parsed > 0) continue;
     if (arg == "--help" || arg == "-h") {
       print_help();
       return 0;
-    } else if (arg == "--csv" && has_value) {
+    } else if (arg == "--csv" && i + 1 < argc) {
       csv_path = argv[++i];
-    } else if (arg == "--host" && has_value) {
-      host = argv[++i];
-    } else if (arg == "--port" && has_value) {
-      char* end = nullptr;
-      const long p = std::strtol(argv[++i], &end, 10);
-      if (*end != '\0' || p < 1 || p > 65535) return usage_error("--port takes 1..65535");
-      port = static_cast<int>(p);
-    } else if (arg == "--wait" && has_value) {
-      char* end = nullptr;
-      const long seconds = std::strtol(argv[++i], &end, 10);
-      if (*end != '\0' || seconds < 0 || seconds > 3600) return usage_error("--wait takes 0..3600 (seconds)");
-      wait_s = static_cast<int>(seconds);
     } else {
       return usage_error("unknown or incomplete option '" + arg + "' for log");
     }
   }
   trueaxis::sim::VariableClient client;
-  if (!client.connect(host, port)) {
-    return fail("cannot connect to " + host + ":" + std::to_string(port) + ": " + client.error_text());
-  }
   // Selecting an entry is a write to the macro interface (macros/module.hpp contract 8).
-  const std::string busy = "controller busy: another client holds the macro interface";
-  const bool taken = client.take_interface(wait_s * 1000, [&busy, wait_s] {
-    std::fprintf(stderr, "trueaxis-calibrate: %s, waiting (up to %d s)\n", busy.c_str(), wait_s);
-  });
-  if (!taken) {
-    const std::string why = client.failure_text();
-    return fail(why == busy ? busy + " (waited " + std::to_string(wait_s) + " s; --wait SECONDS)" : why);
-  }
+  const std::string why = connection.open(client);
+  if (!why.empty()) return fail(why);
   std::vector<trueaxis::sim::LogRow> rows;
   std::string error;
   if (!trueaxis::sim::read_log(client, rows, error)) return fail(error);
@@ -385,9 +411,7 @@ bool read_rigidity_plan(const std::string& path, trueaxis::sim::RigidityPlan& pl
 // the controller's stored M3 table or M4 model as the LinuxCNC kinematics'
 // file, however it was stored (trueaxis-calibrate, an operator program's G65, an HMI).
 int run_kins_export(int argc, char** argv) {
-  std::string host = "127.0.0.1";
-  int port = 502;
-  int wait_s = 120;
+  Connection connection;
   std::string out_path;
   const CalibrateMethod* method = argc > 2 ? trueaxis::sim::find_calibrate_method(argv[2]) : nullptr;
   if (argc > 2 && (std::string(argv[2]) == "--help" || std::string(argv[2]) == "-h")) {
@@ -399,41 +423,23 @@ int run_kins_export(int argc, char** argv) {
   }
   for (int i = 3; i < argc; ++i) {
     const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
+    std::string error;
+    const int parsed = connection.parse(argc, argv, i, error);
+    if (parsed < 0) return usage_error(error);
+    if (parsed > 0) continue;
     if (arg == "--help" || arg == "-h") {
       print_help();
       return 0;
-    } else if (arg == "--out" && has_value) {
+    } else if (arg == "--out" && i + 1 < argc) {
       out_path = argv[++i];
-    } else if (arg == "--host" && has_value) {
-      host = argv[++i];
-    } else if (arg == "--port" && has_value) {
-      char* end = nullptr;
-      const long p = std::strtol(argv[++i], &end, 10);
-      if (*end != '\0' || p < 1 || p > 65535) return usage_error("--port takes 1..65535");
-      port = static_cast<int>(p);
-    } else if (arg == "--wait" && has_value) {
-      char* end = nullptr;
-      const long seconds = std::strtol(argv[++i], &end, 10);
-      if (*end != '\0' || seconds < 0 || seconds > 3600) return usage_error("--wait takes 0..3600 (seconds)");
-      wait_s = static_cast<int>(seconds);
     } else {
       return usage_error("unknown or incomplete option '" + arg + "' for linuxcnc-kins");
     }
   }
   if (out_path.empty()) return usage_error("linuxcnc-kins needs --out FILE");
   trueaxis::sim::VariableClient client;
-  if (!client.connect(host, port)) {
-    return fail("cannot connect to " + host + ":" + std::to_string(port) + ": " + client.error_text());
-  }
-  const std::string busy = "controller busy: another client holds the macro interface";
-  const bool taken = client.take_interface(wait_s * 1000, [&busy, wait_s] {
-    std::fprintf(stderr, "trueaxis-calibrate: %s, waiting (up to %d s)\n", busy.c_str(), wait_s);
-  });
-  if (!taken) {
-    const std::string why = client.failure_text();
-    return fail(why == busy ? busy + " (waited " + std::to_string(wait_s) + " s; --wait SECONDS)" : why);
-  }
+  const std::string why = connection.open(client);
+  if (!why.empty()) return fail(why);
   std::string file;
   FlowResult r;
   const bool read = method->kins_file(client, true, file, r);

@@ -172,24 +172,9 @@ class GantryModel final : public PlanModel {
  public:
   explicit GantryModel(const GantryPlanSpec& spec)
       : spec_(spec), machine_(realistic_gantry()), frames_(std::make_unique<core::GantryFrames>()) {
-    TrackerSpec tracker_spec;
-    tracker_spec.radial_mpe_mm = spec.radial_mpe_mm;
-    tracker_spec.transverse_mpe_mm = spec.transverse_mpe_mm;
-    tracker_spec.transverse_mpe_per_m_mm = spec.transverse_mpe_per_m_mm;
-    TrackerPlacement placement;
-    placement.distance_m = spec.tracker_distance_m;
-    const LaserTracker tracker = place_tracker(machine_, placement, tracker_spec, false);
-    GantryPlan plan;
-    plan.pad_grid = spec.pad_grid;
-    plan.side_rows = spec.side_rows;
-    plan.side_cols = spec.side_cols;
-    plan.passes = spec.passes;
-    plan.pass_points = spec.pass_points;
-    plan.circle_points = spec.circle_points;
-    plan.c_from_deg = spec.c_from_deg;
-    plan.c_to_deg = spec.c_to_deg;
-    plan.a_from_deg = spec.a_from_deg;
-    plan.a_to_deg = spec.a_to_deg;
+    const LaserTracker tracker =
+        place_tracker(machine_, gantry_tracker_placement(spec), gantry_tracker_spec(spec), false);
+    const GantryPlan plan = gantry_measuring_plan(spec);
     SimRng rng(1);  // no noise: no draws
     for (const TrackerSample& s : measure_gantry(machine_, tracker, plan, rng)) {
       const double range = s.p_mm.norm();
@@ -539,6 +524,35 @@ RigidityPlan rigidity_plan(double a_from, double a_to, double a_step, double c_s
 std::shared_ptr<const PlanModel> rigidity_model(const RigidityPlan& plan) {
   return std::make_shared<RigidityModel>(plan);
 }
+GantryPlan gantry_measuring_plan(const GantryPlanSpec& spec) {
+  GantryPlan plan;
+  plan.pad_grid = spec.pad_grid;
+  plan.side_rows = spec.side_rows;
+  plan.side_cols = spec.side_cols;
+  plan.passes = spec.passes;
+  plan.pass_points = spec.pass_points;
+  plan.circle_points = spec.circle_points;
+  plan.c_from_deg = spec.c_from_deg;
+  plan.c_to_deg = spec.c_to_deg;
+  plan.a_from_deg = spec.a_from_deg;
+  plan.a_to_deg = spec.a_to_deg;
+  return plan;
+}
+
+TrackerSpec gantry_tracker_spec(const GantryPlanSpec& spec) {
+  TrackerSpec t;
+  t.radial_mpe_mm = spec.radial_mpe_mm;
+  t.transverse_mpe_mm = spec.transverse_mpe_mm;
+  t.transverse_mpe_per_m_mm = spec.transverse_mpe_per_m_mm;
+  return t;
+}
+
+TrackerPlacement gantry_tracker_placement(const GantryPlanSpec& spec) {
+  TrackerPlacement p;
+  p.distance_m = spec.tracker_distance_m;
+  return p;
+}
+
 std::shared_ptr<const PlanModel> gantry_model(const GantryPlanSpec& plan) {
   return std::make_shared<GantryModel>(plan);
 }

@@ -142,24 +142,9 @@ Measure ball_measure(const sim::RigidityPlan& plan) {
 Measure tracker_measure(const sim::GantryPlanSpec& spec) {
   return [spec](sim::SimRng* rng) {
     const sim::GantryMachine machine(sim::realistic_gantry());
-    sim::TrackerSpec tracker_spec;
-    tracker_spec.radial_mpe_mm = spec.radial_mpe_mm;
-    tracker_spec.transverse_mpe_mm = spec.transverse_mpe_mm;
-    tracker_spec.transverse_mpe_per_m_mm = spec.transverse_mpe_per_m_mm;
-    sim::TrackerPlacement placement;
-    placement.distance_m = spec.tracker_distance_m;
-    const sim::LaserTracker tracker = sim::place_tracker(machine, placement, tracker_spec, rng != nullptr);
-    sim::GantryPlan plan;
-    plan.pad_grid = spec.pad_grid;
-    plan.side_rows = spec.side_rows;
-    plan.side_cols = spec.side_cols;
-    plan.passes = spec.passes;
-    plan.pass_points = spec.pass_points;
-    plan.circle_points = spec.circle_points;
-    plan.c_from_deg = spec.c_from_deg;
-    plan.c_to_deg = spec.c_to_deg;
-    plan.a_from_deg = spec.a_from_deg;
-    plan.a_to_deg = spec.a_to_deg;
+    const sim::LaserTracker tracker = sim::place_tracker(machine, sim::gantry_tracker_placement(spec),
+                                                         sim::gantry_tracker_spec(spec), rng != nullptr);
+    const sim::GantryPlan plan = sim::gantry_measuring_plan(spec);
     sim::SimRng none(1);
     std::vector<Vec3> v;
     for (const sim::TrackerSample& s : sim::measure_gantry(machine, tracker, plan, rng != nullptr ? *rng : none)) {

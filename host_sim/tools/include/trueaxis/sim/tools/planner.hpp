@@ -51,6 +51,8 @@
 #include <vector>
 
 #include "trueaxis/core/types.hpp"
+#include "trueaxis/sim/instruments/laser_tracker.hpp"
+#include "trueaxis/sim/tools/gantry_measure.hpp"
 
 namespace trueaxis::sim {
 
@@ -172,6 +174,10 @@ struct GantryPlanSpec {
   double a_limit_deg = 120.0;        // the candidates' widest A arc (contract 5)
 };
 std::shared_ptr<const PlanModel> gantry_model(const GantryPlanSpec& plan);
+// Its measuring plan (gantry_measure.hpp) and the tracker's noise and place.
+GantryPlan gantry_measuring_plan(const GantryPlanSpec& spec);
+TrackerSpec gantry_tracker_spec(const GantryPlanSpec& spec);
+TrackerPlacement gantry_tracker_placement(const GantryPlanSpec& spec);
 
 // M4: the analyser's encoder-synchronous sampling (spindle_analyser.hpp
 // convention 1) of the simulator's spindle (realistic_spindle), balls at
