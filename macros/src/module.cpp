@@ -183,15 +183,31 @@ void Module::load_variables(RecordKey key) {
 
 bool Module::unlocked() const { return unlocked_ && clock_.now_us() - last_write_us_ < kUnlockIdleUs; }
 
+std::uint64_t Module::hold_us() const {
+  bool session = hold_taken_;
+  for (const ClientId c : session_of_) session = session || (c != kNoClient && c == holder_);
+  if (!session) return kInterfaceGraceUs;
+  return static_cast<std::uint64_t>(values_[slot<var::kInterfaceIdleLimit>()]) * 1'000'000;
+}
+
 ClientId Module::holder() const {
   if (holder_ == kNoClient || busy()) return holder_;
   const std::uint64_t now = clock_.now_us();
   // A clock behind the last activity (the contract forbids it) keeps the holder: fail closed.
-  return now < holder_active_us_ || now - holder_active_us_ < kInterfaceIdleUs ? holder_ : kNoClient;
+  return now < holder_active_us_ || now - holder_active_us_ < hold_us() ? holder_ : kNoClient;
+}
+
+// Contract 8: the interface and the client's claim on its sessions, at once.
+void Module::give_back(ClientId client) {
+  if (holder_ == client) {
+    holder_ = kNoClient;
+    hold_taken_ = false;
+  }
+  for (ClientId& c : session_of_) c = c == client ? kNoClient : c;
 }
 
 void Module::disconnected(ClientId client) {
-  if (holder_ == client) holder_ = kNoClient;
+  give_back(client);
   if (unlocked_by_ == client) unlocked_ = false;
 }
 
@@ -223,7 +239,7 @@ AccessFault Module::do_read(std::uint16_t first, std::uint16_t count, double* ou
   return AccessFault::kNone;
 }
 
-AccessFault Module::check_write(std::uint16_t number, double value) const {
+AccessFault Module::check_write(std::uint16_t number, double value, ClientId client) const {
   const VarInfo* info = find_var(number);
   if (info == nullptr) return AccessFault::kUndefined;
   switch (info->access) {
@@ -236,8 +252,8 @@ AccessFault Module::check_write(std::uint16_t number, double value) const {
       return check_value(*info, value);
     case Access::kInterface:  // contract 8: taken or given back, busy or not
       return check_value(*info, value);
-    case Access::kConfig:
-      if (!unlocked()) return AccessFault::kLocked;
+    case Access::kConfig:  // contract 8: under the writer's own unlock only
+      if (!unlocked() || unlocked_by_ != client) return AccessFault::kLocked;
       [[fallthrough]];
     case Access::kReadWrite:
     case Access::kPersistent:
@@ -280,25 +296,21 @@ AccessFault Module::save_variables(Access group, std::uint16_t first, std::uint1
 
 AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const double* values, ClientId client) {
   if (unlocked_ && !unlocked()) unlocked_ = false;  // idle past kUnlockIdleUs: closed for good
-  // Contract 8: a lock alone is taken from anyone; any other write needs the
-  // macro interface. A client that takes it closes an unlock another opened
-  // (its holder has given the interface up) once its write has passed the
-  // checks, which see that unlock as closed already.
+  // Contract 8: a lock alone is accepted from anyone; any other write only
+  // while no other client holds the interface, and some writes take it.
   const bool lock_alone = count == 1 && first == var::kUnlock && values[0] == 0.0;
-  bool foreign_unlock = false;
-  if (!lock_alone) {
-    const ClientId h = holder();
-    if (h != kNoClient && h != client) return fault(AccessFault::kInterfaceHeld);
-    foreign_unlock = h != client && unlocked_ && unlocked_by_ != client;
-  }
+  const ClientId h = holder();
+  if (!lock_alone && h != kNoClient && h != client) return fault(AccessFault::kInterfaceHeld);
+  bool takes = false;
   bool touches[2] = {false, false};  // config, work offsets
   for (std::uint16_t i = 0; i < count; ++i) {
     const auto number = static_cast<std::uint16_t>(first + i);
     const Access access = access_of(number);
-    AccessFault f = check_write(number, values[i]);
-    if (f == AccessFault::kNone && foreign_unlock && access == Access::kConfig) f = AccessFault::kLocked;
+    const AccessFault f = check_write(number, values[i], client);
     if (f == AccessFault::kBadUnlockCode) failed_unlock();
     if (f != AccessFault::kNone) return fault(f);
+    takes = takes || access == Access::kReadWrite || access == Access::kCommand ||
+            (access == Access::kInterface && values[i] != 0.0);
     touches[0] = touches[0] || access == Access::kConfig;
     touches[1] = touches[1] || access == Access::kPersistent;
   }
@@ -312,8 +324,13 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
     return fault(AccessFault::kStorageFailure);
   }
 
-  if (foreign_unlock) unlocked_ = false;  // closed for good; this client's own code below opens its own
-  bool gives_back = false;
+  const std::uint64_t now = clock_.now_us();
+  if (takes && h != client) {  // a new holder: another client's unlock closes for good
+    if (unlocked_ && unlocked_by_ != client) unlocked_ = false;
+    holder_ = client;
+    hold_taken_ = false;
+  }
+  if (holder_ == client && (takes || h == client)) holder_active_us_ = now;
   for (std::uint16_t i = 0; i < count; ++i) {
     const auto number = static_cast<std::uint16_t>(first + i);
     const Access access = access_of(number);
@@ -326,7 +343,11 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
       continue;
     }
     if (access == Access::kInterface) {
-      gives_back = values[i] == 0.0;
+      if (values[i] == 0.0) {
+        give_back(client);
+      } else {
+        hold_taken_ = true;
+      }
       continue;
     }
     set(number, values[i]);
@@ -339,11 +360,7 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
       at<var::kError>() = 0.0;
     }
   }
-  last_write_us_ = clock_.now_us();
-  if (!lock_alone) {
-    holder_ = gives_back ? kNoClient : client;
-    holder_active_us_ = last_write_us_;
-  }
+  if (unlocked_by_ == client) last_write_us_ = now;  // contract 7: the unlock's own client's writes
   return AccessFault::kNone;
 }
 
@@ -494,6 +511,21 @@ void Module::show_log_entry(double serial) {
   log_codec::window(entry, &at<var::kLogSerial>(), &at<var::kLogFigureFirst>(), var::kLogFigureValues);
 }
 
+// Contract 8: a clear macro that succeeded opens its runner's session of its
+// method; the method's compute, compute_also or check macro that succeeded
+// closes it (a method without them has 0 there, which no macro is).
+void Module::note_session(core::Status status) {
+  const std::size_t m = running_.method;
+  if (status != core::Status::kOk || running_.info == nullptr || m >= BuiltMethods::kCount) return;
+  const std::uint16_t number = running_.info->number;
+  const SessionInfo& session = BuiltMethods::kSessions[m];
+  if (session.capacity > 0 && number == session.clear) {
+    session_of_[m] = holder_ == runner_ ? runner_ : kNoClient;  // not for a runner that gave it back
+  } else if (number == session.compute || number == session.compute_also || number == BuiltMethods::kChecks[m].macro) {
+    session_of_[m] = kNoClient;
+  }
+}
+
 void Module::publish_results() {
   for (std::size_t i = 0; i < kResultSlots; ++i) values_[kResultSlot + i] = staged_[i];
 }
@@ -505,8 +537,9 @@ void Module::finish(core::Status status) {
   at<var::kStatus>() = state_value(ok ? MacroState::kDone : MacroState::kError);
   at<var::kError>() = static_cast<double>(static_cast<int>(status));
   at<var::kDoneCount>() = at<var::kDoneCount>() + 1.0;
-  holder_active_us_ = clock_.now_us();  // contract 8: idle counts from the macro's end
+  holder_active_us_ = clock_.now_us();  // contract 8: the hold counts from the macro's end
   at<var::kRunTime>() = static_cast<double>(holder_active_us_ - started_us_);
+  note_session(status);
   at<var::kStepCount>() = static_cast<double>(steps_);
   const Refusal refused = ok ? Refusal{} : call_.refusal;  // method_context.hpp contract 8
   at<var::kGateItem>() = refused.item;

@@ -25,7 +25,7 @@ CI_USER = "trueaxis-ci"
 
 class Machine:
     def __init__(self, bin_dir, folder, errors="ideal", face_tilt=None):
-        self.bin_dir = bin_dir
+        self.bin_dir = bin_dir = os.path.abspath(bin_dir)
         self.folder = folder
         os.chmod(folder, 0o755)
         argv = [os.path.join(bin_dir, "trueaxis-sim"), "--port", "0", "--nv", os.path.join(folder, "sim.nv"),

@@ -5,10 +5,13 @@ ends LinuxCNC.
 
 usage (by linuxcnc): scenario_display.py -ini INI
 Environment: TRUEAXIS_SCENARIO, a JSON file {"commands": [MDI lines...],
-"timeout": seconds each, "out": result file}. The result file: {"steps": [{
-"command", "ok", "errors": [texts], "seconds", "position": [x, y, z, a, c]}],
-"homed": bool, "error": text of a failure outside the steps or null}.
-Stops at the first command that fails.
+"timeout": seconds each, "out": result file}. A command is an MDI line, or
+{"mdi": line, "may_fail": true} (a step whose error does not stop the run),
+or {"run": [argv]} (a program run while LinuxCNC is up, its output in the
+step's "stdout"). The result file: {"steps": [{"command", "ok", "errors":
+[texts], "seconds", "position": [x, y, z, a, c]}], "homed": bool, "error":
+text of a failure outside the steps or null}. Stops at the first command that
+fails (unless it may).
 """
 import json
 import os
@@ -59,8 +62,17 @@ def main():
         c.mode(linuxcnc.MODE_MDI)
         c.wait_complete()
         drain(errors)
-        for command in plan["commands"]:
+        for item in plan["commands"]:
             started = time.monotonic()
+            if isinstance(item, dict) and "run" in item:
+                import subprocess
+                done = subprocess.run(item["run"], capture_output=True, text=True, timeout=60)
+                out["steps"].append({"command": item["run"], "ok": done.returncode == 0, "errors": [],
+                                     "stdout": done.stdout + done.stderr,
+                                     "seconds": round(time.monotonic() - started, 3)})
+                continue
+            command = item["mdi"] if isinstance(item, dict) else item
+            may_fail = isinstance(item, dict) and item.get("may_fail", False)
             c.mdi(command)
             c.wait_complete(plan.get("timeout", 300))
             wait_for(lambda st: st.interp_state == linuxcnc.INTERP_IDLE and st.queue == 0 and not getattr(st, "queued_mdi_commands", 0),
@@ -79,7 +91,7 @@ def main():
                 step["hal"] = subprocess.run(["halcmd", "show", "pin"] + plan["show"], capture_output=True,
                                              text=True).stdout
             out["steps"].append(step)
-            if texts:
+            if texts and not may_fail:
                 break
     except Exception as e:  # reported to the test, which fails on it
         out["error"] = f"{type(e).__name__}: {e}"

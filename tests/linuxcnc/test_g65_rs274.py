@@ -179,29 +179,57 @@ M2
 """
 
 
-def run_cases(checks, sim, folder, errors, regenerate):
-    ini = make_ini(folder, sim.port)
-
-    # 1. G65 P9810: golden, and LinuxCNC's #100..#199 equal the module's bit for bit.
+def level_3pt(checks, sim, ini, folder, regenerate, label):
+    """rs274/level_3pt.ngc: its golden output, and LinuxCNC's #100..#199 equal
+    the module's, bit for bit."""
+    dump = os.path.join(folder, "dump.txt")
+    if os.path.exists(dump):
+        os.remove(dump)
     code, output = rs274(ini, os.path.join(HERE, "rs274", "level_3pt.ngc"), folder)
     golden(checks, "level_3pt", code, output, regenerate)
     module = sim.get("100..199")
     dumped = {}
-    if os.path.exists(os.path.join(folder, "dump.txt")):
-        for line in open(os.path.join(folder, "dump.txt"), encoding="utf-8"):
+    if os.path.exists(dump):
+        for line in open(dump, encoding="utf-8"):
             number, value = line.split(" = ")
             dumped[int(number[1:])] = float(value)
     same = len(dumped) == 100 and all(dumped[n] == module[n] for n in range(100, 200))
     differ = [n for n in range(100, 200) if dumped.get(n) != module.get(n)]
-    checks.check(same, "level_3pt: LinuxCNC's #100..#199 equal the module's, bit for bit",
+    checks.check(same, f"{label}: LinuxCNC's #100..#199 equal the module's, bit for bit",
                  f"differ at {differ[:5]}: {[(dumped.get(n), module.get(n)) for n in differ[:3]]}")
     import math
     p2 = sim.get("5301..5303")
     checks.check(abs(module[107] - 12.5) < 1e-9 and abs(p2[5301] - 50) < 1e-9
                  and abs(p2[5303] - (40 - 50 * math.tan(math.radians(12.5)))) < 1e-9,
-                 "level_3pt: the module got G58 in mm (rs274 keeps offsets in inches) and a tilt of 12.5 deg",
+                 f"{label}: the module got G58 in mm (rs274 keeps offsets in inches) and a tilt of 12.5 deg",
                  f"#107 = {module[107]!r}, G58 = {p2}")
-    checks.check(sim.get(9009)[9009] == 0, "level_3pt: G65 P0 gave the macro interface back")
+    checks.check(sim.get(9009)[9009] == 0, f"{label}: G65 P0 gave the macro interface back")
+
+
+def run_cases(checks, sim, folder, errors, regenerate):
+    ini = make_ini(folder, sim.port)
+
+    # 1. G65 P9810: golden, and LinuxCNC's #100..#199 equal the module's bit for bit.
+    level_3pt(checks, sim, ini, folder, regenerate, "level_3pt")
+
+    # 1b. ... while another client keeps an open connection on which it wrote
+    # points and arguments 1 s before (an HMI beside LinuxCNC): the remap waits
+    # out its 2 s hold (module.hpp contract 8), and writes every letter, so
+    # that client's A = 30 does not reach 9810.
+    from pymodbus.client import ModbusTcpClient
+    import struct
+    other = ModbusTcpClient("127.0.0.1", port=sim.port)
+    other.connect()
+    words = lambda *values: [w for v in values for w in struct.unpack(">4H", struct.pack(">d", v))]
+    other.write_registers(4 * 5281, words(1.0, 2.0, 3.0), slave=1)
+    other.write_registers(4 * 1, words(30.0), slave=1)  # A: an argument takes the interface
+    time.sleep(1.0)
+    held = sim.get(9009)[9009]
+    started = time.monotonic()
+    level_3pt(checks, sim, ini, folder, False, "level_3pt beside a client that wrote 1 s before")
+    checks.check(held == 2 and time.monotonic() - started < 8, "level_3pt beside that client: it held the interface "
+                 "then; the program waited out its 2 s and completed", f"#9009 {held}")
+    other.close()
 
     # 2. A preview interpreter (PREVIEW = 0) does no device I/O.
     before = sim.get(9003)[9003]

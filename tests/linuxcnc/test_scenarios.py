@@ -11,7 +11,11 @@ leveling  (scenario a) a face tilted 12.5 deg on the ideal machine:
           pose) and the module's own measurement of it (#117) are within
           3 sigma of the module's figure (#118; #506 = 0.5 um covers the
           probe's overshoot, which varies within one servo period: 0 .. 1.7 um
-          at F100); the log holds a line a round.
+          at F100); the log holds a line a round. Then the macro interface
+          (module.hpp contract 8): G65 P1 holds it against another client's
+          work-offset write; a probe that does not trip stops the program
+          and on_abort gives it back at once; a single G65 P9810 holds it
+          2 s after its macro, no longer.
 rigidity  (scenario b) the realistic cradle (cradle_errors.hpp), a face tilted
           40 deg: o<trueaxis_rigidity> measures the ball at A = 0, 20, 40 and
           4 C positions (five touches each, the centre fitted by 9815) and
@@ -95,9 +99,35 @@ def leveling_figures(machine):
 
 
 def scenario_leveling(checks, machine):
+    # After the program: G65 P1 holds the macro interface for a session, so
+    # another client's work-offset write is refused while LinuxCNC runs; a
+    # probe that does not trip stops the program, and on_abort gives the
+    # interface back at once (trueaxis_on_abort.ngc), so the write succeeds.
+    # A single G65 holds it for its macro and 2 s after, no longer.
+    interface = {"run": machine.var + ["get", "9009"]}
+    offset = {"run": machine.var + ["set", "5281=0.25"]}
+    later = {"run": ["/bin/sh", "-c", "sleep 2.5; exec \"$0\" \"$@\""] + machine.var + ["get", "9009"]}
     commands = ["G21 G90 G54", "M64 P0", "G53 G0 Z100",
-                level_call([(-30, -30), (30, -30), (-30, 30)], 100, 60, 10, 100, 0.003, 3)]
+                level_call([(-30, -30), (30, -30), (-30, 30)], 100, 60, 10, 100, 0.003, 3),
+                interface, "G65 P1", interface, offset, {"mdi": "G38.2 Z150 F3000", "may_fail": True}, interface,
+                offset, "G65 P9810 A0 C0", interface, later]
     result = machine.run(commands, timeout_s=200, name="leveling")
+    held = result["steps"][4:] if len(result["steps"]) == 14 else []
+    if held:
+        texts = [step.get("stdout", "") for step in held]
+        checks.check(texts[0] == "#9009 = 0\n" and texts[2] == "#9009 = 2\n" and not held[3]["ok"]
+                     and "interface_held" in texts[3],
+                     "leveling: the program gave the interface back (G65 P0); G65 P1 holds it: another client's "
+                     "work offset is refused", str(texts[:4]))
+        checks.check(not held[4]["ok"] and texts[5] == "#9009 = 0\n" and held[6]["ok"],
+                     "leveling: a probe that does not trip stops the program, and on_abort gives the interface "
+                     "back at once: the offset is written", str([held[4]["errors"]] + texts[5:7]))
+        checks.check(held[7]["ok"] and texts[8] == "#9009 = 2\n" and texts[9] == "#9009 = 0\n",
+                     "leveling: a single G65 P9810 holds the interface for its macro and 2 s after, no longer",
+                     str(texts[8:]))
+        result["steps"] = [step for i, step in enumerate(result["steps"]) if i not in (7, 8)]
+    else:
+        checks.check(False, "leveling: the steps after the program ran", str(result["steps"])[-1500:])
     if not steps_ok(checks, result, "leveling"):
         return
     f = leveling_figures(machine)

@@ -1,13 +1,17 @@
-// One client at a time (module.hpp contract 8), in every module set: who may
-// write while another client holds the macro interface, when the interface is
-// free again (given back, disconnected, idle: its exact boundary, never while
-// the holder's macro runs), what #9009 reads to each client, the lock that is
-// taken from anyone, the unlock that closes when the interface changes hands,
-// the table stored only under its runner's unlock, and #9011's seconds of
-// back-off. The transport's half (each TCP connection its own client, its
-// close calling disconnected()) is tested with the server (tests/sim/server).
+// One client at a time (module.hpp contract 8), in every module set: which
+// writes take the macro interface (arguments, data blocks, #9000, #9015,
+// #9018, #9009 = 1) and which take nothing (work offsets, configuration,
+// #9004), who may write while another client holds it, how long it is held
+// (2 s after a macro or a write; #903 with a session open or after #9009 = 1:
+// each boundary exact), when a session opens and ends, what #9009 reads to
+// each client, the lock that is accepted from anyone, the unlock that belongs
+// to its client and closes when the interface changes hands, the table stored
+// only under its runner's unlock, and #9011's seconds of back-off. The
+// transport's half (each TCP connection its own client, its close calling
+// disconnected()) is tested with the server (tests/sim/server).
 #include <cstdint>
 
+#include "method_tests.hpp"
 #include "module_rig.hpp"
 #include "platform_fixture.hpp"
 #include "portable_test.hpp"
@@ -25,7 +29,10 @@ using trueaxis::core::Status;
 
 constexpr m::ClientId kA = 7;
 constexpr m::ClientId kB = 8;
-constexpr std::uint64_t kIdle = m::Module::kInterfaceIdleUs;
+constexpr m::ClientId kLocal = m::kLocalClient;  // the rig's own writes, and the recipes'
+constexpr std::uint64_t kGrace = m::Module::kInterfaceGraceUs;
+constexpr std::uint64_t kIdle = static_cast<std::uint64_t>(m::kDefaultInterfaceIdleS) * 1'000'000;
+static_assert(kGrace == 2'000'000 && kIdle == 30'000'000, "the hold times issue 31 names");
 
 // A macro that takes three steps and then stages 16 bytes as the set's first
 // table record (the module commits without decoding).
@@ -54,7 +61,22 @@ struct Rig : ModuleRig {
   void step_until_idle() {
     for (int i = 0; i < 16 && module().busy(); ++i) module().step();
   }
+  // Runs `macro` as `c` to its end (rig.run() is the local client's).
+  double run_as(m::ClientId c, std::uint16_t macro) {
+    if (put_as(c, v::kCmd, macro) != F::kNone) return -1.0;
+    for (int i = 0; i < t::kMaxSteps && module().busy(); ++i) module().step();
+    return get(v::kStatus);
+  }
 };
+
+// The first data block row of the built set (a kReadWrite row at #1000 or
+// above), 0 when the set has none.
+std::uint16_t first_data_block() {
+  for (const m::VarInfo& info : m::kRegisterMap) {
+    if (info.access == m::Access::kReadWrite && info.number >= v::kDataFirst) return info.number;
+  }
+  return 0;
+}
 
 }  // namespace
 
@@ -65,18 +87,24 @@ TA_TEST("a write while another client holds the interface is refused (interface_
   TA_CHECK_EQ(rig.get_as(kA, v::kInterface), 1.0);
   TA_CHECK_EQ(rig.get_as(kB, v::kInterface), 2.0);
   TA_CHECK_EQ(m::modbus_exception(F::kInterfaceHeld), m::ModbusException::kServerDeviceBusy);
-  // Every writable kind: an argument, the command, a work offset, #9009 both ways, an unlock code.
-  const std::uint16_t numbers[] = {v::kArgX, v::kArgY, v::kCmd, v::kG57, v::kInterface, v::kInterface, v::kUnlock};
-  const double values[] = {2.5, 3.0, 9903.0, 10.0, 1.0, 0.0, m::kUnlockCode};
-  for (int i = 0; i < 7; ++i) {
-    TA_CASE_INDEX(i);
-    rig.snapshot();
-    TA_CHECK_EQ(rig.put_as(kB, numbers[i], values[i]), F::kInterfaceHeld);
-    TA_CHECK_EQ(rig.get(v::kAccessFault), static_cast<double>(static_cast<int>(F::kInterfaceHeld)));
-    TA_CHECK(rig.unchanged());
+  // Every writable kind: an argument, the command, a work offset, #9009 both
+  // ways, an unlock code, a configuration variable; the local client's too.
+  const t::ConfigVariable config = t::config_variable();
+  const std::uint16_t numbers[] = {v::kArgX, v::kArgY, v::kCmd, v::kG57, v::kInterface, v::kInterface, v::kUnlock,
+                                   config.number};
+  const double values[] = {2.5, 3.0, 9903.0, 10.0, 1.0, 0.0, m::kUnlockCode, config.changed};
+  for (const m::ClientId other : {kB, kLocal}) {
+    for (int i = 0; i < 8; ++i) {
+      TA_CASE_INDEX(i);
+      rig.snapshot();
+      TA_CHECK_EQ(rig.put_as(other, numbers[i], values[i]), F::kInterfaceHeld);
+      TA_CHECK_EQ(rig.get(v::kAccessFault), static_cast<double>(static_cast<int>(F::kInterfaceHeld)));
+      TA_CHECK(rig.unchanged());
+    }
   }
   TA_CHECK_EQ(rig.get(v::kArgX), 1.5);
   TA_CHECK_EQ(rig.get(v::kArgY), 0.0);
+  TA_CHECK_EQ(rig.get(v::kG57), 0.0);
   TA_CHECK(!rig.module().busy());
   TA_CHECK(!rig.module().unlocked());
   TA_CHECK_EQ(rig.get_as(kB, v::kArgX), 1.5);  // reads stay open
@@ -85,50 +113,105 @@ TA_TEST("a write while another client holds the interface is refused (interface_
   TA_CHECK_EQ(rig.put_as(kA, v::kArgY, 4.0), F::kNone);
 }
 
-TA_TEST("the interface is free exactly kInterfaceIdleUs after the holder's last write, and a write keeps it") {
+TA_TEST("an argument, a data block, #9000, #9015, #9018 and #9009 = 1 take the interface") {
+  const std::uint16_t data = first_data_block();
+  const std::uint16_t numbers[] = {v::kArgA, v::kArgZ, v::kCmd, v::kLogTime, v::kLogSelect, v::kInterface, data};
+  const double values[] = {1.0, -2.0, 9903.0, 1.7e9, 1.0, 1.0, 0.5};
+  for (int i = 0; i < 7; ++i) {
+    if (numbers[i] == 0) continue;  // a set without a data block
+    TA_CASE_INDEX(numbers[i]);
+    Rig rig;
+    TA_REQUIRE(rig.put_as(kA, numbers[i], values[i]) == F::kNone);
+    TA_CHECK_EQ(rig.module().holder(), kA);
+    TA_CHECK_EQ(rig.get_as(kB, v::kInterface), 2.0);
+    TA_CHECK_EQ(rig.put_as(kB, v::kG57, 1.0), F::kInterfaceHeld);
+  }
+}
+
+TA_TEST("work offsets, configuration and #9004 take nothing: accepted from any client while none holds it") {
+  const t::ConfigVariable config = t::config_variable();
+  Rig rig;
+  TA_REQUIRE(rig.put_as(kA, v::kG57, 1.0) == F::kNone);
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+  TA_CHECK_EQ(rig.get_as(kA, v::kInterface), 0.0);
+  TA_CHECK_EQ(rig.put_as(kB, v::kG57 + 1, 2.0), F::kNone);  // sixteen HMIs' offsets: no one waits
+  TA_CHECK_EQ(rig.put_as(kLocal, v::kG58, 3.0), F::kNone);
+  TA_CHECK_EQ(rig.get(v::kG57), 1.0);
+  TA_CHECK_EQ(rig.get(v::kG57 + 1), 2.0);
+  TA_CHECK_EQ(rig.get(v::kG58), 3.0);
+  // A's unlock and configuration write take nothing either.
+  TA_REQUIRE(rig.put_as(kA, v::kUnlock, m::kUnlockCode) == F::kNone);
+  TA_REQUIRE(rig.put_as(kA, config.number, config.changed) == F::kNone);
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+  // A configuration write is taken under its writer's own unlock only.
+  TA_CHECK_EQ(rig.put_as(kB, config.number, config.other), F::kLocked);
+  TA_CHECK_EQ(rig.get(config.number), config.changed);
+  TA_CHECK(rig.module().unlocked());
+  TA_CHECK_EQ(rig.put_as(kB, v::kG57, 4.0), F::kNone);  // another's offset leaves A's unlock open
+  TA_CHECK(rig.module().unlocked());
+  TA_CHECK_EQ(rig.put_as(kB, v::kUnlock, 0.0), F::kNone);  // a lock from anyone
+  TA_CHECK(!rig.module().unlocked());
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+}
+
+TA_TEST("without a session the interface is free exactly kInterfaceGraceUs after the holder's last write") {
   Rig rig;
   TA_REQUIRE(rig.put_as(kA, v::kArgX, 1.0) == F::kNone);
-  rig.clock.now += kIdle - 1;
+  rig.clock.now += kGrace - 1;
   TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 2.0), F::kInterfaceHeld);
-  TA_REQUIRE(rig.put_as(kA, v::kArgX, 3.0) == F::kNone);  // a write: idle counts from here
-  rig.clock.now += kIdle - 1;
-  TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 2.0), F::kInterfaceHeld);
+  TA_REQUIRE(rig.put_as(kA, v::kG57, 3.0) == F::kNone);  // any write of the holder's: the hold counts from here
+  rig.clock.now += kGrace - 1;
+  TA_CHECK_EQ(rig.put_as(kB, v::kG57, 2.0), F::kInterfaceHeld);
   TA_CHECK_EQ(rig.get_as(kB, v::kInterface), 2.0);
   rig.clock.now += 1;
   TA_CHECK_EQ(rig.get_as(kB, v::kInterface), 0.0);
   TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
-  TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 2.0), F::kNone);
+  TA_CHECK_EQ(rig.put_as(kB, v::kG57, 2.0), F::kNone);  // takes nothing
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+  TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 2.0), F::kNone);  // takes it
   TA_CHECK_EQ(rig.module().holder(), kB);
   TA_CHECK_EQ(rig.put_as(kA, v::kArgX, 5.0), F::kInterfaceHeld);
+  TA_CHECK_EQ(rig.get(v::kArgX), 2.0);
 }
 
-TA_TEST("the holder's macro keeps the interface however long it runs; idle counts from its end") {
+TA_TEST("the holder's macro keeps the interface however long it runs; the grace counts from its end") {
   Rig rig;
   TA_REQUIRE(rig.put_as(kA, v::kCmd, 9903.0) == F::kNone);
   rig.clock.now += 10 * kIdle;  // a long macro
   TA_CHECK(rig.module().busy());
   TA_CHECK_EQ(rig.put_as(kB, v::kInterface, 1.0), F::kInterfaceHeld);
+  TA_CHECK_EQ(rig.put_as(kB, v::kG57, 1.0), F::kInterfaceHeld);
   TA_CHECK_EQ(rig.module().holder(), kA);
   rig.step_until_idle();
   TA_CHECK(!rig.module().busy());
-  rig.clock.now += kIdle - 1;  // idle from the macro's end, not from the command
-  TA_CHECK_EQ(rig.put_as(kB, v::kInterface, 1.0), F::kInterfaceHeld);
+  rig.clock.now += kGrace - 1;  // time to read its results, from the macro's end, not from the command
+  TA_CHECK_EQ(rig.put_as(kB, v::kCmd, 9903.0), F::kInterfaceHeld);
   rig.clock.now += 1;
   TA_CHECK_EQ(rig.put_as(kB, v::kInterface, 1.0), F::kNone);
   TA_CHECK_EQ(rig.get_as(kB, v::kInterface), 1.0);
   TA_CHECK_EQ(rig.get_as(kA, v::kInterface), 2.0);
 }
 
-TA_TEST("#9009: 1 takes the interface, 0 gives it back (the holder's only); disconnected() frees it") {
+TA_TEST("#9009 = 1 holds up to #903 after the last write; 0 gives it back at once; disconnected() frees it") {
   Rig rig;
   TA_REQUIRE(rig.put_as(kA, v::kInterface, 1.0) == F::kNone);
   TA_CHECK_EQ(rig.get_as(kA, v::kInterface), 1.0);
   TA_CHECK_EQ(rig.put_as(kB, v::kInterface, 1.0), F::kInterfaceHeld);
   TA_CHECK_EQ(rig.put_as(kA, v::kInterface, 2.0), F::kOutOfRange);
+  rig.clock.now += kIdle - 1;
+  TA_CHECK_EQ(rig.put_as(kB, v::kG57, 1.0), F::kInterfaceHeld);
+  TA_REQUIRE(rig.run_as(kA, t::kPrefillMacro) == t::kDone);  // a macro's end counts as activity too
+  rig.clock.now += kIdle - 1;
   TA_CHECK_EQ(rig.module().holder(), kA);
+  rig.clock.now += 1;
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+
+  TA_REQUIRE(rig.put_as(kA, v::kInterface, 1.0) == F::kNone);
   TA_REQUIRE(rig.put_as(kA, v::kInterface, 0.0) == F::kNone);
   TA_CHECK_EQ(rig.get_as(kA, v::kInterface), 0.0);
   TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 1.0), F::kNone);
+  TA_CHECK_EQ(rig.module().holder(), kB);
+  TA_CHECK_EQ(rig.put_as(kA, v::kInterface, 0.0), F::kInterfaceHeld);  // only the holder gives it back
   TA_CHECK_EQ(rig.module().holder(), kB);
 
   rig.module().disconnected(kA);  // another client's disconnection changes nothing
@@ -137,12 +220,135 @@ TA_TEST("#9009: 1 takes the interface, 0 gives it back (the holder's only); disc
   rig.module().disconnected(kB);
   TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
   TA_CHECK_EQ(rig.put_as(kA, v::kArgX, 2.0), F::kNone);
+  // A holder by #9009 = 1 whose hold ran out takes it again with an argument: the grace only.
+  TA_REQUIRE(rig.put_as(kA, v::kInterface, 1.0) == F::kNone);
+  rig.clock.now += kIdle;
+  TA_REQUIRE(rig.put_as(kA, v::kArgX, 3.0) == F::kNone);
+  rig.clock.now += kGrace;
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
 }
 
-TA_TEST("a lock alone is taken from anyone; an unlock closes when the interface changes hands or its client leaves") {
+TA_TEST("#903 sets the session-length hold, 5..600 s, exactly") {
+  Rig rig;
+  TA_CHECK_EQ(rig.get(v::kInterfaceIdleLimit), m::kDefaultInterfaceIdleS);
+  TA_REQUIRE(rig.unlock());
+  TA_CHECK_EQ(rig.put(v::kInterfaceIdleLimit, 4.0), F::kOutOfRange);
+  TA_CHECK_EQ(rig.put(v::kInterfaceIdleLimit, 601.0), F::kOutOfRange);
+  TA_CHECK_EQ(rig.put(v::kInterfaceIdleLimit, 7.5), F::kOutOfRange);
+  for (const double seconds : {5.0, 600.0}) {
+    TA_CASE_INDEX(seconds);
+    TA_REQUIRE(rig.unlock());  // A's taking the interface closed the last one
+    TA_REQUIRE(rig.put(v::kInterfaceIdleLimit, seconds) == F::kNone);
+    TA_REQUIRE(rig.put_as(kA, v::kInterface, 1.0) == F::kNone);
+    rig.clock.now += static_cast<std::uint64_t>(seconds) * 1'000'000 - 1;
+    TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 1.0), F::kInterfaceHeld);
+    rig.clock.now += 1;
+    TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+    rig.module().disconnected(kA);
+  }
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+}
+
+TA_TEST("a client's open session holds the interface up to #903 after its last write, until its compute succeeds") {
+  std::size_t sessions = 0;
+  for (std::size_t k = 0; k < m::BuiltMethods::kCount; ++k) {
+    const m::SessionInfo& session = m::BuiltMethods::kSessions[k];
+    if (session.capacity == 0) continue;
+    ++sessions;
+    TA_CASE_INDEX(session.compute);
+    const t::Recipe* compute = t::RecipeEntry::find(session.compute);
+    TA_REQUIRE(compute != nullptr);
+    Rig rig;
+    TA_REQUIRE(rig.done(session.clear));  // the local client's session
+    rig.clock.now += kIdle - 1;            // probing between two adds
+    TA_CHECK_EQ(rig.put_as(kB, v::kCmd, 9903.0), F::kInterfaceHeld);
+    TA_CHECK_EQ(rig.put_as(kB, v::kG57, 1.0), F::kInterfaceHeld);
+    TA_CHECK_EQ(rig.get_as(kLocal, v::kInterface), 1.0);
+    TA_CHECK_EQ(rig.refuse(session.compute) != Status::kOk, true);  // empty: refused, the session kept
+    rig.clock.now += kIdle - 1;
+    TA_CHECK_EQ(rig.put_as(kB, v::kG57, 1.0), F::kInterfaceHeld);
+    rig.clock.now += 1;
+    TA_CHECK_EQ(rig.get_as(kB, v::kInterface), 0.0);  // idle past #903: free, the session's data kept
+    // The session's client goes on (the recipe clears and adds again) and computes.
+    if (compute->prepare != nullptr) compute->prepare(rig);
+    if (compute->arguments != nullptr) compute->arguments(rig);
+    TA_REQUIRE(rig.done(session.compute));
+    rig.clock.now += kGrace - 1;  // the compute's success ends the session: the grace only
+    TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 1.0), F::kInterfaceHeld);
+    rig.clock.now += 1;
+    TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 1.0), F::kNone);
+    TA_CHECK_EQ(rig.module().holder(), kB);
+  }
+  TA_CHECK(sessions > 0);
+}
+
+TA_TEST("every macro that computes from a session ends it for the hold: compute, compute_also and check") {
+  for (std::size_t k = 0; k < m::BuiltMethods::kCount; ++k) {
+    const m::SessionInfo& session = m::BuiltMethods::kSessions[k];
+    if (session.capacity == 0) continue;
+    const std::uint16_t closing[] = {session.compute, session.compute_also, m::BuiltMethods::kChecks[k].macro};
+    for (const std::uint16_t macro : closing) {
+      if (macro == 0) continue;
+      TA_CASE_INDEX(macro);
+      const t::Recipe* recipe = t::RecipeEntry::find(macro);
+      TA_REQUIRE(recipe != nullptr);
+      Rig rig;
+      if (recipe->prepare != nullptr) recipe->prepare(rig);
+      TA_REQUIRE(rig.done(session.clear));  // the session open right before it, whatever the recipe left
+      if (recipe->prepare != nullptr) recipe->prepare(rig);
+      if (recipe->arguments != nullptr) recipe->arguments(rig);
+      TA_REQUIRE(rig.done(macro));
+      rig.clock.now += kGrace - 1;
+      TA_CHECK_EQ(rig.module().holder(), kLocal);
+      rig.clock.now += 1;
+      TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+    }
+  }
+}
+
+TA_TEST("a session ends for its client when another client clears it, or when it gives the interface back") {
+  for (std::size_t k = 0; k < m::BuiltMethods::kCount; ++k) {
+    const m::SessionInfo& session = m::BuiltMethods::kSessions[k];
+    if (session.capacity == 0) continue;
+    TA_CASE_INDEX(session.clear);
+    {
+      Rig rig;
+      TA_REQUIRE(rig.run_as(kA, session.clear) == t::kDone);
+      rig.clock.now += kIdle;
+      TA_REQUIRE(rig.run_as(kB, session.clear) == t::kDone);  // B's session now
+      rig.clock.now += kIdle;
+      TA_REQUIRE(rig.put_as(kA, v::kArgX, 1.0) == F::kNone);  // A comes back: no session of its own
+      rig.clock.now += kGrace;
+      TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+      TA_REQUIRE(rig.put_as(kB, v::kArgX, 1.0) == F::kNone);  // B's is open: the long hold
+      rig.clock.now += kIdle - 1;
+      TA_CHECK_EQ(rig.module().holder(), kB);
+    }
+    {
+      Rig rig;
+      TA_REQUIRE(rig.run_as(kA, session.clear) == t::kDone);
+      TA_REQUIRE(rig.put_as(kA, v::kInterface, 0.0) == F::kNone);
+      TA_CHECK_EQ(rig.module().holder(), m::kNoClient);  // at once
+      TA_REQUIRE(rig.put_as(kA, v::kArgX, 1.0) == F::kNone);
+      rig.clock.now += kGrace;
+      TA_CHECK_EQ(rig.module().holder(), m::kNoClient);  // the claim went with it
+    }
+    {
+      Rig rig;
+      TA_REQUIRE(rig.run_as(kA, session.clear) == t::kDone);
+      rig.module().disconnected(kA);
+      TA_REQUIRE(rig.put_as(kA, v::kArgX, 1.0) == F::kNone);  // the same number, a new connection
+      rig.clock.now += kGrace;
+      TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+    }
+  }
+}
+
+TA_TEST("a lock alone is accepted from anyone; an unlock closes when the interface changes hands or its client leaves") {
   const t::ConfigVariable config = t::config_variable();
   {
     Rig rig;
+    TA_REQUIRE(rig.put_as(kA, v::kArgX, 1.0) == F::kNone);
     TA_REQUIRE(rig.put_as(kA, v::kUnlock, m::kUnlockCode) == F::kNone);
     TA_CHECK_EQ(rig.put_as(kB, v::kUnlock, 0.0), F::kNone);  // the safe direction, from anyone
     TA_CHECK(!rig.module().unlocked());
@@ -151,10 +357,11 @@ TA_TEST("a lock alone is taken from anyone; an unlock closes when the interface 
   }
   {
     Rig rig;
+    TA_REQUIRE(rig.put_as(kA, v::kInterface, 1.0) == F::kNone);
     TA_REQUIRE(rig.put_as(kA, v::kUnlock, m::kUnlockCode) == F::kNone);
     TA_REQUIRE(rig.put_as(kA, v::kInterface, 0.0) == F::kNone);  // given back, still unlocked
     TA_CHECK(rig.module().unlocked());
-    // B's configuration write sees A's unlock as closed, and its refusal changes nothing.
+    // B's configuration write is not under its own unlock, and its refusal changes nothing.
     TA_CHECK_EQ(rig.put_as(kB, config.number, config.changed), F::kLocked);
     TA_CHECK(rig.module().unlocked());
     TA_CHECK_EQ(rig.get(config.number), config.default_value);
@@ -166,13 +373,34 @@ TA_TEST("a lock alone is taken from anyone; an unlock closes when the interface 
   {
     Rig rig;
     TA_REQUIRE(rig.put_as(kA, v::kUnlock, m::kUnlockCode) == F::kNone);
-    TA_REQUIRE(rig.put_as(kA, v::kInterface, 0.0) == F::kNone);
-    TA_CHECK_EQ(rig.put_as(kA, config.number, config.changed), F::kNone);  // its own client takes it back
+    TA_CHECK_EQ(rig.put_as(kA, config.number, config.changed), F::kNone);
     rig.module().disconnected(kB);
     TA_CHECK(rig.module().unlocked());
     rig.module().disconnected(kA);
     TA_CHECK(!rig.module().unlocked());
   }
+  {
+    Rig rig;  // an unlock closes kUnlockIdleUs after its own client's last write, whoever else writes
+    TA_REQUIRE(rig.put_as(kA, v::kUnlock, m::kUnlockCode) == F::kNone);
+    rig.clock.now += m::Module::kUnlockIdleUs - 1;
+    TA_REQUIRE(rig.put_as(kB, v::kG57, 1.0) == F::kNone);
+    TA_CHECK(rig.module().unlocked());
+    rig.clock.now += 1;
+    TA_CHECK(!rig.module().unlocked());
+  }
+}
+
+TA_TEST("the controller's own writes (Module::write naming no client) follow the same rule") {
+  Rig rig;
+  TA_REQUIRE(rig.put_as(kA, v::kArgX, 1.0) == F::kNone);
+  TA_CHECK_EQ(rig.put(v::kG57, 5.0), F::kInterfaceHeld);
+  TA_CHECK_EQ(rig.put(v::kCmd, 9903.0), F::kInterfaceHeld);
+  rig.clock.now += kGrace;
+  TA_CHECK_EQ(rig.put(v::kG57, 5.0), F::kNone);
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+  TA_CHECK_EQ(rig.run(t::kPrefillMacro), t::kDone);
+  TA_CHECK_EQ(rig.module().holder(), kLocal);
+  TA_CHECK_EQ(rig.put_as(kA, v::kG57, 1.0), F::kInterfaceHeld);
 }
 
 TA_TEST("a staged table is stored only under the unlock of the client that started its macro") {

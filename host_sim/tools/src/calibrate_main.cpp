@@ -802,7 +802,7 @@ int main(int argc, char** argv) {
     return fail(r.error);
   }
   // The macros this run has counted: the store checks that no other client ran
-  // one since (the interface is free after 30 s without a write, and the
+  // one since (the interface is free once #903 s pass without a write, and the
   // report is made meanwhile), so that what it stores is built from this run's session.
   double done_count = 0.0;
   if (!client.read_one(trueaxis::macros::var::kDoneCount, done_count)) return fail(client.failure_text());
@@ -853,7 +853,7 @@ int main(int argc, char** argv) {
     }
     if (done_now != done_count) {
       return fail_clean("another client ran macros on the controller while the report was made (the macro interface "
-                        "is free after 30 s without a write): nothing stored; run the command again");
+                        "is free after #903 s without a write, default 30): nothing stored; run the command again");
     }
   }
   if (o.store && !method->store(client, r)) return fail_clean(r.error);

@@ -138,8 +138,10 @@ void print_json() {
     const m::SessionInfo& sd = Built::kSessions[method];
     if (sd.capacity > 0) {
       std::printf(",\n     \"session\": {\"capacity\": %zu, \"capacity_counts\": \"%s\", \"sample\": \"%s\", "
-                  "\"clear\": %u, \"add\": %u, \"compute\": %u}",
+                  "\"clear\": %u, \"add\": %u, \"compute\": %u",
                   sd.capacity, sd.capacity_unit, escaped(sd.sample).c_str(), sd.clear, sd.add, sd.compute);
+      if (sd.compute_also != 0) std::printf(", \"compute_also\": %u", sd.compute_also);
+      std::printf("}");
     }
     bool grouped = false;
     for (const m::SessionLimit& l : sd.limits) {
@@ -274,6 +276,7 @@ void print_markdown() {
       std::snprintf(buf, sizeof buf, "%zu %s of %s; clear %u, add %u, compute %u", sd.capacity, sd.capacity_unit,
                     sd.sample, sd.clear, sd.add, sd.compute);
       session = buf;
+      if (sd.compute_also != 0) session += " (also " + std::to_string(sd.compute_also) + ")";
     }
     for (const m::SessionLimit& l : sd.limits) {
       char buf[120];

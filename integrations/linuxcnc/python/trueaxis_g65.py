@@ -30,21 +30,27 @@ unlocked: `#<_ta_unlock> = CODE` before the call writes CODE to #9004 just
 before the macro and 0 just after it, whatever its end; the code is never
 kept.
 
-`G65 P0` gives the module's macro interface back (#9009 = 0): a program that
-ran a session ends with it; a call that fails gives it back too. Otherwise the remap keeps its one connection, and
-with it the interface, from its first call on (the module lets it go 30 s
-after the last write).
+The macro interface (docs/INTERFACE.md "One client at a time"). The remap
+keeps one connection to the module for the LinuxCNC session. A call takes the
+module's macro interface with its arguments and keeps it for its macro and
+2 s after (the module's rule), so an HMI beside LinuxCNC is never locked out
+for longer. `G65 P1` takes it for a session (#9009 = 1: the module keeps it
+up to its idle limit #903, default 30 s, after each call, while the program
+probes between two adds); `G65 P0` gives it back (#9009 = 0). The operator
+programs that run a session wrap it in P1 .. P0; a call that fails gives the
+interface back too.
 """
 import os
 import shlex
 
 from interpreter import INTERP_ERROR, INTERP_EXECUTE_FINISH, INTERP_OK
 
-from trueaxis_module import LETTER_VARIABLE, UNLOCK, Module, RegisterMap, TrueaxisError
+from trueaxis_module import Module, RegisterMap, TrueaxisError
 
 LINE_LETTERS = "acdehijkqrxyz"  # the G65 line's letters besides P (trueaxis.ini argspec)
 NAMED_LETTERS = tuple("bfmstuvw")  # as #<_ta_LETTER>
-RESULTS_FIRST, RESULTS_COUNT = 100, 100
+RESULTS_FIRST, RESULTS_COUNT = 100, 100  # #100..#199, the results (docs/INTERFACE.md, the fixed part)
+RELEASE, HOLD = 0, 1  # G65 P0, G65 P1: the macro interface given back, taken for a session
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -94,7 +100,7 @@ class Remap:
         map_path = settings.get("MAP", os.path.join(HERE, "..", "..", "..", "macros", "register_map.json"))
         self.map = RegisterMap(os.path.join(where, map_path))
         self.preview = number("PREVIEW", 0, int) == 1
-        self.module = Module(host=settings.get("HOST", "127.0.0.1"), port=number("PORT", 502, int),
+        self.module = Module(self.map, host=settings.get("HOST", "127.0.0.1"), port=number("PORT", 502, int),
                              serial=settings.get("SERIAL"), baud=number("BAUD", 19200, int),
                              parity=settings.get("PARITY", "N"), unit=number("UNIT", 1, int),
                              timeout_s=number("REQUEST_TIMEOUT", 1.0), macro_timeout_s=number("TIMEOUT", 30.0),
@@ -103,35 +109,40 @@ class Remap:
     def call(self, macro, arguments, offsets, unlock=0.0):
         """Runs `macro` with the arguments {number: value} (every G65 letter's
         variable) and the work offsets {number: mm or deg}; returns the
-        module's #100..#199."""
+        module's #100..#199. P0 and P1 give the macro interface back and take
+        it for a session; they return None."""
         module = self.module
-        if macro == 0:
+        if macro == RELEASE:
             module.release()
             return None
-        module.take()
+        if macro == HOLD:
+            module.take()
+            return None
+        # The arguments first: they take the interface (or wait for it), so
+        # that no other client's write comes between them and the macro.
         for first, values in _runs(arguments):
             module.write(first, values)
         for first, values in _runs(offsets):
             present = module.read(first, len(values))
             if present != values:
                 module.write(first, values)
+        unlock_var = module.var["unlock"]
         if unlock:
-            module.write(UNLOCK, [unlock])
+            module.write(unlock_var, [unlock])
         try:
-            module.run(macro, self.map)
+            module.run(macro)
         finally:
             if unlock:
                 try:
-                    module.write(UNLOCK, [0])
+                    module.write(unlock_var, [0])
                 except TrueaxisError:
                     module.close()  # the module locks a closed connection's unlock
                     raise
         return module.read(RESULTS_FIRST, RESULTS_COUNT)
 
-
     def release_after_failure(self):
         """A program that stops gives the macro interface back at once, so
-        another client need not wait 30 s; quietly, as the stop has its message."""
+        another client need not wait for it; quietly, as the stop has its message."""
         try:
             self.module.release()
         except Exception:
@@ -212,24 +223,27 @@ def g65(self, **words):
         yield INTERP_ERROR
         return
 
-    yield INTERP_EXECUTE_FINISH
+    if macro not in (RELEASE, HOLD):
+        # P0 and P1 move nothing and need no motion finished: in LinuxCNC's
+        # on_abort a suspended call would only resume with the next program.
+        yield INTERP_EXECUTE_FINISH
 
     try:
-        if macro != 0 and int(self.params["_metric"]) != 1:
+        if macro not in (RELEASE, HOLD) and int(self.params["_metric"]) != 1:
             raise TrueaxisError("G20 is active: the module takes mm (program G21 before the call)")
-        arguments = {number: 0.0 for number in LETTER_VARIABLE.values()}
+        letters = remap.map.letters
+        arguments = {number: 0.0 for number in letters.values()}
         unlock = named.pop("unlock", 0.0)
         for letter, value in list(words.items()) + list(named.items()):
             if letter != "p":
-                arguments[LETTER_VARIABLE[letter]] = float(value)
+                arguments[letters[letter]] = float(value)
         offsets = {}
         import emccanon  # LinuxCNC's canon: machine units per mm
         per_mm = emccanon.GET_EXTERNAL_LENGTH_UNITS()
         for first, count in remap.map.work_offsets.get(macro, []):
             for number in range(first, first + count):
-                axis = (number - 5221) % 20  # 0..2 X, Y, Z (length); 3..5 A, B, C (deg)
-                value = float(self.params[number])
-                offsets[number] = value / per_mm if axis < 3 else value
+                value = float(self.params[number])  # LinuxCNC's own #5221.. are the module's numbers
+                offsets[number] = value / per_mm if remap.map.offset_units[number] == "mm" else value
         results = remap.call(macro, arguments, offsets, unlock)
     except Exception as e:  # TrueaxisError, or anything else: one line
         text = str(e) if isinstance(e, TrueaxisError) else f"{type(e).__name__}: {e}"

@@ -8,8 +8,8 @@ Conventions (docs/INTERFACE.md):
    significant word first ("Encoding").
 2. One Module is one Modbus client: over TCP one connection, which the module
    treats as one client of its macro interface ("One client at a time"). The
-   remap keeps one Module for the whole program, so a session (clear, add, ...,
-   build) is one client's from its first write to its `release()`.
+   remap keeps one Module for the whole program; `take()` holds the interface
+   for a session (G65 P1), `release()` gives it back (G65 P0).
 3. Every failure raises TrueaxisError with one line a person reads, naming the
    likely cause (no module at the address, a busy controller, a refused
    write); nothing here retries a write the module refused, except a write
@@ -17,31 +17,27 @@ Conventions (docs/INTERFACE.md):
    `wait_s` for it.
 4. Blocking: every call returns within its timeouts (`timeout_s` a Modbus
    request, `macro_timeout_s` a macro to done, `wait_s` a busy interface).
+5. Every number comes from macros/register_map.json (RegisterMap): the
+   handshake's variables by name, the G65 letters' argument variables (the
+   rows arg_a .. arg_z), the work offsets (the persistent rows) with their
+   units, the request sizes, the status values, the gates' and the errors'
+   codes and texts. Nothing here repeats a number the map has.
 """
 import json
+import re
 import struct
 import time
 
-# Handshake and status variables (docs/INTERFACE.md "The handshake").
-CMD, STATUS, ERROR, DONE_COUNT, UNLOCK = 9000, 9001, 9002, 9003, 9004
-ACCESS_FAULT, INTERFACE = 9007, 9009
-GATE_ITEM, GATE_VALUE, GATE_LIMIT = 9012, 9013, 9014
-LOG_TIME = 9015  # the measuring log's time of the macro about to run (Unix seconds)
-STATUS_DONE, STATUS_ERROR = 2, 3
-EXCEPTION_BUSY = 6
-VARS_PER_REQUEST = 31  # 124 registers a read, within function 3's 125
-WRITE_VARS_PER_REQUEST = 30  # 120 registers a write, within function 16's 123
+EXCEPTION_BUSY = 6  # Modbus exception 06, SERVER DEVICE BUSY (the protocol's, not the map's)
+
+# The handshake's variables, by their names in the register map (docs/INTERFACE.md
+# "The handshake"); their numbers come from the map (convention 5).
+HANDSHAKE = ("cmd", "status", "error", "done_count", "unlock", "access_fault", "interface",
+             "gate_item", "gate_value", "gate_limit", "log_time")
 
 # Why the module refused a register access: #9007's codes (the JSON map's
 # access_faults), by name, for the remap's messages.
 ACCESS_FAULTS = {}
-
-# The G65 letters and the argument variable each fills (docs/INTERFACE.md "Variable ranges").
-LETTER_VARIABLE = {
-    "a": 1, "b": 2, "c": 3, "i": 4, "j": 5, "k": 6, "d": 7, "e": 8, "f": 9, "h": 11, "m": 13,
-    "q": 17, "r": 18, "s": 19, "t": 20, "u": 21, "v": 22, "w": 23, "x": 24, "y": 25, "z": 26,
-}
-
 
 class TrueaxisError(Exception):
     """A failure to report as one line."""
@@ -55,7 +51,7 @@ class ModuleError(TrueaxisError):
         line = f"macro {macro} failed: error {code} {name}: {text}"
         if gate is not None:
             item, value, limit = gate
-            line += f" (#9012 item {item:g}, #9013 value {value:.6g}, #9014 limit {limit:.6g})"
+            line += f" (gate_item {item:g}, gate_value {value:.6g}, gate_limit {limit:.6g})"
         super().__init__(line)
 
 
@@ -70,24 +66,44 @@ def decode(registers):
 
 
 class RegisterMap:
-    """What the remap needs of macros/register_map.json: error names and texts,
-    each macro's work-offset inputs, and the macros the measuring log records
-    (each method's compute and check macro, for methods with a "log")."""
+    """What the remap needs of macros/register_map.json (convention 5): the
+    handshake's numbers (`var["cmd"]` ...), the G65 letters' variables
+    (`letters["x"]` = 24), the largest read and write, the status values, the
+    error names and texts, the work offsets' units (`offset_units[5281]` =
+    "mm") and each macro's work-offset inputs, and the macros the measuring
+    log records (each method's compute and check macro, for methods with a
+    "log")."""
 
     def __init__(self, path):
         try:
             with open(path, encoding="utf-8") as f:
                 data = json.load(f)
+            numbers = {v["name"]: v["number"] for v in data["variables"]}
+            missing = [name for name in HANDSHAKE if name not in numbers]
+            if missing:
+                raise KeyError(f"no variable named {', '.join(missing)}")
+            self.var = {name: numbers[name] for name in HANDSHAKE}
+            self.letters = {name[4:]: number for name, number in numbers.items() if re.fullmatch(r"arg_[a-z]", name)}
+            self.read_max = int(data["encoding"]["max_variables_per_read"])
+            self.write_max = int(data["encoding"]["max_variables_per_write"])
+            status = {name: int(code) for code, name in data["macro_status"].items()}
+            self.status_done, self.status_error = status["done"], status["error"]
             self.errors = {e["code"]: (e["name"], e["message"]) for e in data["errors"]}
             for fault in data.get("access_faults", []):
                 ACCESS_FAULTS[int(fault["code"])] = fault["name"]
+            # The work offsets (the map's persistent rows) and their units, and
+            # the ones each macro reads.
+            self.offset_units = {v["number"] + k: v["unit"] for v in data["variables"]
+                                 if v["access"] == "persistent" for k in range(v.get("count", 1))}
             self.work_offsets = {}
             for macro in data["macros"]:
                 ranges = [(i["number"], i.get("count", 1)) for i in macro["inputs"]
-                          if 5221 <= i["number"] <= 5326]
+                          if i["number"] in self.offset_units]
                 self.work_offsets[macro["number"]] = ranges
             self.logged = set()
+            self.gate_errors = set()  # the codes of a gate's refusal, which #9012..#9014 explain
             for method in data.get("methods", []):
+                self.gate_errors.update(gate["error"] for gate in method.get("gates", []))
                 if "log" in method:
                     self.logged.add(method.get("session", {}).get("compute"))
                     self.logged.add(method.get("check", {}).get("macro"))
@@ -102,8 +118,10 @@ class RegisterMap:
 class Module:
     """One Modbus client of the module (convention 2)."""
 
-    def __init__(self, host=None, port=502, serial=None, baud=19200, parity="N", unit=1,
+    def __init__(self, register_map, host=None, port=502, serial=None, baud=19200, parity="N", unit=1,
                  timeout_s=1.0, macro_timeout_s=30.0, wait_s=10.0):
+        self.map = register_map
+        self.var = register_map.var
         self.unit = unit
         self.macro_timeout_s = macro_timeout_s
         self.wait_s = wait_s
@@ -148,7 +166,7 @@ class Module:
         """#first .. #first+count-1 as floats."""
         values = []
         while count > 0:
-            n = min(count, VARS_PER_REQUEST)
+            n = min(count, self.map.read_max)
             reply = self._request(self.client.read_holding_registers, 4 * first, 4 * n)
             if reply.isError():
                 raise TrueaxisError(f"reading #{first}..#{first + n - 1} was refused with Modbus exception "
@@ -162,7 +180,7 @@ class Module:
         (convention 3); any other refusal raises with the module's reason."""
         values = list(values)
         while values:
-            n = min(len(values), WRITE_VARS_PER_REQUEST)
+            n = min(len(values), self.map.write_max)
             words = [w for v in values[:n] for w in encode(v)]
             deadline = time.monotonic() + self.wait_s
             while True:
@@ -170,14 +188,14 @@ class Module:
                 if not reply.isError():
                     break
                 code = reply.exception_code
-                if code == EXCEPTION_BUSY and self.read(INTERFACE, 1)[0] == 2:
+                if code == EXCEPTION_BUSY and self.read(self.var["interface"], 1)[0] == 2:
                     if time.monotonic() > deadline:
                         raise TrueaxisError(f"controller busy: another client holds the macro interface "
                                             f"(waited {self.wait_s:g} s; [TRUEAXIS] WAIT)")
                     time.sleep(0.1)
                     continue
-                fault = int(self.read(ACCESS_FAULT, 1)[0])
-                why = f"#9007 access fault {fault} {ACCESS_FAULTS.get(fault, '')}".rstrip()
+                fault = int(self.read(self.var["access_fault"], 1)[0])
+                why = f"#{self.var['access_fault']} access fault {fault} {ACCESS_FAULTS.get(fault, '')}".rstrip()
                 raise TrueaxisError(f"writing #{first}..#{first + n - 1} was refused with Modbus exception "
                                     f"{code:02d} ({why})")
             first, values = first + n, values[n:]
@@ -185,35 +203,39 @@ class Module:
     # ----- the macro interface -------------------------------------------
 
     def take(self):
-        """Takes the macro interface (#9009 = 1), waiting for another holder."""
-        self.write(INTERFACE, [1])
+        """Takes the macro interface for a session (#9009 = 1: held up to the
+        module's idle limit #903 after the last write), waiting for another
+        holder."""
+        self.write(self.var["interface"], [1])
 
     def release(self):
         """Gives the macro interface back (#9009 = 0) when this client holds it."""
-        if self.connected and self.read(INTERFACE, 1)[0] == 1:
-            self.write(INTERFACE, [0])
+        if self.connected and self.read(self.var["interface"], 1)[0] == 1:
+            self.write(self.var["interface"], [0])
 
-    def run(self, macro, register_map):
-        """Runs `macro` to its end; raises ModuleError on status 3. A macro the
-        measuring log records is handed the controller's wall clock (#9015)."""
-        before = self.read(DONE_COUNT, 1)[0]
-        if macro in register_map.logged:
-            self.write(LOG_TIME, [float(int(time.time()))])
-        self.write(CMD, [macro])
+    def run(self, macro):
+        """Runs `macro` to its end; raises ModuleError on its error status. A
+        macro the measuring log records is handed the controller's wall clock
+        (#9015)."""
+        var = self.var
+        before = self.read(var["done_count"], 1)[0]
+        if macro in self.map.logged:
+            self.write(var["log_time"], [float(int(time.time()))])
+        self.write(var["cmd"], [macro])
         deadline = time.monotonic() + self.macro_timeout_s
         pause = 0.001
-        while self.read(DONE_COUNT, 1)[0] == before:
+        while self.read(var["done_count"], 1)[0] == before:
             if time.monotonic() > deadline:
                 raise TrueaxisError(f"macro {macro} did not finish within {self.macro_timeout_s:g} s "
                                     "([TRUEAXIS] TIMEOUT; is the controller calling the module's step()?)")
             time.sleep(pause)
             pause = min(2 * pause, 0.02)
-        status, code = self.read(STATUS, 2)
-        if status == STATUS_DONE:
+        status, code = self.read(var["status"], 2)
+        if status == self.map.status_done:
             return
         code = int(code)
-        name, text = register_map.error(code)
-        gate = tuple(self.read(GATE_ITEM, 3)) if code in (500, 501) or code >= 1000 else None
+        name, text = self.map.error(code)
+        gate = tuple(self.read(var["gate_item"], 3)) if code in self.map.gate_errors else None
         raise ModuleError(macro, code, name, text, gate)
 
     def close(self):

@@ -277,11 +277,13 @@ TEST_CASE("an unlock closes when the connection that opened it closes, and only 
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
     CHECK(unlocked());
-    // Another connection's configuration write while the owner holds the
-    // macro interface (module.hpp contract 8): refused, busy, interface_held.
+    // Another connection's configuration write under the owner's unlock
+    // (module.hpp contract 8: an unlock takes no interface, and configuration
+    // is written under the writer's own unlock only): refused, locked.
     const double before = f.get(506);
-    CHECK(f.write_exception(506, {before + 0.001}) == kBusy);
-    CHECK(f.get(9007) == 12.0);
+    CHECK(f.write_exception(506, {before + 0.001}) == kIllegalAddress);
+    CHECK(f.get(9007) == 4.0);
+    CHECK(f.get(506) == before);
     REQUIRE(owner.write_one(506, 0.002));  // the owner's own
   }
   CHECK(wait_locked());

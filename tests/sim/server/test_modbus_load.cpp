@@ -145,6 +145,60 @@ TEST_CASE("16 clients at once: FC16, FC3 and FC23 of their own variable, each an
   }
 }
 
+TEST_CASE("16 clients each writing and reading back its own work offset 500 times, no macro running: 0 exceptions") {
+  // Module contract 8: a work-offset write takes no macro interface, so
+  // sixteen HMIs (or probing programs) on persistent connections never refuse
+  // one another. Each write is saved to the NV file (fsync'ed) before it is
+  // answered.
+  SimFixture f;
+  constexpr int kClients = 16;
+  constexpr int kIterations = 500;
+  std::atomic<int> connected{0};
+  std::atomic<long> exceptions{0};
+  std::atomic<long> failures{0};  // anything else: a transport failure, a wrong value read back
+  std::vector<double> last(kClients, 0.0);
+  std::vector<std::thread> threads;
+  const auto t0 = Clock::now();
+  for (int id = 0; id < kClients; ++id) {
+    threads.emplace_back([&, id] {
+      VariableClient c;
+      const bool ok = c.connect("127.0.0.1", f.port());
+      ++connected;
+      while (connected.load() < kClients) std::this_thread::yield();
+      if (!ok) {
+        ++failures;
+        return;
+      }
+      // G54 X .. G56 Y: #5221.. #5226, #5241.., #5261..
+      const auto number = static_cast<std::uint16_t>(5221 + 20 * (id / 6) + id % 6);
+      for (int it = 0; it < kIterations; ++it) {
+        const double value = (id + 1) * 1000.0 + it + 1.0 / 1024.0;
+        double back = 0.0;
+        if (!c.write_one(number, value)) {
+          ++(c.exception() != 0 ? exceptions : failures);
+        } else if (!c.read_one(number, back)) {
+          ++(c.exception() != 0 ? exceptions : failures);
+        } else if (back != value) {
+          ++failures;
+        }
+        last[static_cast<std::size_t>(id)] = value;
+      }
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  std::printf("16 work-offset writers x %d: %d writes and reads in %.2f s, %ld exceptions, %ld other failures\n",
+              kIterations, 2 * kClients * kIterations, seconds, exceptions.load(), failures.load());
+  CHECK(exceptions == 0);
+  CHECK(failures == 0);
+  CHECK(f.get(9009) == 0.0);  // none of them took the interface
+  for (int id = 0; id < kClients; ++id) {
+    const auto number = static_cast<std::uint16_t>(5221 + 20 * (id / 6) + id % 6);
+    INFO("client " << id << ", #" << number);
+    CHECK(f.get(number) == last[static_cast<std::size_t>(id)]);
+  }
+}
+
 TEST_CASE("10,000 connect/disconnect cycles leave the sim's descriptors and memory where they were") {
   SimFixture f;
   const pid_t pid = f.pid();

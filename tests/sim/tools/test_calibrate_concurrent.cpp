@@ -218,3 +218,27 @@ TEST_CASE("calibrate waits while another client holds the macro interface, or fa
   CHECK(exists(w.file("out.json")));
   CHECK(correction(sim.client(), 0.0, 100.0).size() == 5);
 }
+
+TEST_CASE("calibrate waits at most 2 s behind a client that ran one query macro on a connection it keeps open",
+          "[calibrate][concurrent]") {
+  SimFixture sim;
+  Workspace w("trueaxis-query-beside");
+  const SpindleFiles spindle = measure_spindle(w, "sp", 4, 1);
+  // An HMI's query (9833 at A = 30: no table yet, error 404), its connection kept.
+  REQUIRE(sim.client().write_one(v::kArgA, 30.0));
+  const auto outcome = sim.client().run_macro(9833);
+  REQUIRE(outcome.status == 3);
+  std::vector<std::string> argv = spindle_argv(sim.port(), spindle, w.file("out.json"));
+  argv.insert(argv.end(), {"--wait", "4"});  // held for the module's whole idle limit (30 s), this would fail
+  const auto t0 = std::chrono::steady_clock::now();
+  const Run r = run(argv, w.file("beside.err"));
+  const double took_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(without_progress(r.err) == "trueaxis-calibrate: " + kHeld + ", waiting (up to 4 s)\n");  // the 2 s grace
+  CHECK(exists(w.file("out.json")));
+  std::printf("calibrate beside a client that ran 9833: waited the grace, done in %.1f s\n", took_s);
+  double interface = -1.0;
+  REQUIRE(sim.client().read_one(v::kInterface, interface));
+  CHECK(interface == 0.0);  // calibrate gave it back; the HMI's connection still open
+}

@@ -259,6 +259,29 @@ TEST_CASE("trueaxis-var: an unlock lasts one command, so configuration is writte
   CHECK(before != -80.0);
 }
 
+TEST_CASE("trueaxis-var: run holds the macro interface for its macro only, set of a work offset takes nothing", "[var]") {
+  SimFixture sim;
+  Workspace w("trueaxis-var");
+  // set of a work offset takes nothing: the interface is free after it.
+  Run r = var(sim, w, {"set", "5281=1.5"});
+  CHECK(r.exit_code == 0);
+  CHECK(sim.get(v::kInterface) == 0.0);
+  // run: its connection closes with the command, and the interface with it.
+  r = var(sim, w, {"run", "9812"});
+  CHECK(r.exit_code == 0);
+  CHECK(sim.get(v::kInterface) == 0.0);
+  sim.set(v::kArgX, 2.0);  // another client writes at once, no 2 s wait: taken by the fixture's connection
+  CHECK(sim.get(v::kInterface) == 1.0);
+  // While another client holds it, set and run are refused in one line naming the hold, nothing written.
+  check_failure(var(sim, w, {"set", "5281=2.5"}),
+                refusal("#5281", m::AccessFault::kInterfaceHeld, "06 server device busy"));
+  CHECK(sim.get(5281) == 1.5);
+  r = var(sim, w, {"run", "9812"});
+  CHECK(r.exit_code == 1);
+  CHECK(r.out.empty());
+  CHECK(r.err.find("interface_held") != std::string::npos);
+}
+
 TEST_CASE("trueaxis-var: bad usage is exit 2 with one line, and nothing is sent", "[var]") {
   SimFixture sim;
   Workspace w("trueaxis-var");

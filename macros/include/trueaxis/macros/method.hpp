@@ -69,13 +69,17 @@ struct SessionLimit {
 
 // A calibration session, for the map's readers: how many samples it holds,
 // what one sample is, and the macros that clear it, add to it and compute
-// from it. capacity 0: the method has none.
+// from it (compute_also: a second macro that computes from it, 0 none).
+// capacity 0: the method has none. The module holds its macro interface for
+// the client whose session is open, from its clear to its compute, its
+// compute_also or its check (module.hpp contract 8).
 struct SessionInfo {
   std::size_t capacity;
   const char* capacity_unit;  // what capacity counts ("samples", "distinct angles per ball")
   const char* sample;
   std::uint16_t clear, add, compute;
   List<SessionLimit> limits;
+  std::uint16_t compute_also = 0;
 };
 inline constexpr SessionInfo kNoSession{0, "", "", 0, 0, 0, {}};
 

@@ -40,24 +40,40 @@
 //     #9004 refuse every code for a back-off of 2^(k-1) s after the k-th wrong
 //     code in a row (at most 64 s; kUnlockBackoff, Modbus 06); a right code
 //     resets k; #9011 reads the seconds of back-off left. An unlock closes by
-//     itself kUnlockIdleUs after the last write that succeeded, when the
+//     itself kUnlockIdleUs after its client's last write that succeeded, when the
 //     transport calls lock() or disconnected() for the client that opened it,
 //     and when another client takes the macro interface (contract 8). The
 //     clock is the one handed in.
-//  8. One client at a time. Every write (arguments, data blocks, #9000, work
-//     offsets, configuration, #9004, #9009) is a write to the macro interface,
-//     which the module grants to one client (the ClientId each request names,
-//     variable_access.hpp) at a time: the first client that writes takes it,
-//     and holds it while its macro runs and until it gives it back (#9009 = 0),
-//     the transport calls disconnected() for it, or it has written nothing for
-//     kInterfaceIdleUs after its last write or its last macro's end. Another
-//     client's write is refused with kInterfaceHeld (Modbus 06) and changes
-//     nothing; a lock alone (#9004 = 0) is always taken, from anyone. Reads
-//     stay open to all; #9009 reads 0 when the interface is free, 1 to its
-//     holder, 2 to any other client. #9009 = 1 takes the interface without
-//     writing anything else (a client that waits for it polls that). A table
-//     a macro stages is stored only under the unlock of the client that
-//     started the macro.
+//  8. One client at a time: the macro interface. The module grants it to one
+//     client (the ClientId each request names, variable_access.hpp; the
+//     controller's own calls name kLocalClient) at a time, so that two macro
+//     sequences never mix their arguments or sessions.
+//     - Taking it: a write of an argument (#1..#26), a data block, #9015,
+//       #9018 (the kReadWrite rows), #9000, or #9009 = 1 takes it when it is
+//       free. A write of a work offset, a configuration variable or #9004
+//       takes nothing: it is accepted from any client while no other client
+//       holds the interface. A lock alone (#9004 = 0) is always accepted.
+//     - Holding it: the holder keeps it while its macro runs, however long;
+//       after that, kInterfaceGraceUs (2 s, time to read its results) after
+//       its macro's end or its last write; while it has a session of its own
+//       open, or after it wrote #9009 = 1, up to the idle limit #903
+//       (interface_idle_s, 5..600 s, default 30) after its last write or
+//       macro's end. Every write the holder makes counts as activity. A
+//       client's session is open from the end of its method's clear macro
+//       (SessionInfo::clear, with success) until that method's compute,
+//       compute_also or check macro ends with success (a refused compute
+//       keeps the session for a retry), another client clears it, or the
+//       client gives the interface back or disconnects.
+//     - Giving it back: #9009 = 0, or the transport calls disconnected(): at
+//       once, with the client's claim on its sessions (their data stay).
+//     - Another client's write meanwhile, of any kind but the lock alone, is
+//       refused with kInterfaceHeld (Modbus 06) and changes nothing. Reads stay
+//       open to all; #9009 reads 0 when the interface is free, 1 to its
+//       holder, 2 to any other client.
+//     - Unlocks: a configuration write is taken only under the writer's own
+//       unlock; a client that takes the interface closes another's unlock; a
+//       table a macro stages is stored only under the unlock of the client that
+//       started the macro.
 //  9. The measuring log (measuring_log.hpp), in a module with a method that
 //     logs. A macro of such a method that logged an entry and ends with kOk
 //     appends it in a step of its own, after its table's commit and before
@@ -102,9 +118,9 @@ class Module final : public VariableAccess {
   // Contract 7: an unlock closes this long after the last successful write.
   static constexpr std::uint64_t kUnlockIdleUs = 300'000'000;
   static constexpr std::uint64_t kMaxBackoffUs = 64'000'000;
-  // Contract 8: the macro interface is free again this long after its
-  // holder's last write or its last macro's end.
-  static constexpr std::uint64_t kInterfaceIdleUs = 30'000'000;
+  // Contract 8: a holder without a session keeps the macro interface this
+  // long after its macro's end or its last write; with one, #903 seconds.
+  static constexpr std::uint64_t kInterfaceGraceUs = 2'000'000;
 
   bool busy() const { return pending_ != 0; }
   // True while unlocked (and not yet idle past kUnlockIdleUs).
@@ -117,6 +133,9 @@ class Module final : public VariableAccess {
   void disconnected(ClientId client);
   // Contract 8: who holds the macro interface now (kNoClient when free).
   ClientId holder() const;
+  // Contract 8: how long the holder keeps it after its last activity (the
+  // grace, or #903 with a session or #9009 = 1), in microseconds.
+  std::uint64_t hold_us() const;
 
   // The value of #number as `client` reads it (only #9009 depends on who
   // asks); 0 for a number the map does not define.
@@ -148,7 +167,9 @@ class Module final : public VariableAccess {
   AccessFault do_write(std::uint16_t first, std::uint16_t count, const double* values, ClientId client) override;
   void do_note_fault(AccessFault f) override;
 
-  AccessFault check_write(std::uint16_t number, double value) const;
+  AccessFault check_write(std::uint16_t number, double value, ClientId client) const;
+  void give_back(ClientId client);
+  void note_session(core::Status status);
   AccessFault check_unlock(double value) const;
   void failed_unlock();
   AccessFault save_variables(Access group, std::uint16_t first, std::uint16_t count, const double* values);
@@ -202,8 +223,11 @@ class Module final : public VariableAccess {
   std::uint32_t failed_in_row_ = 0;
   ClientId unlocked_by_ = kNoClient;  // contract 7: whose unlock is open
   ClientId holder_ = kNoClient;       // contract 8
+  bool hold_taken_ = false;           // the holder wrote #9009 = 1
   ClientId runner_ = kNoClient;       // who wrote the running macro's number
   std::uint64_t holder_active_us_ = 0;  // its last write or its last macro's end
+  // Contract 8: whose session of each built method is open (kNoClient: none).
+  ClientId session_of_[BuiltMethods::kCount > 0 ? BuiltMethods::kCount : 1] = {};
   bool committed_ = false;                 // the running macro stored its table
   std::size_t replaceable_method_ = 0;     // measuring_log.hpp convention 2: method + 1, 0 none
   std::uint32_t replaceable_serial_ = 0;   // that calibration's entry

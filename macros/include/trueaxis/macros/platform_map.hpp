@@ -7,10 +7,10 @@
 //                    meaning is per macro (each macro's outputs in the JSON map).
 //  3. #500 .. #999   configuration; persistent; writable only while unlocked.
 //                    Each method owns a block (its descriptor's kBlock,
-//                    method.hpp); #900 and #901 are the platform's (the
-//                    unlock code, the gates' confidence), #902 too (the
-//                    machine's identity); #903 .. #999 is free for further
-//                    methods.
+//                    method.hpp); #900 .. #903 are the platform's (the
+//                    unlock code, the gates' confidence, the machine's
+//                    identity, the macro interface's idle limit); #904 ..
+//                    #999 is free for further methods.
 //  4. #1000 .. #4999 macro-input data of the methods (point lists), one block
 //                    per method; volatile, cleared after every macro.
 //  5. #5221 .. #5326 work offsets G54 .. G59 (+0 X .. +5 C); persistent.
@@ -79,6 +79,7 @@ inline constexpr std::uint16_t kWorkOffsetAxes = 6;     // X Y Z A B C
 inline constexpr std::uint16_t kUnlockCodeSetting = 900;
 inline constexpr std::uint16_t kGateConfidence = 901;
 inline constexpr std::uint16_t kMachineId = 902;
+inline constexpr std::uint16_t kInterfaceIdleLimit = 903;
 
 inline constexpr std::uint16_t kCmd = 9000;
 inline constexpr std::uint16_t kStatus = 9001;
@@ -123,6 +124,11 @@ inline constexpr double kInterfaceVersionValue = 1.0;
 // The default of #901: a fit of pure instrument noise is refused once in a
 // million (gates.hpp convention 2).
 inline constexpr double kDefaultGateConfidence = 0.999999;
+// #903 (module.hpp contract 8): how long a client with a session keeps the
+// macro interface after its last write or macro, in seconds, and its range.
+inline constexpr double kDefaultInterfaceIdleS = 30.0;
+inline constexpr double kMinInterfaceIdleS = 5.0;
+inline constexpr double kMaxInterfaceIdleS = 600.0;
 
 namespace rows {
 inline constexpr double kBig = 1e5;  // bound of coordinates (mm) and angles (deg) macros take
@@ -181,6 +187,8 @@ inline constexpr VarInfo kPlatformRows[] = {
 
   {var::kMachineId, 1, Access::kConfig, ValueKind::kInteger, 0.0, 999999999.0, 0.0, "machine_id", "", "The machine's identity (its serial number, set by the integrator): every calibration report shows it beside the operator and the date. 0: not set."},
 
+  {var::kInterfaceIdleLimit, 1, Access::kConfig, ValueKind::kInteger, kMinInterfaceIdleS, kMaxInterfaceIdleS, kDefaultInterfaceIdleS, "interface_idle_s", "s", "How long a client keeps the macro interface (#9009) without writing while it has a session open (after its clear macro, until its compute or check macro succeeds) or has taken it with #9009 = 1: the LinuxCNC rigidity program probes for many seconds between two adds. A client without either keeps it 2 s after its macro's end or its last write."},
+
   rows::offset(var::kG54 + 0, "g54_x", "mm"), rows::offset(var::kG54 + 1, "g54_y", "mm"), rows::offset(var::kG54 + 2, "g54_z", "mm"),
   rows::offset(var::kG54 + 3, "g54_a", "deg"), rows::offset(var::kG54 + 4, "g54_b", "deg"), rows::offset(var::kG54 + 5, "g54_c", "deg"),
   rows::offset(var::kG55 + 0, "g55_x", "mm"), rows::offset(var::kG55 + 1, "g55_y", "mm"), rows::offset(var::kG55 + 2, "g55_z", "mm"),
@@ -203,7 +211,7 @@ inline constexpr VarInfo kPlatformRows[] = {
   {var::kInterfaceVersion, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, kInterfaceVersionValue, "interface_version", "", "Version of this register map."},
   {var::kAccessFault, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 255.0, 0.0, "access_fault", "", "Why the last refused register access was refused (see access_faults)."},
   {var::kStepCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "step_count", "", "Number of step() calls the last macro took (1 for a macro that finishes in one step)."},
-  {var::kInterface, 1, Access::kInterface, ValueKind::kInteger, 0.0, 1.0, 0.0, "interface", "", "The macro interface (every write: arguments, data, #9000, work offsets, configuration, #9004) is granted to one client (TCP connection) at a time: the first that writes takes it; others' writes get exception 06 (#9007 = interface_held) until the holder writes 0 here, disconnects, or writes nothing for 30 s after its last write or macro. Write 1 to take it (refused while another holds it), 0 to give it back. Reads 0 free, 1 held by you, 2 held by another client. A lock (#9004 = 0) is taken from anyone."},
+  {var::kInterface, 1, Access::kInterface, ValueKind::kInteger, 0.0, 1.0, 0.0, "interface", "", "The macro interface, granted to one client (TCP connection) at a time. A write of an argument (#1..#26), a data block, #9000, #9015, #9018 or #9009 = 1 takes it; a write of a work offset, a configuration variable or #9004 takes nothing and is accepted from any client while no other holds it. The holder keeps it while its macro runs, then 2 s after its macro's end or its last write; with a session of its own open or after #9009 = 1, up to #903 s (default 30) after its last write or macro. Others' writes meanwhile get exception 06 (#9007 = interface_held). Write 1 to take it (refused while another holds it), 0 to give it back; a closed connection gives it back too. Reads 0 free, 1 held by you, 2 held by another client. A lock (#9004 = 0) is accepted from anyone."},
   {var::kFailedUnlocks, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "failed_unlocks", "", "Wrong codes written to #9004 since start; each makes #9004 refuse codes for a back-off (1 s, doubling up to 64 s)."},
   {var::kUnlockBackoffLeft, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 64.0, 0.0, "unlock_backoff_s", "s", "Seconds left (rounded up) before #9004 takes a code again after a wrong one; 0 when it takes one now."},
   {var::kGateItem, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, 0.0, "gate_item", "", "When the last macro's gate refused its result (fit_beyond_noise, change_beyond_limit, a method's implausible_...): the pose, group or sub-machine it names (1-based, as that method's reports number them; 0 the whole result). 0 after any other end."},
