@@ -192,9 +192,31 @@ std::uint64_t Module::hold_us() const {
 
 ClientId Module::holder() const {
   if (holder_ == kNoClient || busy()) return holder_;
-  const std::uint64_t now = clock_.now_us();
-  // A clock behind the last activity (the contract forbids it) keeps the holder: fail closed.
-  return now < holder_active_us_ || now - holder_active_us_ < hold_us() ? holder_ : kNoClient;
+  // A clock behind the hold's start (the contract forbids it) keeps the holder: fail closed.
+  return clock_.now_us() < hold_until_us_ ? holder_ : kNoClient;
+}
+
+// Contract 8: the hold runs from now, for as long as the holder's state gives
+// it; a change of #903 later moves no hold already running.
+void Module::extend_hold() { hold_until_us_ = clock_.now_us() + hold_us(); }
+
+// Contract 8: the arguments and data blocks a client wrote are its own; they
+// go when the interface changes hands (never under a running macro, whose
+// end clears them anyway).
+void Module::clear_inputs() {
+  if (busy()) return;
+  for (const SlotRun& run : kReadWriteRuns) {
+    for (std::size_t k = 0; k < run.count; ++k) values_[run.first + k] = 0.0;
+  }
+  show_log_entry(0.0, false);
+}
+
+// Contract 8: `client` takes the interface from no one (free, or its hold over).
+void Module::hand_over(ClientId client) {
+  if (unlocked_ && unlocked_by_ != client) unlocked_ = false;  // another's unlock closes for good
+  if (holder_ != client) clear_inputs();
+  holder_ = client;
+  hold_taken_ = false;
 }
 
 // Contract 8: the interface and the client's claim on its sessions, at once.
@@ -202,6 +224,7 @@ void Module::give_back(ClientId client) {
   if (holder_ == client) {
     holder_ = kNoClient;
     hold_taken_ = false;
+    clear_inputs();
   }
   for (ClientId& c : session_of_) c = c == client ? kNoClient : c;
 }
@@ -324,13 +347,7 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
     return fault(AccessFault::kStorageFailure);
   }
 
-  const std::uint64_t now = clock_.now_us();
-  if (takes && h != client) {  // a new holder: another client's unlock closes for good
-    if (unlocked_ && unlocked_by_ != client) unlocked_ = false;
-    holder_ = client;
-    hold_taken_ = false;
-  }
-  if (holder_ == client && (takes || h == client)) holder_active_us_ = now;
+  if (takes && h != client) hand_over(client);
   for (std::uint16_t i = 0; i < count; ++i) {
     const auto number = static_cast<std::uint16_t>(first + i);
     const Access access = access_of(number);
@@ -351,7 +368,8 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
       continue;
     }
     set(number, values[i]);
-    if (number == var::kLogSelect) show_log_entry(values[i]);
+    if (number == var::kLogSelect) show_log_entry(values[i], false);
+    if (number == var::kLogIndex) show_log_entry(values[i], true);
     if (access == Access::kCommand && values[i] != 0.0) {  // 0 runs nothing and changes no state
       pending_ = static_cast<std::uint16_t>(values[i]);
       runner_ = client;
@@ -360,7 +378,8 @@ AccessFault Module::do_write(std::uint16_t first, std::uint16_t count, const dou
       at<var::kError>() = 0.0;
     }
   }
-  if (unlocked_by_ == client) last_write_us_ = now;  // contract 7: the unlock's own client's writes
+  if (takes && holder_ == client) extend_hold();  // only a write that takes it holds it longer (contract 8)
+  if (unlocked_by_ == client) last_write_us_ = clock_.now_us();  // contract 7: the unlock's own client's writes
   return AccessFault::kNone;
 }
 
@@ -406,12 +425,12 @@ void Module::step() {
     const MacroStep r = running_.info->run(call_);
     if (r.more) return;
     if (r.status != core::Status::kOk) {
-      finish(r.status);
+      refuse(r.status);
     } else if (!record_.staged) {
       publish_results();
       succeed();
     } else if (!unlocked() || unlocked_by_ != runner_) {  // stored under its own client's unlock only
-      finish(core::Status::kTableLocked);
+      refuse(core::Status::kTableLocked);
     } else {
       phase_ = Phase::kCommitting;  // the save is a step of its own: it bounds the step
     }
@@ -420,7 +439,7 @@ void Module::step() {
 
   if (phase_ == Phase::kLogging) {
     append_log();
-    finish(core::Status::kOk);
+    finish(logged_status_);
     return;
   }
 
@@ -438,9 +457,50 @@ void Module::step() {
 void Module::succeed() {
   if (kHasLog && call_.log_staged && running_.method < BuiltMethods::kCount && BuiltMethods::kLogs[running_.method]) {
     phase_ = Phase::kLogging;  // contract 9: the append is a step of its own
+    logged_status_ = core::Status::kOk;
     return;
   }
   finish(core::Status::kOk);
+}
+
+// Contract 9: a logging method's compute macro refused by one of its gates, or
+// its store refused as table_locked, logs a refusal (measuring_log.hpp
+// convention 1) in a step of its own; any other failure logs nothing.
+void Module::refuse(core::Status status) {
+  const std::size_t m = running_.method;
+  bool logs = kHasLog && m < BuiltMethods::kCount && BuiltMethods::kLogs[m] &&
+              running_.info->number == BuiltMethods::kSessions[m].compute;
+  bool gate = status == core::Status::kTableLocked;
+  if (logs) {
+    for (const GateInfo& g : BuiltMethods::kGates[m]) gate = gate || g.status == status;
+  }
+  if (!logs || !gate) {
+    finish(status);
+    return;
+  }
+  LogEntry e;
+  e.type = LogType::kRefusal;
+  const Refusal& why = call_.refusal;
+  e.add(kRefusalFigure, why.item > 0.0 ? static_cast<std::size_t>(why.item) : 0, why.value,
+        static_cast<double>(static_cast<int>(status)), why.limit);
+  for (std::size_t k = 0; call_.log_staged && k < call_.log.figure_count; ++k) {
+    const LogFigure& f = call_.log.figures[k];
+    e.add(f.kind, f.item, f.value, f.sigma, f.tolerance);
+  }
+  call_.log = e;
+  call_.log_staged = true;
+  phase_ = Phase::kLogging;
+  logged_status_ = status;
+}
+
+// Measuring_log.hpp convention 5: what an entry is worth keeping, 0..3.
+std::uint8_t Module::log_rank(std::uint16_t macro, LogType type, bool stored, std::uint32_t table_sequence) const {
+  if (type == LogType::kRefusal || (type == LogType::kCalibration && !stored)) return 0;
+  const MacroEntry entry = find_macro_entry(macro);
+  const std::uint8_t key = entry.info != nullptr ? BuiltMethods::kTableRecordOf[entry.method].key : 0;
+  const std::uint32_t present = key != 0 ? store_.sequence(key) : 0;
+  if (present == 0 || table_sequence != present) return 1;
+  return stored ? 3 : 2;
 }
 
 // Contract 9: the entry the macro logged, completed and appended (or, after its
@@ -467,10 +527,24 @@ void Module::append_log() {
     std::size_t n = log_codec::count(record_bytes_, length);
     if (n == 0 && length > 0) at<var::kLogLost>() = at<var::kLogLost>() + 1.0;  // not a log: started again
     const std::uint32_t newest = n > 0 ? log_codec::serial_at(record_bytes_, n - 1) : 0;
-    const bool replace = (e.stored || e.type == LogType::kCheck) && replaceable == running_.method + 1 &&
+    const bool replace = (e.stored || e.type != LogType::kCalibration) && replaceable == running_.method + 1 &&
                          n > 0 && newest == replaceable_serial_;
     e.serial = replace ? newest : newest + 1;
     if (e.serial == 0) e.serial = 1;  // after 2^32 - 1 appends: serials no longer rise, the log starts again
+    if (!replace && n == kLogEntries) {  // convention 5: the oldest of the lowest rank goes, or the new entry
+      std::size_t drop = n;
+      std::uint8_t lowest = log_rank(e.macro, e.type, e.stored, e.table_sequence);
+      for (std::size_t i = 0; i < n; ++i) {
+        const std::uint8_t rank = log_rank(log_codec::macro_at(record_bytes_, i), log_codec::type_at(record_bytes_, i),
+                                           log_codec::stored_at(record_bytes_, i), log_codec::sequence_at(record_bytes_, i));
+        if (rank < lowest || (rank == lowest && drop == n)) {
+          lowest = rank;
+          drop = i;
+        }
+      }
+      if (drop == n) return;  // the new entry ranks below every entry held: not kept, nothing lost
+      n = log_codec::remove(record_bytes_, n, drop);
+    }
     length = log_codec::add(record_bytes_, n, e, replace);
     if (store_.save(kLogRecord.key, record_bytes_, length) != core::Status::kOk) {
       at<var::kLogLost>() = at<var::kLogLost>() + 1.0;
@@ -495,15 +569,17 @@ void Module::load_log_summary() {
   }
 }
 
-// #9020..#9059: the entry of serial `serial`, or zeros when the log holds none.
-void Module::show_log_entry(double serial) {
+// #9020..#9059: the entry of serial `which` (#9018), or the which-th held,
+// oldest first (#9028), or zeros when the log holds none.
+void Module::show_log_entry(double which, bool by_index) {
   const std::uint8_t* entry = nullptr;
   if constexpr (kHasLog) {
     std::size_t length = 0;
-    if (serial > 0.0 && store_.load(kLogRecord.key, record_bytes_, kLogBytes, length) == core::Status::kOk) {
+    if (which > 0.0 && store_.load(kLogRecord.key, record_bytes_, kLogBytes, length) == core::Status::kOk) {
       const std::size_t n = log_codec::count(record_bytes_, length);
       for (std::size_t i = 0; i < n && entry == nullptr; ++i) {
-        if (log_codec::serial_at(record_bytes_, i) == serial) entry = record_bytes_ + i * kLogEntryBytes;
+        const bool found = by_index ? static_cast<double>(i + 1) == which : log_codec::serial_at(record_bytes_, i) == which;
+        if (found) entry = record_bytes_ + i * kLogEntryBytes;
       }
     }
   }
@@ -520,6 +596,11 @@ void Module::note_session(core::Status status) {
   const std::uint16_t number = running_.info->number;
   const SessionInfo& session = BuiltMethods::kSessions[m];
   if (session.capacity > 0 && number == session.clear) {
+    if (BuiltMethods::kSessionInArena[m]) {  // the arena's other sessions are gone, and their claims
+      for (std::size_t k = 0; k < BuiltMethods::kCount; ++k) {
+        if (BuiltMethods::kSessionInArena[k]) session_of_[k] = kNoClient;
+      }
+    }
     session_of_[m] = holder_ == runner_ ? runner_ : kNoClient;  // not for a runner that gave it back
   } else if (number == session.compute || number == session.compute_also || number == BuiltMethods::kChecks[m].macro) {
     session_of_[m] = kNoClient;
@@ -537,9 +618,9 @@ void Module::finish(core::Status status) {
   at<var::kStatus>() = state_value(ok ? MacroState::kDone : MacroState::kError);
   at<var::kError>() = static_cast<double>(static_cast<int>(status));
   at<var::kDoneCount>() = at<var::kDoneCount>() + 1.0;
-  holder_active_us_ = clock_.now_us();  // contract 8: the hold counts from the macro's end
-  at<var::kRunTime>() = static_cast<double>(holder_active_us_ - started_us_);
+  at<var::kRunTime>() = static_cast<double>(clock_.now_us() - started_us_);
   note_session(status);
+  if (holder_ == runner_) extend_hold();  // contract 8: the runner's hold counts from its macro's end
   at<var::kStepCount>() = static_cast<double>(steps_);
   const Refusal refused = ok ? Refusal{} : call_.refusal;  // method_context.hpp contract 8
   at<var::kGateItem>() = refused.item;
@@ -548,7 +629,7 @@ void Module::finish(core::Status status) {
   for (const SlotRun& run : kReadWriteRuns) {
     for (std::size_t k = 0; k < run.count; ++k) values_[run.first + k] = 0.0;
   }
-  show_log_entry(0.0);  // #9018 cleared: no entry shown
+  show_log_entry(0.0, false);  // #9018 and #9028 cleared: no entry shown
   record_.staged = false;
   record_.commit = nullptr;
   record_.table = nullptr;

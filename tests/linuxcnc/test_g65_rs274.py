@@ -213,17 +213,19 @@ def run_cases(checks, sim, folder, errors, regenerate):
     level_3pt(checks, sim, ini, folder, regenerate, "level_3pt")
 
     # 1b. ... while another client keeps an open connection on which it wrote
-    # points and arguments 1 s before (an HMI beside LinuxCNC): the remap waits
-    # out its 2 s hold (module.hpp contract 8), and writes every letter, so
-    # that client's A = 30 does not reach 9810.
+    # arguments and points moments before (an HMI beside LinuxCNC): the remap
+    # waits out its 2 s hold (module.hpp contract 8), and its 9810 runs on its
+    # own inputs: that client's K = -1 (not on the G65 line) does not reach it
+    # (the module clears it when the interface changes hands, and the remap
+    # writes every letter).
     from pymodbus.client import ModbusTcpClient
     import struct
     other = ModbusTcpClient("127.0.0.1", port=sim.port)
     other.connect()
     words = lambda *values: [w for v in values for w in struct.unpack(">4H", struct.pack(">d", v))]
+    other.write_registers(4 * 6, words(-1.0), slave=1)  # K = -1 (facing down): an argument takes it
     other.write_registers(4 * 5281, words(1.0, 2.0, 3.0), slave=1)
-    other.write_registers(4 * 1, words(30.0), slave=1)  # A: an argument takes the interface
-    time.sleep(1.0)
+    time.sleep(0.5)
     held = sim.get(9009)[9009]
     started = time.monotonic()
     level_3pt(checks, sim, ini, folder, False, "level_3pt beside a client that wrote 1 s before")

@@ -59,7 +59,19 @@ def main(argv):
     with tempfile.TemporaryDirectory(prefix="trueaxis-rtu-") as folder:
         try:
             tty.setraw(held, termios.TCSANOW)
-            time.sleep(1.5)
+            # The firmware answers once it has booted: on a loaded machine that
+            # takes longer than any fixed wait, so ask it (#9006) until it does.
+            ready = False
+            for _ in range(30):
+                probe = subprocess.run([var, "--rtu", pts, "--baud", str(baud), "--timeout", "1000", "get", "9006"],
+                                       stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=60)
+                if probe.returncode == 0:
+                    ready = True
+                    break
+                time.sleep(0.5)
+            if not ready:
+                print(f"test_g65_rtu_qemu: the firmware did not answer on {pts}: {probe.stderr.strip()}")
+                return 1
             ini = make_ini(folder, 0, extra={"SERIAL": pts, "BAUD": str(baud), "REQUEST_TIMEOUT": "3"})
             code, output = rs274(ini, PROGRAM, folder, timeout=120)
             print(f"rs274: exit {code}, {time.monotonic() - started:.1f} s")

@@ -229,6 +229,40 @@ class ModuleRig {
     }
     return true;
   }
+  // The newest entry of the measuring log is a refusal with `code` and the
+  // gate's #9012 .. #9014 (measuring_log.hpp convention 1), the window shown
+  // through #9018; true in a module without a log.
+  bool logged_refusal(core::Status code) {
+    namespace v = macros::var;
+    if (!macros::kHasLog) return true;
+    const double item = get(v::kGateItem);
+    const double value = get(v::kGateValue);
+    const double limit = get(v::kGateLimit);
+    if (put(v::kLogSelect, get(v::kLogNewest)) != macros::AccessFault::kNone) return false;
+    const auto f32 = [](double x) { return static_cast<double>(static_cast<float>(x)); };
+    return get(v::kLogType) == static_cast<double>(macros::LogType::kRefusal) && get(v::kLogStored) == 0.0 &&
+           get(v::kLogFigureCount) >= 1.0 && get(v::kLogFigureFirst) == macros::kRefusalFigure &&
+           get(v::kLogFigureFirst + 1) == item && get(v::kLogFigureFirst + 2) == f32(value) &&
+           get(v::kLogFigureFirst + 3) == static_cast<double>(static_cast<int>(code)) &&
+           get(v::kLogFigureFirst + 4) == f32(limit);
+  }
+  // Whether a compute macro refused with `code` logs a refusal (module.hpp
+  // contract 9: a logging method's gate, or table_locked).
+  static bool logs_refusal(core::Status code) {
+    if (!macros::kHasLog) return false;
+    bool logs = false;
+    for (std::size_t m = 0; m < macros::BuiltMethods::kCount; ++m) {
+      if (!macros::BuiltMethods::kLogs[m]) continue;
+      logs = logs || code == core::Status::kTableLocked;
+      for (const macros::GateInfo& g : macros::BuiltMethods::kGates[m]) logs = logs || g.status == code;
+    }
+    return logs;
+  }
+  // After a compute macro refused with `code`: storage unchanged, but for the
+  // refusal logged when it logs one.
+  bool unchanged_after(core::Status code) {
+    return logs_refusal(code) ? unchanged_but_log() && logged_refusal(code) : unchanged();
+  }
   hal::NvStorage& device() { return options_.storage != nullptr ? *options_.storage : lease_.slot().storage; }
   FakeClock clock;
 

@@ -154,24 +154,97 @@ TA_TEST("work offsets, configuration and #9004 take nothing: accepted from any c
   TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
 }
 
-TA_TEST("without a session the interface is free exactly kInterfaceGraceUs after the holder's last write") {
+TA_TEST("without a session the interface is free exactly kInterfaceGraceUs after the holder's last taking write") {
   Rig rig;
   TA_REQUIRE(rig.put_as(kA, v::kArgX, 1.0) == F::kNone);
   rig.clock.now += kGrace - 1;
   TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 2.0), F::kInterfaceHeld);
-  TA_REQUIRE(rig.put_as(kA, v::kG57, 3.0) == F::kNone);  // any write of the holder's: the hold counts from here
+  TA_REQUIRE(rig.put_as(kA, v::kArgY, 3.0) == F::kNone);  // an argument: the hold counts from here
   rig.clock.now += kGrace - 1;
   TA_CHECK_EQ(rig.put_as(kB, v::kG57, 2.0), F::kInterfaceHeld);
   TA_CHECK_EQ(rig.get_as(kB, v::kInterface), 2.0);
+  TA_REQUIRE(rig.put_as(kA, v::kG57, 3.0) == F::kNone);  // the holder's work offset: accepted, holds no longer
   rig.clock.now += 1;
   TA_CHECK_EQ(rig.get_as(kB, v::kInterface), 0.0);
   TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
   TA_CHECK_EQ(rig.put_as(kB, v::kG57, 2.0), F::kNone);  // takes nothing
   TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
-  TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 2.0), F::kNone);  // takes it
+  TA_CHECK_EQ(rig.put_as(kB, v::kArgZ, 2.0), F::kNone);  // takes it
   TA_CHECK_EQ(rig.module().holder(), kB);
   TA_CHECK_EQ(rig.put_as(kA, v::kArgX, 5.0), F::kInterfaceHeld);
+  TA_CHECK_EQ(rig.get(v::kArgZ), 2.0);
+}
+
+TA_TEST("a holder's plain writes never keep the interface: work offsets every 1.9 s after one macro") {
+  Rig rig;
+  TA_REQUIRE(rig.run_as(kA, t::kPrefillMacro) == t::kDone);
+  for (int i = 0; i < 10; ++i) {
+    rig.clock.now += kGrace - 100'000;
+    if (rig.module().holder() != kA) break;
+    TA_REQUIRE(rig.put_as(kA, v::kG57, static_cast<double>(i)) == F::kNone);
+  }
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);  // the second sync came after the grace
+  TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 1.0), F::kNone);
+}
+
+TA_TEST("the interface changing hands clears the arguments and data blocks the last holder left") {
+  const std::uint16_t data = first_data_block();
+  Rig rig;
+  TA_REQUIRE(rig.put_as(kA, v::kArgZ, 5.0) == F::kNone);  // A writes, runs no macro
+  if (data != 0) TA_REQUIRE(rig.put_as(kA, data, 7.0) == F::kNone);
+  rig.clock.now += kGrace;
+  TA_REQUIRE(rig.put_as(kA, v::kArgY, 1.0) == F::kNone);  // its own again: its inputs stay
+  TA_CHECK_EQ(rig.get(v::kArgZ), 5.0);
+  rig.clock.now += kGrace;
+  TA_REQUIRE(rig.put_as(kB, v::kArgX, 2.0) == F::kNone);  // B takes it: A's inputs are not B's
   TA_CHECK_EQ(rig.get(v::kArgX), 2.0);
+  TA_CHECK_EQ(rig.get(v::kArgY), 0.0);
+  TA_CHECK_EQ(rig.get(v::kArgZ), 0.0);
+  if (data != 0) TA_CHECK_EQ(rig.get(data), 0.0);
+  TA_REQUIRE(rig.put_as(kB, v::kInterface, 0.0) == F::kNone);  // given back: B's go too
+  TA_CHECK_EQ(rig.get(v::kArgX), 0.0);
+  // A running macro keeps its inputs when its runner gives the interface back.
+  TA_REQUIRE(rig.put_as(kA, v::kArgX, 3.0) == F::kNone);
+  TA_REQUIRE(rig.put_as(kA, v::kCmd, 9903.0) == F::kNone);
+  TA_REQUIRE(rig.put_as(kA, v::kInterface, 0.0) == F::kNone);
+  TA_CHECK_EQ(rig.get(v::kArgX), 3.0);
+  TA_REQUIRE(rig.put_as(kB, v::kInterface, 1.0) == F::kNone);  // B takes it while A's macro runs
+  TA_CHECK_EQ(rig.get(v::kArgX), 3.0);
+  rig.step_until_idle();
+  TA_CHECK_EQ(rig.get(v::kArgX), 0.0);  // the macro's end clears them, as after every macro
+}
+
+TA_TEST("a hold that ended stays ended, and one that runs keeps its length: #903 changed meanwhile") {
+  Rig rig;
+  TA_REQUIRE(rig.put_as(kA, v::kInterface, 1.0) == F::kNone);
+  rig.clock.now += kIdle;
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+  TA_REQUIRE(rig.unlock());
+  TA_REQUIRE(rig.put(v::kInterfaceIdleLimit, 600.0) == F::kNone);  // A's hold ended: raising #903 revives none
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+  TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 1.0), F::kNone);
+  TA_REQUIRE(rig.put_as(kB, v::kInterface, 0.0) == F::kNone);
+  TA_REQUIRE(rig.unlock());
+  TA_REQUIRE(rig.put(v::kInterfaceIdleLimit, 5.0) == F::kNone);
+  TA_REQUIRE(rig.put_as(kA, v::kInterface, 1.0) == F::kNone);  // held for 5 s
+  TA_REQUIRE(rig.put_as(kA, v::kUnlock, m::kUnlockCode) == F::kNone);
+  TA_REQUIRE(rig.put_as(kA, v::kInterfaceIdleLimit, 600.0) == F::kNone);  // the holder raises it: its hold stays 5 s
+  rig.clock.now += 5'000'000 - 1;
+  TA_CHECK_EQ(rig.module().holder(), kA);
+  rig.clock.now += 1;
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
+}
+
+TA_TEST("a macro's end extends only its runner's hold, not another client's that took it meanwhile") {
+  Rig rig;
+  TA_REQUIRE(rig.put_as(kA, v::kCmd, 9903.0) == F::kNone);
+  TA_REQUIRE(rig.put_as(kA, v::kInterface, 0.0) == F::kNone);  // the runner lets go while its macro runs
+  TA_REQUIRE(rig.put_as(kB, v::kInterface, 1.0) == F::kNone);  // B takes it for #903
+  rig.clock.now += kIdle - 1;
+  rig.step_until_idle();  // A's macro ends now
+  TA_CHECK_EQ(rig.module().holder(), kB);
+  rig.clock.now += 1;
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);  // B's hold counted from its own write
 }
 
 TA_TEST("the holder's macro keeps the interface however long it runs; the grace counts from its end") {
@@ -342,6 +415,27 @@ TA_TEST("a session ends for its client when another client clears it, or when it
       TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
     }
   }
+}
+
+TA_TEST("a clear of one arena session ends the claims on the others, whose data it replaced") {
+  std::size_t arena[2] = {0, 0};
+  std::size_t found = 0;
+  for (std::size_t k = 0; k < m::BuiltMethods::kCount; ++k) {
+    if (m::BuiltMethods::kSessionInArena[k] && found < 2) arena[found++] = k;
+  }
+  if (found < 2) return;  // a set with fewer than two arena sessions
+  const std::size_t first = arena[0];
+  const std::size_t second = arena[1];
+  Rig rig;
+  TA_REQUIRE(rig.run_as(kA, m::BuiltMethods::kSessions[first].clear) == t::kDone);
+  rig.clock.now += kGrace;
+  TA_CHECK_EQ(rig.module().holder(), kA);  // its session open
+  rig.clock.now += kIdle;
+  TA_REQUIRE(rig.run_as(kB, m::BuiltMethods::kSessions[second].clear) == t::kDone);  // replaces A's in the arena
+  TA_REQUIRE(rig.put_as(kB, v::kInterface, 0.0) == F::kNone);
+  TA_REQUIRE(rig.put_as(kA, v::kArgX, 1.0) == F::kNone);  // A has no session any more: the grace only
+  rig.clock.now += kGrace;
+  TA_CHECK_EQ(rig.module().holder(), m::kNoClient);
 }
 
 TA_TEST("a lock alone is accepted from anyone; an unlock closes when the interface changes hands or its client leaves") {

@@ -220,3 +220,118 @@ TA_TEST("a power cut at any byte of an append keeps the log as it was, or with t
     TA_CHECK(budget > m::kLogEntryBytes);  // the cuts walked the whole write
   }
 }
+
+namespace {
+// 9832 R = 1 while locked: refused as table_locked (a refusal entry).
+double refused_store(ModuleRig& rig, double time) {
+  rig.lock();
+  rig.set(v::kLogTime, time);
+  rig.set(v::kArgR, 1.0);
+  return rig.run(9832);
+}
+double check_at(ModuleRig& rig, double time) {
+  rig.set(v::kLogTime, time);
+  return rig.run(9836);
+}
+}  // namespace
+
+TA_TEST("a refused store is logged as a refusal, in place of its own calibration, with the gate's figures") {
+  ModuleRig rig;
+  rf::stream(rig);
+  TA_REQUIRE(build_at(rig, false, kT0) == kDone);  // measured ...
+  TA_REQUIRE(refused_store(rig, kT0 + 1.0) == trueaxis::test::kError);  // ... then refused
+  TA_CHECK_EQ(rig.code(), Status::kTableLocked);
+  TA_CHECK_EQ(rig.get(v::kLogCount), 1.0);  // one entry: "measured, then refused"
+  const Shown e = show(rig, 1.0);
+  TA_CHECK_EQ(e.type(), static_cast<double>(m::LogType::kRefusal));
+  TA_CHECK_EQ(e.time(), kT0 + 1.0);
+  TA_CHECK_EQ(e.stored(), 0.0);
+  TA_CHECK_EQ(e.figures(), 3.0);  // the refusal, then the build's two figures
+  TA_CHECK_EQ(e.figure(0, 0), static_cast<double>(m::kRefusalFigure));
+  TA_CHECK_EQ(e.figure(0, 3), static_cast<double>(static_cast<int>(Status::kTableLocked)));
+  TA_CHECK_EQ(e.figure(1, 0), 1.0);  // rigidity_worst, as the calibration logged it
+  TA_CHECK_NEAR(e.figure(1, 2), 20.0, 1e-3);
+  TA_CHECK(rig.logged_refusal(Status::kTableLocked));
+  // A failure that is no gate's and no store's (an empty session) logs nothing.
+  TA_REQUIRE(rig.done(9830));
+  TA_CHECK(rig.run(9832) == trueaxis::test::kError);
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 1.0);
+}
+
+TA_TEST("100 scratch calibrations and refused stores after a store and a check leave both in the log") {
+  ModuleRig rig;
+  rf::stream(rig);
+  TA_REQUIRE(build_at(rig, true, kT0) == kDone);                 // 1: stored
+  TA_REQUIRE(build_at(rig, false, kT0 + 10.0) == kDone);
+  TA_REQUIRE(check_at(rig, kT0 + 20.0) == kDone);                // 2: its check
+  const Shown stored = show(rig, 1.0);
+  const Shown check = show(rig, 2.0);
+  TA_REQUIRE(stored.stored() == 1.0 && check.type() == 1.0);
+  for (int i = 0; i < 100; ++i) {
+    TA_CASE_INDEX(i);
+    TA_REQUIRE(build_at(rig, false, kT0 + 100.0 + 2 * i) == kDone);  // scratch: stores and checks nothing
+    if (i % 10 == 9) {
+      TA_REQUIRE(rig.unlock());
+      TA_REQUIRE(refused_store(rig, kT0 + 101.0 + 2 * i) == trueaxis::test::kError);  // a failed store
+    }
+  }
+  TA_CHECK_EQ(rig.get(v::kLogCount), 32.0);
+  TA_CHECK(show(rig, 1.0) == stored);  // both held, as they were
+  TA_CHECK(show(rig, 2.0) == check);
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 102.0);  // the scratch went on behind them
+  TA_CHECK_EQ(show(rig, 73.0).serial(), 73.0);  // the newest 30 scratch entries
+  TA_CHECK_EQ(show(rig, 72.0).serial(), 0.0);
+  TA_CHECK_EQ(show(rig, 102.0).type(), static_cast<double>(m::LogType::kRefusal));  // measured, then refused
+  // A check still judges, and logs, after them.
+  TA_REQUIRE(build_at(rig, false, kT0 + 999.0) == kDone);
+  TA_REQUIRE(check_at(rig, kT0 + 1000.0) == kDone);
+  TA_CHECK_EQ(show(rig, 103.0).type(), 1.0);
+  TA_CHECK(show(rig, 1.0) == stored);
+}
+
+TA_TEST("a full log drops the oldest entry of the lowest rank: scratch, then history, then the present table's checks") {
+  ModuleRig rig;
+  rf::stream(rig);
+  TA_REQUIRE(build_at(rig, true, kT0) == kDone);  // 1: the first table, stored
+  for (int i = 0; i < 5; ++i) {
+    TA_REQUIRE(build_at(rig, false, kT0 + 10.0 * (i + 1)) == kDone);
+    TA_REQUIRE(check_at(rig, kT0 + 10.0 * (i + 1) + 1.0) == kDone);  // 2..6: its checks
+  }
+  TA_REQUIRE(build_at(rig, false, kT0 + 100.0) == kDone);  // 7: scratch
+  TA_REQUIRE(build_at(rig, false, kT0 + 110.0) == kDone);
+  TA_REQUIRE(build_at(rig, true, kT0 + 200.0) == kDone);   // 8: the second table (in 8's place): 1..6 are history
+  TA_CHECK_EQ(show(rig, 8.0).stored(), 1.0);
+  TA_CHECK_EQ(show(rig, 7.0).stored(), 0.0);
+  for (int i = 0; i < 24; ++i) {  // 9..32: checks of the second table fill the log
+    TA_REQUIRE(build_at(rig, false, kT0 + 300.0 + 10.0 * i) == kDone);
+    TA_REQUIRE(check_at(rig, kT0 + 301.0 + 10.0 * i) == kDone);
+  }
+  TA_CHECK_EQ(rig.get(v::kLogCount), 32.0);
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 32.0);
+  // Scratch into the full log drops the scratch entry 7 (its own rank, the oldest); its check replaces it (33).
+  TA_REQUIRE(build_at(rig, false, kT0 + 600.0) == kDone);
+  TA_CHECK_EQ(show(rig, 7.0).serial(), 0.0);
+  TA_CHECK_EQ(show(rig, 1.0).serial(), 1.0);
+  TA_REQUIRE(check_at(rig, kT0 + 601.0) == kDone);
+  TA_CHECK_EQ(show(rig, 33.0).type(), 1.0);
+  // Now scratch ranks below every entry held: not kept, and nothing counted lost.
+  TA_REQUIRE(build_at(rig, false, kT0 + 610.0) == kDone);
+  TA_CHECK_EQ(rig.get(v::kLogNewest), 33.0);
+  TA_CHECK_EQ(rig.get(v::kLogLost), 0.0);
+  TA_REQUIRE(check_at(rig, kT0 + 611.0) == kDone);  // 34: a check drops the oldest history, 1
+  TA_CHECK_EQ(show(rig, 34.0).type(), 1.0);
+  TA_CHECK_EQ(show(rig, 1.0).serial(), 0.0);
+  TA_CHECK_EQ(show(rig, 2.0).serial(), 2.0);
+  for (int i = 0; i < 5; ++i) {  // 35..39: the rest of the history, 2..6
+    TA_REQUIRE(build_at(rig, false, kT0 + 700.0 + 10.0 * i) == kDone);
+    TA_REQUIRE(check_at(rig, kT0 + 701.0 + 10.0 * i) == kDone);
+  }
+  for (double s = 2.0; s <= 6.0; s += 1.0) TA_CHECK_EQ(show(rig, s).serial(), 0.0);
+  TA_CHECK_EQ(show(rig, 9.0).serial(), 9.0);
+  TA_REQUIRE(build_at(rig, false, kT0 + 800.0) == kDone);
+  TA_REQUIRE(check_at(rig, kT0 + 801.0) == kDone);  // 40: then the present table's oldest check, 9
+  TA_CHECK_EQ(show(rig, 9.0).serial(), 0.0);
+  TA_CHECK_EQ(show(rig, 10.0).serial(), 10.0);
+  TA_CHECK_EQ(show(rig, 8.0).stored(), 1.0);  // the present table's own entry is never dropped
+  TA_CHECK_EQ(rig.get(v::kLogCount), 32.0);
+}

@@ -316,7 +316,9 @@ TA_TEST("9832 R = 1 while locked fails with table_locked, stores nothing and kee
   rig.snapshot();
   rig.set(v::kArgR, 1.0);
   TA_CHECK_EQ(rig.refuse(9832), Status::kTableLocked);
-  TA_CHECK(rig.unchanged());
+  TA_CHECK(rig.unchanged_but_log());  // the refusal logged (measuring_log.hpp convention 1), nothing else
+  TA_CHECK(rig.logged_refusal(Status::kTableLocked));
+  TA_CHECK(rig.logs_refusal(Status::kTableLocked));
   TA_CHECK(rig.results() == before);
   TA_REQUIRE(query(rig, 30.0, 0.0, 0.0) == kDone);
   TA_CHECK(rig.results() == before);

@@ -71,6 +71,11 @@ bool fail(VariableClient& client, const char* what) {
 // Probes the triangle into G57, G58, G59 and runs 9810 with the table at
 // (arg_a, arg_c) as far as the module is told.
 bool measure(VariableClient& client, double spread_mm, double arg_a, double arg_c, Measurement& m) {
+  // The arguments first: they take the module's macro interface, so that no
+  // other client's work offsets come between the touches and the macro
+  // (docs/INTERFACE.md "One client at a time").
+  const double args[3] = {arg_a, 0.0, arg_c};  // #1 A, #2 B, #3 C
+  if (!client.write(1, 3, args)) return fail(client, "writing A, C");
   const double r = spread_mm / std::sqrt(3.0);  // circumradius of the triangle
   const std::uint16_t targets[3] = {kG57, kG58, kG59};
   for (int i = 0; i < 3; ++i) {
@@ -78,8 +83,6 @@ bool measure(VariableClient& client, double spread_mm, double arg_a, double arg_
     const double probe[3] = {r * std::cos(angle), r * std::sin(angle), static_cast<double>(targets[i])};
     if (!client.write(simvar::kProbeX, 3, probe)) return fail(client, "probing");
   }
-  const double args[3] = {arg_a, 0.0, arg_c};  // #1 A, #2 B, #3 C
-  if (!client.write(1, 3, args)) return fail(client, "writing A, C");
   const trueaxis::sim::MacroOutcome outcome = client.run_macro(kLevelMacro);
   if (outcome.status != 2) {
     if (outcome.status == 3) {

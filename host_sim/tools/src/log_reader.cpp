@@ -27,6 +27,10 @@ void name_entry(LogRow& row) {
     row.method = Built::kNames[i];
     const macros::List<macros::CheckFigureInfo> kinds = check ? Built::kChecks[i].figures : Built::kLogFigures[i];
     for (LogFigureRow& f : row.figures) {
+      if (row.refusal && f.kind == macros::kRefusalFigure) {
+        f.name = macros::status_name(static_cast<core::Status>(static_cast<int>(f.sigma)));
+        continue;
+      }
       const bool known = f.kind >= 1 && static_cast<std::size_t>(f.kind) <= kinds.size;
       f.name = known ? kinds[static_cast<std::size_t>(f.kind) - 1].name : "figure_" + std::to_string(f.kind);
       f.unit = known ? kinds[static_cast<std::size_t>(f.kind) - 1].unit : "";
@@ -64,20 +68,23 @@ bool read_log(VariableClient& client, std::vector<LogRow>& rows, std::string& er
     error = client.failure_text();
     return false;
   }
-  const double first = counts[1] - counts[0] + 1.0;
-  for (double serial = first; serial <= counts[1] && counts[0] > 0.0; serial += 1.0) {
-    double v[40] = {};  // #9020..#9059; #9028, #9029 are not defined
-    if (!client.write_one(var::kLogSelect, serial) || !client.read(var::kLogSerial, 8, v) ||
+  // By place, oldest first (#9028): serials need not be contiguous (measuring_log.hpp convention 5).
+  double previous = 0.0;
+  for (double place = 1.0; place <= counts[0]; place += 1.0) {
+    double v[40] = {};  // #9020..#9059; #9028, #9029 are not the entry's
+    if (!client.write_one(var::kLogIndex, place) || !client.read(var::kLogSerial, 8, v) ||
         !client.read(var::kLogFigureFirst, 30, v + 10)) {
       error = client.failure_text();
       return false;
     }
-    if (v[0] != serial) continue;  // dropped meanwhile (contract 1)
+    if (v[0] <= previous) continue;  // the log changed meanwhile (contract 1): an entry seen already
+    previous = v[0];
     LogRow row;
     row.serial = static_cast<std::uint32_t>(v[0]);
     row.time_s = static_cast<std::uint32_t>(v[1]);
     row.macro = static_cast<int>(v[2]);
     row.check = v[3] == 1.0;
+    row.refusal = v[3] == 2.0;
     row.verdict = static_cast<int>(v[4]);
     row.stored = v[5] == 1.0;
     row.table_sequence = static_cast<std::uint32_t>(v[6]);
@@ -236,7 +243,7 @@ std::string log_table(const std::vector<LogRow>& rows, const std::vector<Drift>&
   std::string out = "serial  time (UTC)           method    macro  entry        verdict  table  figures\n";
   for (const LogRow& r : rows) {
     char head[160];
-    const char* entry = r.check ? "check" : (r.stored ? "stored" : "calibration");
+    const char* entry = r.check ? "check" : r.refusal ? "refused" : (r.stored ? "stored" : "calibration");
     const char* verdict = r.verdict < 0 ? "-" : macros::verdict_name(static_cast<macros::Verdict>(r.verdict));
     std::snprintf(head, sizeof head, "%6u  %-19s  %-8s  %5d  %-11s  %-7s  %5s  ", static_cast<unsigned>(r.serial),
                   utc_text(r.time_s).c_str(), r.method.empty() ? "?" : r.method.c_str(), r.macro, entry, verdict,
@@ -244,6 +251,11 @@ std::string log_table(const std::vector<LogRow>& rows, const std::vector<Drift>&
     out += head;
     for (std::size_t k = 0; k < r.figures.size(); ++k) {
       const LogFigureRow& f = r.figures[k];
+      if (r.refusal && f.kind == macros::kRefusalFigure) {  // the refusal: what and against which limit
+        out += (k > 0 ? "; " : "") + f.name + (f.item > 0 ? " at item " + std::to_string(f.item) : "") +
+               (f.value != 0.0 || f.tolerance != 0.0 ? ": " + general(f.value) + " against " + general(f.tolerance) : "");
+        continue;
+      }
       out += (k > 0 ? "; " : "") + f.name + (f.item > 0 ? "_" + std::to_string(f.item) : "") + " " +
              general(f.value) + " +- " + general(f.sigma) + " " + f.unit +
              (f.tolerance > 0.0 ? " / " + general(f.tolerance) : "");
@@ -266,7 +278,7 @@ std::string log_csv(const std::vector<LogRow>& rows) {
     const std::string head =
         std::to_string(r.serial) + "," + (r.time_s > 0 ? utc_text(r.time_s) : "") + "," + std::to_string(r.time_s) +
         "," + csv_field(r.method) + "," + std::to_string(r.macro) + "," +
-        (r.check ? "check" : (r.stored ? "stored" : "calibration")) + "," +
+        (r.check ? "check" : r.refusal ? "refusal" : (r.stored ? "stored" : "calibration")) + "," +
         (r.verdict < 0 ? "" : macros::verdict_name(static_cast<macros::Verdict>(r.verdict))) + "," +
         (r.stored ? "1" : "0") + "," + std::to_string(r.table_sequence) + ",";
     if (r.figures.empty()) out += head + ",,,,,\n";

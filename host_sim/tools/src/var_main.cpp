@@ -12,7 +12,10 @@
 //     ok, S steps, T us", then the macro's results (its MacroInfo outputs; for a
 //     macro this map does not know, #100.. up to the last that is not 0). A
 //     macro that ends in error is a failure.
-//  3. A failure is one line on stderr, "trueaxis-var: " and what
+//  3. set with an unlock code (#9004) takes the macro interface for itself
+//     first (#9009 = 1), so that no other client's macro closes the unlock
+//     before the configuration it writes; run holds it only for its macro.
+//  4. A failure is one line on stderr, "trueaxis-var: " and what
 //     var_session.hpp contract 3 says, or for a macro error "macro N NAME:
 //     module error CODE NAME: MESSAGE"; nothing goes to stdout then. Exit 0 on
 //     success, 1 on a failure, 2 on bad usage.
@@ -150,6 +153,17 @@ int set(VarSession& s, const std::vector<std::string>& args, const Options&) {
     assignments.push_back(x);
   }
   if (assignments.empty()) return usage_error("set needs N=V");
+  // An unlock takes no macro interface (macros/module.hpp contract 8), and
+  // another client taking it would close this one's unlock before its
+  // configuration writes: a command that unlocks holds the interface for
+  // itself first (#9009 = 1; the connection's close gives it back).
+  const bool unlocks = std::any_of(assignments.begin(), assignments.end(),
+                                   [](const Assignment& a) { return a.number == var::kUnlock && a.value != 0.0; });
+  if (unlocks) {
+    std::vector<Assignment> held = {{var::kInterface, 1.0}};
+    held.insert(held.end(), assignments.begin(), assignments.end());
+    assignments = held;
+  }
   return s.write(assignments) ? 0 : fail(s.error());
 }
 

@@ -100,6 +100,7 @@ class Remap:
         map_path = settings.get("MAP", os.path.join(HERE, "..", "..", "..", "macros", "register_map.json"))
         self.map = RegisterMap(os.path.join(where, map_path))
         self.preview = number("PREVIEW", 0, int) == 1
+        self.session_count = None  # #9003 after this client's last macro, in a G65 P1 session
         self.module = Module(self.map, host=settings.get("HOST", "127.0.0.1"), port=number("PORT", 502, int),
                              serial=settings.get("SERIAL"), baud=number("BAUD", 19200, int),
                              parity=settings.get("PARITY", "N"), unit=number("UNIT", 1, int),
@@ -113,25 +114,38 @@ class Remap:
         it for a session; they return None."""
         module = self.module
         if macro == RELEASE:
+            self.session_count = None
             module.release()
             return None
         if macro == HOLD:
             module.take()
+            self.session_count = module.done_count()
             return None
-        # The arguments first: they take the interface (or wait for it), so
-        # that no other client's write comes between them and the macro.
-        for first, values in _runs(arguments):
-            module.write(first, values)
-        for first, values in _runs(offsets):
-            present = module.read(first, len(values))
+        # The arguments first: they take the interface (waiting for it), so no
+        # other client's write comes between them and the macro; a later write
+        # refused means another client took it meanwhile (trueaxis_module.py
+        # convention 3). In a session (P1) no other client's macro may have
+        # run since this client's last one.
+        first = True
+        for start, values in _runs(arguments):
+            module.write(start, values, wait=first)
+            first = False
+        if self.session_count is not None and module.done_count() != self.session_count:
+            raise TrueaxisError("another client ran a macro on the module during this program's session "
+                                "(G65 P1; its hold ends #903 s after a call): the session may be mixed, "
+                                "run the program again")
+        for start, values in _runs(offsets):
+            present = module.read(start, len(values))
             if present != values:
-                module.write(first, values)
+                module.write(start, values)
         unlock_var = module.var["unlock"]
         if unlock:
             module.write(unlock_var, [unlock])
         try:
             module.run(macro)
         finally:
+            if self.session_count is not None:
+                self.session_count = module.done_count()
             if unlock:
                 try:
                     module.write(unlock_var, [0])
@@ -143,6 +157,7 @@ class Remap:
     def release_after_failure(self):
         """A program that stops gives the macro interface back at once, so
         another client need not wait for it; quietly, as the stop has its message."""
+        self.session_count = None
         try:
             self.module.release()
         except Exception:
@@ -223,9 +238,10 @@ def g65(self, **words):
         yield INTERP_ERROR
         return
 
-    if macro not in (RELEASE, HOLD):
-        # P0 and P1 move nothing and need no motion finished: in LinuxCNC's
-        # on_abort a suspended call would only resume with the next program.
+    if macro != RELEASE:
+        # P0 moves nothing and needs no motion finished: in LinuxCNC's on_abort
+        # a suspended call would only resume with the next program. P1 waits,
+        # so that its hold starts where the program's session does.
         yield INTERP_EXECUTE_FINISH
 
     try:

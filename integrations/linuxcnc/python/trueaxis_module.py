@@ -12,9 +12,12 @@ Conventions (docs/INTERFACE.md):
    for a session (G65 P1), `release()` gives it back (G65 P0).
 3. Every failure raises TrueaxisError with one line a person reads, naming the
    likely cause (no module at the address, a busy controller, a refused
-   write); nothing here retries a write the module refused, except a write
-   refused because another client holds the interface, which waits up to
-   `wait_s` for it.
+   write); nothing here retries a write the module refused, except the first
+   write of a call (`write(..., wait=True)`), refused because another client
+   holds the interface, which waits up to `wait_s` for it. A later write of
+   the same call refused that way means another client took the interface in
+   the middle of the call: it raises, as it would otherwise run the macro on
+   inputs that other client may have changed.
 4. Blocking: every call returns within its timeouts (`timeout_s` a Modbus
    request, `macro_timeout_s` a macro to done, `wait_s` a busy interface).
 5. Every number comes from macros/register_map.json (RegisterMap): the
@@ -175,8 +178,9 @@ class Module:
             first, count = first + n, count - n
         return values
 
-    def write(self, first, values):
-        """#first.. = values; waits while another client holds the interface
+    def write(self, first, values, wait=False):
+        """#first.. = values. With `wait`, a write refused because another
+        client holds the interface is tried again for up to `wait_s`
         (convention 3); any other refusal raises with the module's reason."""
         values = list(values)
         while values:
@@ -189,6 +193,10 @@ class Module:
                     break
                 code = reply.exception_code
                 if code == EXCEPTION_BUSY and self.read(self.var["interface"], 1)[0] == 2:
+                    if not wait:
+                        raise TrueaxisError("another client took the macro interface during this call (the "
+                                            "module's hold ended: 2 s after a macro, #903 s in a session); "
+                                            "nothing of it was run")
                     if time.monotonic() > deadline:
                         raise TrueaxisError(f"controller busy: another client holds the macro interface "
                                             f"(waited {self.wait_s:g} s; [TRUEAXIS] WAIT)")
@@ -198,20 +206,27 @@ class Module:
                 why = f"#{self.var['access_fault']} access fault {fault} {ACCESS_FAULTS.get(fault, '')}".rstrip()
                 raise TrueaxisError(f"writing #{first}..#{first + n - 1} was refused with Modbus exception "
                                     f"{code:02d} ({why})")
-            first, values = first + n, values[n:]
+            first, values, wait = first + n, values[n:], False
 
     # ----- the macro interface -------------------------------------------
 
     def take(self):
         """Takes the macro interface for a session (#9009 = 1: held up to the
-        module's idle limit #903 after the last write), waiting for another
+        module's idle limit #903 after each call), waiting for another
         holder."""
-        self.write(self.var["interface"], [1])
+        self.write(self.var["interface"], [1], wait=True)
 
     def release(self):
-        """Gives the macro interface back (#9009 = 0) when this client holds it."""
-        if self.connected and self.read(self.var["interface"], 1)[0] == 1:
-            self.write(self.var["interface"], [0])
+        """Gives the macro interface back (#9009 = 0) when this client holds
+        it: one write, no waiting (a refusal means another client holds it,
+        so this one does not)."""
+        if not self.connected:
+            return
+        self._request(self.client.write_registers, 4 * self.var["interface"], encode(0))
+
+    def done_count(self):
+        """#9003: the macros finished since the module started."""
+        return self.read(self.var["done_count"], 1)[0]
 
     def run(self, macro):
         """Runs `macro` to its end; raises ModuleError on its error status. A

@@ -42,27 +42,51 @@ bool write_points(VariableClient& c) {
   return c.write(v::kG57, 3, p[0]) && c.write(v::kG58, 3, p[1]) && c.write(v::kG59, 3, p[2]);
 }
 
-// What another client's try met: the write refused (its exception and #9007
-// read right after), or the whole 9810 run (its status).
+// What another client's try met: each of its writes (an argument, G57..G59,
+// #9000 = 9810) refused (each one's exception and #9007 read right after), or
+// the whole 9810 run (its status). No Catch2 macro here: it runs in a thread.
 struct Try {
   double at_s = 0.0;
-  bool refused = false;
-  int exception = 0;
-  double fault = 0.0;
-  int status = 0;
+  bool refused = false;    // every write of the try refused with 06 and #9007 = interface_held
+  bool transport = true;   // every request answered
+  int status = 0;          // 9810's #9001 when nothing was refused
 };
 
-// One try: G57..G59 and 9810, stopping at the first refused write.
+bool held_refusal(VariableClient& c, bool& transport) {
+  double fault = 0.0;
+  transport = transport && c.read_one(v::kAccessFault, fault);
+  return c.exception() == kBusy && fault == kHeldFault;
+}
+
+// One try: an argument first (it takes the interface), the points, #9000 =
+// 9810; each write refused on its own, or all taken and the macro run to its end.
 Try try_9810(VariableClient& c, Clock::time_point t0) {
   Try t;
   t.at_s = seconds_since(t0);
-  if (!write_points(c) || !c.write_one(v::kArgA, 0.0)) {
-    t.refused = true;
-    t.exception = c.exception();
-    REQUIRE(c.read_one(v::kAccessFault, t.fault));
+  double before = 0.0;
+  t.transport = c.read_one(v::kDoneCount, before);
+  const bool argument = c.write_one(v::kArgA, 0.0);
+  bool held = !argument && held_refusal(c, t.transport);
+  const bool points = write_points(c);
+  held = held && !points && held_refusal(c, t.transport);
+  const bool command = c.write_one(v::kCmd, 9810.0);
+  held = held && !command && held_refusal(c, t.transport);
+  if (!argument && !points && !command) {
+    t.refused = held;
     return t;
   }
-  t.status = c.run_macro(9810).status;
+  if (!(argument && points && command)) {  // some taken, some refused: the rule broken
+    t.transport = false;
+    return t;
+  }
+  double done = before;
+  for (int i = 0; i < 500 && done == before && t.transport; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    t.transport = c.read_one(v::kDoneCount, done);
+  }
+  double status = 0.0;
+  t.transport = t.transport && done != before && c.read_one(v::kStatus, status);
+  t.status = static_cast<int>(status);
   return t;
 }
 
@@ -182,18 +206,17 @@ TEST_CASE("a rigidity session held across 20 s gaps completes; another client is
 
   REQUIRE(tries.size() >= 2);
   std::size_t refused = 0;
-  for (std::size_t i = 0; i + 1 < tries.size(); ++i) {
+  for (std::size_t i = 0; i < tries.size(); ++i) {
     INFO("try " << i << " at " << tries[i].at_s << " s");
-    CHECK(tries[i].refused);
-    CHECK(tries[i].exception == kBusy);
-    CHECK(tries[i].fault == kHeldFault);
+    CHECK(tries[i].transport);
+    CHECK(tries[i].refused == (i + 1 < tries.size()));  // each write refused with 06, interface_held
     if (tries[i].at_s < ended_s) ++refused;
   }
   const Try& last = tries.back();
   std::printf("session of %.1f s: %zu tries refused while it ran, %zu after; the next at %.2f s after its end: "
               "status %d\n",
               ended_s, refused, tries.size() - 1 - refused, last.at_s - ended_s, last.status);
-  CHECK(refused >= 70);  // 40 s of gaps at 0.5 s a try
+  CHECK(refused >= 40);  // 40 s of gaps, a try every 0.5 s and its own time: about 80 on an idle machine
   CHECK_FALSE(last.refused);
   CHECK(last.status == 2);
   CHECK(last.at_s - ended_s < 3.5);  // the 2 s grace after the compute, and a try's period

@@ -132,9 +132,11 @@ TEST_CASE("a bad protocol id or length closes the connection without a reply and
   }
   CHECK(f.get(1) == 0.0);
   CHECK(f.get(3) == 0.0);
-  // A valid frame before a refused one in the same packet is still answered.
+  // A valid frame before a refused one in the same packet is still answered
+  // (a work offset: an argument would be cleared when its connection closes,
+  // module.hpp contract 8).
   RawClient c(f.port());
-  Bytes packet = frame(7, 1, write_pdu(1, 4.0));
+  Bytes packet = frame(7, 1, write_pdu(5281, 4.0));
   const Bytes bad = frame(8, 1, write_pdu(3, 5.0), 2);
   packet.insert(packet.end(), bad.begin(), bad.end());
   c.send(packet);
@@ -142,7 +144,7 @@ TEST_CASE("a bad protocol id or length closes the connection without a reply and
   REQUIRE(r.size() == 12);
   CHECK(r[1] == 7);
   CHECK(c.closed_silently());
-  CHECK(f.get(1) == 4.0);
+  CHECK(f.get(5281) == 4.0);
   CHECK(f.get(3) == 0.0);
 }
 

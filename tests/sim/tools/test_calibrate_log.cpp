@@ -252,3 +252,43 @@ TEST_CASE("fit_drift against the closed forms: an exact line, a signed figure, s
   CHECK_FALSE(fit_drift(rows)[0].enough);
   CHECK(trueaxis::sim::drift_line(fit_drift(rows)[0]).find("no trend") != std::string::npos);
 }
+
+TEST_CASE("trueaxis-calibrate log: 100 scratch runs and failed stores after a store and a check still show both",
+          "[calibrate][log]") {
+  SimFixture sim({"--errors", "realistic"});
+  Workspace w("trueaxis-calibrate-scratch");
+  REQUIRE(sim.client().give_back_interface());
+  const Run m = run({TRUEAXIS_MEASURE_BINARY, "--port", std::to_string(sim.port()), "--out", w.file("samples.csv")},
+                    w.file("measure.err"));
+  REQUIRE(m.exit_code == 0);
+  const std::vector<std::string> in = {"rigidity", "--in", w.file("samples.csv"), "--json", w.file("out.json")};
+  const auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = in;
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+  };
+  Run r = calibrate(with({"--store", "--time", "2027-01-15T08:00:00Z"}), sim.port(), w);
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  r = calibrate(with({"--check", "--time", "2027-01-16T08:00:00Z"}), sim.port(), w);
+  REQUIRE(r.exit_code == 0);
+  for (int i = 0; i < 100; ++i) {
+    // Scratch: measured, nothing stored or checked; every tenth a store refused (a wrong unlock code).
+    const bool refused = i % 10 == 9;
+    r = calibrate(refused ? with({"--store", "--unlock-code", "1234", "--time", "2027-01-17T08:00:00Z"})
+                          : with({"--time", "2027-01-17T08:00:00Z"}),
+                  sim.port(), w);
+    INFO("run " << i << ": " << r.err);
+    REQUIRE(r.exit_code == (refused ? 1 : 0));
+  }
+  r = calibrate({"log"}, sim.port(), w);
+  REQUIRE(r.exit_code == 0);
+  INFO(r.out);
+  const std::vector<std::string> lines = lines_of(r.out);
+  REQUIRE(lines.size() > 33);
+  CHECK(lines[1].find("2027-01-15 08:00:00  rigidity   9832  stored") != std::string::npos);
+  CHECK(lines[2].find("2027-01-16 08:00:00  rigidity   9836  check") != std::string::npos);
+  CHECK(lines[3].find("2027-01-17") != std::string::npos);  // then the newest 30 scratch runs
+  CHECK(lines[32].find("2027-01-17") != std::string::npos);
+  CHECK(lines[33].empty());
+}

@@ -272,6 +272,7 @@ TEST_CASE("trueaxis-var: run holds the macro interface for its macro only, set o
   CHECK(sim.get(v::kInterface) == 0.0);
   sim.set(v::kArgX, 2.0);  // another client writes at once, no 2 s wait: taken by the fixture's connection
   CHECK(sim.get(v::kInterface) == 1.0);
+  sim.set(v::kInterface, 1.0);  // held for the session's length: the commands below take longer than 2 s on a busy machine
   // While another client holds it, set and run are refused in one line naming the hold, nothing written.
   check_failure(var(sim, w, {"set", "5281=2.5"}),
                 refusal("#5281", m::AccessFault::kInterfaceHeld, "06 server device busy"));
@@ -280,6 +281,14 @@ TEST_CASE("trueaxis-var: run holds the macro interface for its macro only, set o
   CHECK(r.exit_code == 1);
   CHECK(r.out.empty());
   CHECK(r.err.find("interface_held") != std::string::npos);
+  // set with an unlock code holds the interface first: refused at #9009 while another holds it.
+  check_failure(var(sim, w, {"set", "9004=2718", "500=-80", "9004=0"}),
+                refusal("#9009", m::AccessFault::kInterfaceHeld, "06 server device busy"));
+  REQUIRE(sim.client().give_back_interface());
+  r = var(sim, w, {"set", "9004=2718", "500=-80", "9004=0"});
+  CHECK(r.exit_code == 0);
+  CHECK(sim.get(500) == -80.0);
+  CHECK(sim.get(v::kInterface) == 0.0);  // its connection closed: given back
 }
 
 TEST_CASE("trueaxis-var: bad usage is exit 2 with one line, and nothing is sent", "[var]") {

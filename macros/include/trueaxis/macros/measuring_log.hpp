@@ -1,14 +1,15 @@
 // The measuring log (docs/INTERFACE.md "The measuring log"): what a machine
 // was measured to be, when, and what became of it. Every calibration (a build
-// with R = 0), store (R = 1) and check of a method that logs appends one entry
-// to a ring of kLogEntries in one persistent record (records.hpp), so the
-// controller keeps years of checks beside the tables they judged.
+// with R = 0), store (R = 1), check and refused calibration or store of a
+// method that logs appends one entry to kLogEntries in one persistent record
+// (records.hpp), so the controller keeps years of checks beside the tables
+// they judged.
 //
 // Conventions
 //  1. An entry: its serial (1, 2, ...: one more than the newest's; never 0),
 //     the time (Unix seconds, UTC: #9015 as the client wrote it with the
 //     macro, else the clock's wall time (hal/clock.hpp), else 0, unknown),
-//     the macro, its type (calibration or check), its verdict (a check's,
+//     the macro, its type (calibration, check or refusal), its verdict (a check's,
 //     check.hpp; kNoVerdict for a calibration), whether it stored its table,
 //     the sequence of the method's stored table after it (the table a check
 //     judged against; 0 none), and up to kLogFigures figures: kind (the
@@ -16,15 +17,20 @@
 //     check, numbered from 1), item (pose, sub-machine, 1-based; 0 the
 //     whole), value (a check's deviation), its 1-sigma and the tolerance
 //     (0 for a calibration's). A check logs, per kind, its worst figure (the
-//     largest (|deviation| + 2 sigma) / tolerance).
-//  2. A store or a check that follows its own method's calibration, with no
-//     other entry between, replaces that calibration's entry (the same
-//     serial): "measured, then stored" and "measured, then checked" are one
-//     entry each. After a restart nothing is replaced.
+//     largest (|deviation| + 2 sigma) / tolerance). A refusal (a method's
+//     compute macro that a gate refused, or whose store was refused as
+//     table_locked) has as its first figure kind 0, the refusal: item, value
+//     and limit as #9012..#9014 give them, and the status code in place of
+//     the sigma; the figures the macro had logged follow it.
+//  2. A store, a check or a refusal that follows its own method's
+//     calibration, with no other entry between, replaces that calibration's
+//     entry (the same serial): "measured, then stored", "measured, then
+//     checked" and "measured, then refused" are one entry each. After a
+//     restart nothing is replaced.
 //  3. The record's payload is the entries, oldest first, kLogEntryBytes each,
 //     little-endian:
 //       0  u32 serial          4  u32 time (s)        8  u16 macro
-//      10  u8 type (0 calibration, 1 check)          11  u8 verdict (0 pass, 1 warn, 2 fail, 255 none)
+//      10  u8 type (0 calibration, 1 check, 2 refusal)   11  u8 verdict (0 pass, 1 warn, 2 fail, 255 none)
 //      12  u8 stored (0, 1)   13  u8 figures (0..6)  14  u32 table sequence
 //      18  6 x { u8 kind, u8 item, f32 value, f32 sigma, f32 tolerance } (14 bytes each)
 //     Binary32 holds a logged figure to 7 digits. Appending writes the whole
@@ -33,6 +39,15 @@
 //  4. A payload that is not a whole number of valid entries (count, type,
 //     verdict, serials rising) is treated as empty: the next append starts a
 //     new log (the module counts it in #9019 with the lost appends).
+//  5. What is kept when the log is full. Each entry has a rank: 3 the stored
+//     calibration of its method's present table (its table sequence is the
+//     table's), 2 a check of that table, 1 any other stored calibration or
+//     check (the history), 0 a calibration that stored nothing and a refusal
+//     (scratch). An append to a full log drops the oldest entry of the lowest
+//     rank; when the new entry ranks below every entry held, it is the one
+//     not kept. So scratch runs, any number of them, never push out a stored
+//     calibration or a check, and the present table's entry and its checks
+//     outlast the history.
 //  No allocation, no exceptions.
 #pragma once
 
@@ -51,7 +66,8 @@ inline constexpr std::size_t kLogEntryBytes = 18 + kLogFigures * kLogFigureBytes
 inline constexpr std::size_t kLogBytes = kLogEntries * kLogEntryBytes;
 inline constexpr std::uint8_t kNoVerdict = 255;
 
-enum class LogType : std::uint8_t { kCalibration = 0, kCheck = 1 };
+enum class LogType : std::uint8_t { kCalibration = 0, kCheck = 1, kRefusal = 2 };
+inline constexpr std::uint8_t kRefusalFigure = 0;  // convention 1: a refusal's own figure
 
 struct LogFigure {
   std::uint8_t kind = 0;
@@ -118,7 +134,7 @@ inline void encode(const LogEntry& e, std::uint8_t* out) {
 
 // True for bytes that are an entry (convention 4), read in place.
 inline bool valid(const std::uint8_t* in) {
-  return core::get_u32(in) != 0 && in[10] <= 1 && (in[11] <= 2 || in[11] == kNoVerdict) && in[12] <= 1 &&
+  return core::get_u32(in) != 0 && in[10] <= 2 && (in[11] <= 2 || in[11] == kNoVerdict) && in[12] <= 1 &&
          in[13] <= kLogFigures;
 }
 
@@ -181,6 +197,24 @@ inline std::size_t count(const std::uint8_t* payload, std::size_t length) {
 // The serial of entry i (0-based, oldest first).
 inline std::uint32_t serial_at(const std::uint8_t* payload, std::size_t i) {
   return core::get_u32(payload + i * kLogEntryBytes);
+}
+
+// Entry i's type, stored flag, macro and table sequence, read in place.
+inline LogType type_at(const std::uint8_t* payload, std::size_t i) {
+  return static_cast<LogType>(payload[i * kLogEntryBytes + 10]);
+}
+inline bool stored_at(const std::uint8_t* payload, std::size_t i) { return payload[i * kLogEntryBytes + 12] != 0; }
+inline std::uint16_t macro_at(const std::uint8_t* payload, std::size_t i) {
+  return core::get_u16(payload + i * kLogEntryBytes + 8);
+}
+inline std::uint32_t sequence_at(const std::uint8_t* payload, std::size_t i) {
+  return core::get_u32(payload + i * kLogEntryBytes + 14);
+}
+
+// The n entries less entry i (the later ones moved up); returns n - 1.
+inline std::size_t remove(std::uint8_t* payload, std::size_t n, std::size_t i) {
+  std::memmove(payload + i * kLogEntryBytes, payload + (i + 1) * kLogEntryBytes, (n - 1 - i) * kLogEntryBytes);
+  return n - 1;
 }
 
 // The payload after adding `e` to the n valid entries in payload (capacity

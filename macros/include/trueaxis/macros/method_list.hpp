@@ -165,6 +165,9 @@ struct MethodSet<MethodList<Ms...>> {
   static constexpr std::array<List<core::StatusInfo>, kCount> kStatuses{{Ms::kStatuses...}};
   static constexpr std::array<StatusBlock, kCount> kStatusBlocks{{Ms::kStatusBlock...}};
   static constexpr std::array<SessionInfo, kCount> kSessions{{Ms::kSession...}};
+  // Whether each method's session lives in the shared session arena (another
+  // arena method's clear ends it) rather than in its own State.
+  static constexpr std::array<bool, kCount> kSessionInArena{{(detail::arena_size<typename Ms::Session>() > 0)...}};
   static constexpr std::array<bool, kCount> kHasTable{{detail::has_table<Ms>()...}};
   // Each method's table record (key 0 when it stores none).
   static constexpr std::array<RecordSpec, kCount> kTableRecordOf{{detail::table_record_of<Ms>()...}};

@@ -21,8 +21,9 @@
 //     the number of steps taken. Arguments #1..#26 and the methods' data
 //     blocks (the point list) are cleared to 0 after every macro. A macro
 //     number no built method has fails with kUnknownMacro (400).
-//  4. While busy, writes to #9000 and to any macro input (arguments, data
-//     blocks, work offsets, configuration) are refused with kBusy.
+//  4. While busy, the holder's writes to #9000 and to any macro input
+//     (arguments, data blocks, work offsets, configuration) are refused with
+//     kBusy (another client's with kInterfaceHeld first, contract 8).
 //  5. Persistence is per record: configuration (#500..#999) and work offsets
 //     are two records, each calibration table one more (records.hpp). A write
 //     to a persistent variable saves only its own record, and reaches storage
@@ -55,15 +56,20 @@
 //       holds the interface. A lock alone (#9004 = 0) is always accepted.
 //     - Holding it: the holder keeps it while its macro runs, however long;
 //       after that, kInterfaceGraceUs (2 s, time to read its results) after
-//       its macro's end or its last write; while it has a session of its own
-//       open, or after it wrote #9009 = 1, up to the idle limit #903
-//       (interface_idle_s, 5..600 s, default 30) after its last write or
-//       macro's end. Every write the holder makes counts as activity. A
-//       client's session is open from the end of its method's clear macro
-//       (SessionInfo::clear, with success) until that method's compute,
-//       compute_also or check macro ends with success (a refused compute
-//       keeps the session for a retry), another client clears it, or the
-//       client gives the interface back or disconnects.
+//       its macro's end or its last write that took it; while it has a
+//       session of its own open, or after it wrote #9009 = 1, up to the idle
+//       limit #903 (interface_idle_s, 5..600 s, default 30) after them. A
+//       write that takes nothing holds it no longer; a hold that ended stays
+//       ended (the deadline is set at each activity, so a later #903 changes
+//       no hold). A client's session is open from the end of its method's
+//       clear macro (SessionInfo::clear, with success) until that method's
+//       compute, compute_also or check macro ends with success (a refused
+//       compute keeps the session for a retry), another client clears it, a
+//       clear of another method whose session shares the session arena
+//       replaces it, or the client gives the interface back or disconnects.
+//     - Changing hands: when a client takes the interface from another (its
+//       hold over or given back), the arguments and data blocks the other
+//       left are cleared, unless a macro runs (its end clears them).
 //     - Giving it back: #9009 = 0, or the transport calls disconnected(): at
 //       once, with the client's claim on its sessions (their data stay).
 //     - Another client's write meanwhile, of any kind but the lock alone, is
@@ -77,9 +83,13 @@
 //  9. The measuring log (measuring_log.hpp), in a module with a method that
 //     logs. A macro of such a method that logged an entry and ends with kOk
 //     appends it in a step of its own, after its table's commit and before
-//     done; a storage failure loses the entry (#9019 counts it), not the
-//     macro. #9016 and #9017 tell what the log holds; #9018 (written with
-//     the macro interface, like an argument) shows an entry in #9020..#9059.
+//     done; so does its compute macro refused by one of the method's gates or
+//     as table_locked, as a refusal, before its error. A storage failure
+//     loses the entry (#9019 counts it), not the macro. A full log keeps what
+//     matters (measuring_log.hpp convention 5). #9016 and #9017 tell what
+//     the log holds; #9018 (a serial) or #9028 (the k-th entry held, oldest
+//     first), written with the macro interface like an argument, shows an
+//     entry in #9020..#9059.
 #pragma once
 
 #include <cstdint>
@@ -169,6 +179,9 @@ class Module final : public VariableAccess {
 
   AccessFault check_write(std::uint16_t number, double value, ClientId client) const;
   void give_back(ClientId client);
+  void hand_over(ClientId client);
+  void extend_hold();
+  void clear_inputs();
   void note_session(core::Status status);
   AccessFault check_unlock(double value) const;
   void failed_unlock();
@@ -184,10 +197,12 @@ class Module final : public VariableAccess {
   }
   void publish_results();
   void succeed();  // done, after the log's step when the macro logged (contract 9)
+  void refuse(core::Status status);  // failed, after the log's step when it logs a refusal (contract 9)
+  std::uint8_t log_rank(std::uint16_t macro, LogType type, bool stored, std::uint32_t table_sequence) const;
   void finish(core::Status status);
   void append_log();
   void load_log_summary();
-  void show_log_entry(double serial);
+  void show_log_entry(double which, bool by_index);
 
   using SessionStorage = ArenaStorage<BuiltMethods::kSessionBytes, BuiltMethods::kSessionAlign>;
   using WorkStorage = ArenaStorage<BuiltMethods::kWorkBytes, BuiltMethods::kWorkAlign>;
@@ -225,10 +240,11 @@ class Module final : public VariableAccess {
   ClientId holder_ = kNoClient;       // contract 8
   bool hold_taken_ = false;           // the holder wrote #9009 = 1
   ClientId runner_ = kNoClient;       // who wrote the running macro's number
-  std::uint64_t holder_active_us_ = 0;  // its last write or its last macro's end
+  std::uint64_t hold_until_us_ = 0;   // the holder's hold ends here (its last activity + hold_us())
   // Contract 8: whose session of each built method is open (kNoClient: none).
   ClientId session_of_[BuiltMethods::kCount > 0 ? BuiltMethods::kCount : 1] = {};
   bool committed_ = false;                 // the running macro stored its table
+  core::Status logged_status_ = core::Status::kOk;  // how the macro ends after its log's step
   std::size_t replaceable_method_ = 0;     // measuring_log.hpp convention 2: method + 1, 0 none
   std::uint32_t replaceable_serial_ = 0;   // that calibration's entry
 };

@@ -110,6 +110,7 @@ inline constexpr std::uint16_t kLogVerdict = 9024;
 inline constexpr std::uint16_t kLogStored = 9025;
 inline constexpr std::uint16_t kLogTableSequence = 9026;
 inline constexpr std::uint16_t kLogFigureCount = 9027;
+inline constexpr std::uint16_t kLogIndex = 9028;
 inline constexpr std::uint16_t kLogFigureFirst = 9030;  // 6 figures x (kind, item, value, sigma, tolerance)
 inline constexpr std::uint16_t kLogFigureValues = 5;
 }  // namespace var
@@ -181,13 +182,13 @@ inline constexpr VarInfo kPlatformArgRows[] = {
 };
 
 inline constexpr VarInfo kPlatformRows[] = {
-  {var::kUnlockCodeSetting, 1, Access::kConfig, ValueKind::kInteger, 1.0, 9999.0, kUnlockCode, "unlock_code", "", "The code #9004 takes: set it while unlocked (persistent); it reads 0. The default 2718 is published, for commissioning only. An unlock closes by itself 300 s after the last write that succeeded, and when the connection that opened it closes."},
+  {var::kUnlockCodeSetting, 1, Access::kConfig, ValueKind::kInteger, 1.0, 9999.0, kUnlockCode, "unlock_code", "", "The code #9004 takes: set it while unlocked (persistent); it reads 0. The default 2718 is published, for commissioning only. An unlock closes by itself 300 s after its client's last write that succeeded, when another client takes the macro interface, and when the connection that opened it closes."},
 
   {var::kGateConfidence, 1, Access::kConfig, ValueKind::kReal, 0.999, 0.999999999, kDefaultGateConfidence, "gate_confidence", "", "The fit-quality gate's confidence (every method that compares its residuals with its instrument's stated noise): a fit whose weighted sum of squared residuals exceeds the chi-square quantile at this confidence is refused (fit_beyond_noise). The default 0.999999 refuses pure noise once in a million computations."},
 
   {var::kMachineId, 1, Access::kConfig, ValueKind::kInteger, 0.0, 999999999.0, 0.0, "machine_id", "", "The machine's identity (its serial number, set by the integrator): every calibration report shows it beside the operator and the date. 0: not set."},
 
-  {var::kInterfaceIdleLimit, 1, Access::kConfig, ValueKind::kInteger, kMinInterfaceIdleS, kMaxInterfaceIdleS, kDefaultInterfaceIdleS, "interface_idle_s", "s", "How long a client keeps the macro interface (#9009) without writing while it has a session open (after its clear macro, until its compute or check macro succeeds) or has taken it with #9009 = 1: the LinuxCNC rigidity program probes for many seconds between two adds. A client without either keeps it 2 s after its macro's end or its last write."},
+  {var::kInterfaceIdleLimit, 1, Access::kConfig, ValueKind::kInteger, kMinInterfaceIdleS, kMaxInterfaceIdleS, kDefaultInterfaceIdleS, "interface_idle_s", "s", "How long a client keeps the macro interface (#9009) after its last write that took it or its last macro's end, while it has a session open (after its clear macro, until its compute, 9815 or check macro succeeds) or has taken it with #9009 = 1: the LinuxCNC rigidity program probes for many seconds between two adds. A client without either keeps it 2 s. A hold already running keeps its length when this changes."},
 
   rows::offset(var::kG54 + 0, "g54_x", "mm"), rows::offset(var::kG54 + 1, "g54_y", "mm"), rows::offset(var::kG54 + 2, "g54_z", "mm"),
   rows::offset(var::kG54 + 3, "g54_a", "deg"), rows::offset(var::kG54 + 4, "g54_b", "deg"), rows::offset(var::kG54 + 5, "g54_c", "deg"),
@@ -211,7 +212,7 @@ inline constexpr VarInfo kPlatformRows[] = {
   {var::kInterfaceVersion, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, kInterfaceVersionValue, "interface_version", "", "Version of this register map."},
   {var::kAccessFault, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 255.0, 0.0, "access_fault", "", "Why the last refused register access was refused (see access_faults)."},
   {var::kStepCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "step_count", "", "Number of step() calls the last macro took (1 for a macro that finishes in one step)."},
-  {var::kInterface, 1, Access::kInterface, ValueKind::kInteger, 0.0, 1.0, 0.0, "interface", "", "The macro interface, granted to one client (TCP connection) at a time. A write of an argument (#1..#26), a data block, #9000, #9015, #9018 or #9009 = 1 takes it; a write of a work offset, a configuration variable or #9004 takes nothing and is accepted from any client while no other holds it. The holder keeps it while its macro runs, then 2 s after its macro's end or its last write; with a session of its own open or after #9009 = 1, up to #903 s (default 30) after its last write or macro. Others' writes meanwhile get exception 06 (#9007 = interface_held). Write 1 to take it (refused while another holds it), 0 to give it back; a closed connection gives it back too. Reads 0 free, 1 held by you, 2 held by another client. A lock (#9004 = 0) is accepted from anyone."},
+  {var::kInterface, 1, Access::kInterface, ValueKind::kInteger, 0.0, 1.0, 0.0, "interface", "", "The macro interface, granted to one client (TCP connection) at a time. A write of an argument (#1..#26), a data block, #9000, #9015, #9018 or #9009 = 1 takes it; a write of a work offset, a configuration variable or #9004 takes nothing and is accepted from any client while no other holds it. The holder keeps it while its macro runs, then 2 s after its macro's end or its last write that took it; with a session of its own open or after #9009 = 1, up to #903 s (default 30) after them. When it changes hands, the arguments and data blocks the last holder left are cleared. Others' writes meanwhile get exception 06 (#9007 = interface_held). Write 1 to take it (refused while another holds it), 0 to give it back; a closed connection gives it back too. Reads 0 free, 1 held by you, 2 held by another client. A lock (#9004 = 0) is accepted from anyone."},
   {var::kFailedUnlocks, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "failed_unlocks", "", "Wrong codes written to #9004 since start; each makes #9004 refuse codes for a back-off (1 s, doubling up to 64 s)."},
   {var::kUnlockBackoffLeft, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 64.0, 0.0, "unlock_backoff_s", "s", "Seconds left (rounded up) before #9004 takes a code again after a wrong one; 0 when it takes one now."},
   {var::kGateItem, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 65535.0, 0.0, "gate_item", "", "When the last macro's gate refused its result (fit_beyond_noise, change_beyond_limit, a method's implausible_...): the pose, group or sub-machine it names (1-based, as that method's reports number them; 0 the whole result). 0 after any other end."},
@@ -219,18 +220,19 @@ inline constexpr VarInfo kPlatformRows[] = {
   {var::kGateLimit, 1, Access::kReadOnly, ValueKind::kReal, -1e15, 1e15, 0.0, "gate_limit", "", "The limit that figure exceeded (1 for fit_beyond_noise; else the configuration value, in its unit). 0 after any other end."},
 
   {var::kLogTime, 1, Access::kReadWrite, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_time", "s", "Measuring log: the time of the macro about to run (Unix s, UTC), written with its arguments; 0: the controller's clock or unknown."},
-  {var::kLogCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 32.0, 0.0, "log_entries", "", "Measuring log: entries held (the newest 32 of every calibration, store and check of M2, M3, M4)."},
-  {var::kLogNewest, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_newest", "", "Measuring log: the newest entry's serial (from 1; the oldest is #9017 - #9016 + 1); 0 empty."},
+  {var::kLogCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 32.0, 0.0, "log_entries", "", "Measuring log: entries held (at most 32: every calibration, store, check and refusal of M2, M3, M4; a full log drops scratch first, then history, never the present table's stored entry)."},
+  {var::kLogNewest, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_newest", "", "Measuring log: the newest entry's serial (from 1; serials rise but need not be contiguous: read the entries by #9028); 0 empty."},
   {var::kLogSelect, 1, Access::kReadWrite, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_select", "", "Measuring log: write a serial to show that entry in #9020..#9059 (0 when not held). Cleared after every macro."},
   {var::kLogLost, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9.0e15, 0.0, "log_lost", "", "Measuring log: entries lost since start (an append the storage refused, or a log that did not read and was started again)."},
   {var::kLogSerial, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_serial", "", "Log entry: serial; 0 none shown."},
   {var::kLogEntryTime, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_entry_time", "s", "Log entry: time (Unix s, UTC; 0 unknown)."},
   {var::kLogMacro, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 9999.0, 0.0, "log_macro", "", "Log entry: its macro."},
-  {var::kLogType, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 1.0, 0.0, "log_type", "", "Log entry: 0 calibration, 1 check."},
+  {var::kLogType, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 2.0, 0.0, "log_type", "", "Log entry: 0 calibration, 1 check, 2 refusal (a calibration or store a gate refused, or a store refused as table_locked: its figure 0, kind 0, holds the gate's item, value and limit, and the status code in place of the sigma)."},
   {var::kLogVerdict, 1, Access::kReadOnly, ValueKind::kInteger, -1.0, 2.0, 0.0, "log_verdict", "", "Log entry: a check's verdict (0 pass, 1 warn, 2 fail); -1 none."},
   {var::kLogStored, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 1.0, 0.0, "log_stored", "", "Log entry: 1 when it stored its table."},
   {var::kLogTableSequence, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 4294967295.0, 0.0, "log_table_sequence", "", "Log entry: the stored table's sequence after it (+1 a store; what a check judged against); 0 none."},
   {var::kLogFigureCount, 1, Access::kReadOnly, ValueKind::kInteger, 0.0, 6.0, 0.0, "log_figures", "", "Log entry: its figures (0..6)."},
+  {var::kLogIndex, 1, Access::kReadWrite, ValueKind::kInteger, 0.0, 32.0, 0.0, "log_index", "", "Measuring log: write k (1 .. #9016) to show the k-th entry held, oldest first, in #9020..#9059 (0 none): serials are not contiguous once a full log has kept what matters. Cleared after every macro."},
   {var::kLogFigureFirst, 30, Access::kReadOnly, ValueKind::kReal, -1e15, 1e15, 0.0, "log_figure", "", "Log entry: figure k (0..5) at #9030 + 5 k: kind (the method's log or check figures, from 1), item, value (a check's deviation), 1-sigma, tolerance."},
 };
 // clang-format on

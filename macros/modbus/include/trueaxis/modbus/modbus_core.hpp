@@ -34,7 +34,7 @@
 //     the JSON map publishes) here; no transport maps faults itself.
 //  6. Stack: about 0.5 KiB (the read words and the write words); no state
 //     between calls but the module's.
-//  7. `client` names who sent the request (a TCP connection; kLocalClient for
+//  7. `client` names who sent the request (a TCP connection; kRtuMaster for
 //     a serial line's one master): the module grants the macro interface to one
 //     client at a time (module.hpp contract 8) and refuses another's writes
 //     there with exception 06 (interface_held in #9007).

@@ -112,9 +112,10 @@ inline constexpr AccessFaultInfo kAccessFaultTable[] = {
      "A wrong unlock code was written moments ago: #9004 takes no code until the back-off (1 s, doubling "
      "with each further wrong code up to 64 s) has passed; #9011 tells the seconds left."},
     {AccessFault::kInterfaceHeld, "interface_held",
-     "Another client holds the macro interface (#9009): its macro or its last write was less than 2 s ago, "
-     "or it has a session open or wrote #9009 = 1 (then it keeps it until #903 s after its last write). Until "
-     "then no other client may write, not even a work offset; reads stay open. Wait and try again."},
+     "Another client holds the macro interface (#9009): its macro runs or ended less than 2 s ago, or it "
+     "wrote an argument less than 2 s ago, or it has a session open or wrote #9009 = 1 (then it keeps it until "
+     "#903 s after its last macro or argument). Until then no other client may write, not even a work offset "
+     "(a lock, #9004 = 0, is always accepted); reads stay open. Wait and start again."},
 };
 
 struct VarInfo {

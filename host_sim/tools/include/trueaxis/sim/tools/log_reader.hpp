@@ -4,10 +4,10 @@
 // Host only; trueaxis-calibrate log and the check's report use it.
 //
 // Contract
-//  1. read_log() takes the macro interface's window (#9018 -> #9020..#9059)
-//     for each serial from the oldest held (#9017 - #9016 + 1) to the newest,
-//     and returns the entries oldest first; an entry dropped meanwhile (a
-//     33rd appended by another client) is skipped.
+//  1. read_log() takes the macro interface's window (#9028 -> #9020..#9059)
+//     for each entry held, by its place from the oldest (1) to #9016, and
+//     returns the entries oldest first; when the log changes meanwhile (an
+//     entry appended by another client), an entry seen already is skipped.
 //  2. fit_drift(): per method and figure kind of the checks against the stored
 //     table the method's newest check judged (a store starts a new series), a
 //     straight line |deviation| = a + b t (the verdict judges |deviation|, so a
@@ -36,7 +36,8 @@ struct LogFigureRow {
   double value = 0.0;
   double sigma = 0.0;
   double tolerance = 0.0;
-  std::string name;  // the kind's name from the method's map entry ("figure_K" when unknown)
+  std::string name;  // the kind's name from the method's map entry ("figure_K" when unknown); a
+                     // refusal's own figure (kind 0): the status's name, its code in `sigma`
   std::string unit;
 };
 
@@ -46,6 +47,7 @@ struct LogRow {
   int macro = 0;
   std::string method;        // "" when no built method has the macro
   bool check = false;
+  bool refusal = false;      // a refused calibration or store (measuring_log.hpp convention 1)
   int verdict = -1;          // -1 none (a calibration), else 0 pass, 1 warn, 2 fail
   bool stored = false;
   std::uint32_t table_sequence = 0;
