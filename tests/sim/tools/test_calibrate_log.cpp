@@ -252,3 +252,33 @@ TEST_CASE("fit_drift against the closed forms: an exact line, a signed figure, s
   CHECK_FALSE(fit_drift(rows)[0].enough);
   CHECK(trueaxis::sim::drift_line(fit_drift(rows)[0]).find("no trend") != std::string::npos);
 }
+
+TEST_CASE("fit_drift calls a trend significant beyond 2 sigma of its slope, not 1: the exact boundary", "[log][drift]") {
+  using trueaxis::sim::fit_drift;
+  // An exact line (chi-square 0) at days 0, 7, 14 with sigma 0.1: the
+  // slope's sigma is 0.1 / sqrt(98) per day in closed form; a slope of
+  // 2 sigma_b (1 +- 1e-9) on either side of the rule, and 1.5 sigma_b.
+  const double sigma_b = 0.1 / std::sqrt(98.0);
+  const auto drift_of = [](double slope) {
+    std::vector<trueaxis::sim::LogRow> rows;
+    for (double day : {0.0, 7.0, 14.0}) rows.push_back(check_row(day, "rotation_change", 1.0 + slope * day, 0.1, 12.0));
+    const std::vector<trueaxis::sim::Drift> d = fit_drift(rows);
+    REQUIRE(d.size() == 1);
+    REQUIRE(d[0].enough);
+    return d[0];
+  };
+  const trueaxis::sim::Drift above = drift_of(2.0 * sigma_b * (1.0 + 1e-9));
+  CHECK(above.slope_sigma == Approx(sigma_b).epsilon(1e-12));
+  CHECK(above.significant);
+  CHECK(above.cross_s > 0.0);
+  CHECK(trueaxis::sim::drift_line(above).find("reaches its tolerance about") != std::string::npos);
+  const trueaxis::sim::Drift below = drift_of(2.0 * sigma_b * (1.0 - 1e-9));
+  CHECK(below.slope_sigma == Approx(sigma_b).epsilon(1e-12));
+  CHECK_FALSE(below.significant);
+  CHECK(below.cross_s == 0.0);
+  CHECK(trueaxis::sim::drift_line(below).find("no significant trend") != std::string::npos);
+  CHECK_FALSE(drift_of(1.5 * sigma_b).significant);
+  CHECK_FALSE(drift_of(-1.5 * sigma_b).significant);
+  CHECK(drift_of(-2.0 * sigma_b * (1.0 + 1e-9)).significant);  // falling: |b| counts
+  CHECK_FALSE(drift_of(-2.0 * sigma_b * (1.0 - 1e-9)).significant);
+}
