@@ -282,3 +282,29 @@ TEST_CASE("fit_drift calls a trend significant beyond 2 sigma of its slope, not 
   CHECK(drift_of(-2.0 * sigma_b * (1.0 + 1e-9)).significant);  // falling: |b| counts
   CHECK_FALSE(drift_of(-2.0 * sigma_b * (1.0 - 1e-9)).significant);
 }
+
+TEST_CASE("trueaxis-calibrate --operator refuses control characters and broken UTF-8, at the printable boundaries",
+          "[calibrate][log]") {
+  SimFixture sim;
+  Workspace w("trueaxis-calibrate-operator");
+  const std::string sentence = "--operator takes a name in UTF-8 without control characters";
+  const auto refused = [&](const std::string& name) {
+    const Run r = calibrate({"rigidity", "--in", w.file("none.csv"), "--json", w.file("y.json"), "--operator", name},
+                            sim.port(), w);
+    CHECK(r.exit_code == 1);  // refused for the name, or (accepted) for the missing file
+    return r.err.find(sentence) != std::string::npos;
+  };
+  // C0 (0x01, 0x1F: tab, newline and escape among them), DEL, C1 (U+0080,
+  // U+009F), a lead byte alone, a continuation byte alone, 0xFF.
+  for (const std::string bad : {"A\x01", "A\x1f", "A\tB", "A\nB", "A\x1b[31m", "A\x7f", "A\xc2\x80", "A\xc2\x9f",
+                                "A\xc3", "A\x80", "A\xff"}) {
+    INFO("refused: " << bad);
+    CHECK(refused(bad));
+  }
+  // Their neighbours: space (0x20), '~' (0x7E), U+00A0 and U+00FF, and names in other scripts.
+  for (const std::string good : {"A B", "A~", "A\xc2\xa0" "B", "Zo\xc3\xab \xc3\x98rsted", "\xe6\x9d\x8e \xe5\xa8\x9c",
+                                 "\xf0\x9f\x94\xa7"}) {
+    INFO("taken: " << good);
+    CHECK_FALSE(refused(good));
+  }
+}
