@@ -18,6 +18,7 @@
 #include "calibrate_support.hpp"
 #include "sim_fixture.hpp"
 #include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/sim/tools/calibrate.hpp"
 #include "trueaxis/sim/tools/log_reader.hpp"
 
 namespace {
@@ -307,4 +308,111 @@ TEST_CASE("trueaxis-calibrate --operator refuses control characters and broken U
     INFO("taken: " << good);
     CHECK_FALSE(refused(good));
   }
+}
+
+namespace {
+
+// 9833 at A = 0: true when a rigidity table is stored (404 no_table otherwise).
+bool rigidity_stored(trueaxis::sim::VariableClient& client) {
+  REQUIRE(client.write_one(v::kArgA, 0.0));
+  const trueaxis::sim::MacroOutcome outcome = client.run_macro(9833);
+  REQUIRE(client.give_back_interface());
+  REQUIRE((outcome.status == 2 || (outcome.status == 3 && outcome.error == 404)));
+  return outcome.status == 2;
+}
+
+}  // namespace
+
+TEST_CASE("--time takes 2^32 - 1 s and refuses one more; a #9015 the module refuses fails the run, nothing stored "
+          "or logged, never the controller's clock instead",
+          "[calibrate][log]") {
+  namespace ts = trueaxis::sim;
+  Workspace w("trueaxis-calibrate-time");
+  {
+    SimFixture sim;
+    REQUIRE(sim.client().give_back_interface());
+    const Run m = run({TRUEAXIS_MEASURE_BINARY, "--port", std::to_string(sim.port()), "--out", w.file("samples.csv")},
+                      w.file("measure.err"));
+    REQUIRE(m.exit_code == 0);
+    const std::string sentence = "--time takes Unix seconds or a UTC date and time";
+    for (const char* beyond : {"4294967296", "4294967295.5", "2106-02-07T06:28:16Z"}) {
+      INFO(beyond);
+      const Run r = calibrate({"rigidity", "--in", w.file("samples.csv"), "--json", w.file("y.json"), "--store",
+                               "--time", beyond},
+                              sim.port(), w);
+      CHECK(r.exit_code == 1);
+      CHECK(r.err.find(sentence) != std::string::npos);
+    }
+    CHECK(sim.get(v::kLogCount) == 0.0);
+    for (const char* last : {"4294967295", "2106-02-07T06:28:15Z"}) {
+      INFO(last);
+      const Run r = calibrate({"rigidity", "--in", w.file("samples.csv"), "--json", w.file("y.json"), "--store",
+                               "--time", last},
+                              sim.port(), w);
+      INFO(r.err);
+      REQUIRE(r.exit_code == 0);
+      sim.set(v::kLogSelect, sim.get(v::kLogNewest));
+      CHECK(sim.get(v::kLogStored) == 1.0);
+      CHECK(sim.get(v::kLogEntryTime) == 4294967295.0);  // the log's u32, to its last second
+      REQUIRE(sim.client().give_back_interface());
+    }
+  }
+
+  // Through the flows, a time the module's #9015 refuses (beyond its u32), on
+  // a controller with nothing stored.
+  SimFixture sim;
+  ts::VariableClient& client = sim.client();
+  const auto newest_entry = [&sim](std::uint16_t field) {
+    sim.set(v::kLogSelect, sim.get(v::kLogNewest));
+    const double value = sim.get(field);
+    REQUIRE(sim.client().give_back_interface());
+    return value;
+  };
+  ts::CalibrateOptions o;
+  o.method = "rigidity";
+  o.in_path = w.file("samples.csv");
+  o.log_time = 4294967296.0;
+  ts::FlowResult r = ts::calibrate_rigidity(client, o);
+  CHECK_FALSE(r.ok);
+  CHECK(r.error.find("the controller refused the measuring log's time #9015 = 4294967296") == 0);
+  CHECK(r.error.find("nothing was stored") != std::string::npos);
+  REQUIRE(client.give_back_interface());
+  CHECK(sim.get(v::kLogCount) == 0.0);  // nothing logged under the controller's clock
+  // A good calibration, then its store handed a refused time: nothing stored,
+  // locked again, the log as it was.
+  o.log_time = kT0;
+  r = ts::calibrate_rigidity(client, o);
+  INFO(r.error);
+  REQUIRE(r.ok);
+  REQUIRE(client.give_back_interface());
+  const double newest = sim.get(v::kLogNewest);
+  r.log_time = 4294967296.0;
+  CHECK_FALSE(ts::store_rigidity(client, r));
+  CHECK(r.error.find("#9015 = 4294967296") != std::string::npos);
+  CHECK(r.error.find("nothing was stored") != std::string::npos);
+  REQUIRE(client.give_back_interface());
+  CHECK(sim.get(v::kUnlock) == 0.0);
+  CHECK_FALSE(rigidity_stored(client));
+  CHECK(sim.get(v::kLogNewest) == newest);
+  if (newest > 0.0) {
+    CHECK(newest_entry(v::kLogStored) == 0.0);
+    CHECK(newest_entry(v::kLogEntryTime) == kT0);
+  }
+  // Stored with a good time, then a check handed a refused one: no check logged.
+  r.log_time = kT0 + 60.0;
+  REQUIRE(ts::store_rigidity(client, r));
+  REQUIRE(client.give_back_interface());
+  REQUIRE(rigidity_stored(client));
+  r = ts::calibrate_rigidity(client, o);
+  REQUIRE(r.ok);
+  REQUIRE(client.give_back_interface());
+  const double before = sim.get(v::kLogNewest);
+  REQUIRE(before > 0.0);
+  r.log_time = 4294967296.0;
+  trueaxis::macros::Verdict verdict = trueaxis::macros::Verdict::kPass;
+  CHECK_FALSE(ts::check_built(client, *ts::find_calibrate_method("rigidity"), r, verdict));
+  CHECK(r.error.find("#9015 = 4294967296") != std::string::npos);
+  REQUIRE(client.give_back_interface());
+  CHECK(sim.get(v::kLogNewest) == before);
+  CHECK(newest_entry(v::kLogType) == 0.0);  // no check replaced or followed the calibration
 }
