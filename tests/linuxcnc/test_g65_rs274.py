@@ -314,6 +314,17 @@ def run_cases(checks, sim, folder, errors, regenerate):
              for n in range(first, first + count)}
     checks.check(units == {"mm"}, "the real map: 9810 reads lengths only", str(units))
 
+    # 4c. G65 P1 and G65 P0 move nothing and take no length: they pass under
+    # G20 (an inch program's session, on_abort's P0 after it), P1 taking the
+    # macro interface for the remap's connection and P0 giving it back.
+    dump = os.path.join(folder, "dump.txt")
+    if os.path.exists(dump):
+        os.remove(dump)
+    code, output = rs274(ini, "G20\nG65 P1\no<interface_seen> call\nG65 P0\no<interface_seen> call\nM2\n", folder)
+    seen = open(dump, encoding="utf-8").read() if os.path.exists(dump) else ""
+    checks.check(code == 0 and "G20 is active" not in output and seen == "#9009 = 1.0\n#9009 = 0.0\n",
+                 "G20: G65 P1 takes the interface and G65 P0 gives it back", f"exit {code}; {seen!r}; {output[-600:]}")
+
     # 5. #<_ta_unlock> stores a table: unlocked for that macro alone.
     # The same program stores again without the code: the module must be locked
     # again (403) while the remap's connection is still open.
