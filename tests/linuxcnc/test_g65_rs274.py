@@ -25,7 +25,10 @@ rs274/NAME.expected; --regenerate writes the .expected files):
              finding the nominal centres, 9831 twelve times, 9832 building
              an ideal cradle's table
 Error cases: each program must stop (exit 1) with the module's code, name and
-text from the register map on one line, or the remap's own sentence.
+text from the register map on one line, or the remap's own sentence; under
+G20 only G65 P1 and P0 pass (o<interface_seen>: #9009 1, then 0).
+The work offsets' conversion (RegisterMap.work_offsets_of) on a small map
+whose macro reads G54 X..C: lengths from inches, angles as they are.
 Exit 0 when every check holds, 1 when one fails.
 """
 import json
