@@ -8,16 +8,19 @@
 namespace trueaxis::core {
 
 double spindle_phi_rad(double phi_deg) {
-  // n = trunc(phi_deg / 360) is fmod's quotient or, the division rounded up to
-  // an integer, one more, put right by the sign test; phi_deg - 360 n is exact
-  // below 2^44 deg (a multiple of phi_deg's ulp, at most 2^-8, under 360 deg),
-  // and takes phi_deg's sign as fmod's result does (issue 18).
+  // n = trunc(phi_deg / 360) is fmod's quotient: for phi_deg below a multiple
+  // 360 k the correctly rounded quotient never reaches k, since 360 k - phi_deg
+  // is at least an ulp of phi_deg, which is at least 2^8 ulps of k, so the true
+  // quotient is at least 2^8 / 360 = 0.71 of an ulp of k below k (rounding up
+  // to k needs under a half; test_spindle_correction holds it at both sides of
+  // every multiple to 360 x 2^17 and of every power of two of k). phi_deg -
+  // 360 n is then exact below 2^44 deg (a multiple of phi_deg's ulp, at most
+  // 2^-8, under 360 deg) and has phi_deg's sign or is 0, which copysign signs
+  // as fmod's result is (-720 gives -0; issue 18).
   double reduced = phi_deg;
   if (!(std::abs(phi_deg) < 360.0)) {
     if (std::abs(phi_deg) < 0x1p44) {
-      reduced = phi_deg - 360.0 * std::trunc(phi_deg / 360.0);
-      if (reduced * phi_deg < 0.0) reduced += std::copysign(360.0, phi_deg);
-      reduced = std::copysign(reduced, phi_deg);
+      reduced = std::copysign(phi_deg - 360.0 * std::trunc(phi_deg / 360.0), phi_deg);
     } else {
       reduced = std::fmod(phi_deg, 360.0);
     }

@@ -201,3 +201,38 @@ TEST_CASE("with no stated noise, the axis fit's covariance follows noise that di
   // Independent noise on e1 and e2: no correlation reported on average.
   CHECK(std::fabs(cross) < 0.05 * std::sqrt(reported[0] * reported[1]));
 }
+
+TEST_CASE("with no stated noise, the plane fit's covariance takes the residuals' variance over n - 3 degrees of freedom",
+          "[gantry][crb]") {
+  // The same points fitted twice: with a stated constant noise sigma the
+  // covariance is sigma^2 sum g g^T (gantry_fits.hpp convention 3); with none,
+  // sigma^2 is estimated as the residuals' sum of squares over n - 3. So the
+  // two covariances are in the ratio n rms^2 / (n - 3) / sigma^2 exactly, at
+  // n = 4 (1 degree of freedom: n - 2 would halve it) and at n = 9.
+  t::Rng rng(5004);
+  for (const int n : {4, 9}) {
+    INFO("points " << n);
+    std::vector<Vec3> p;
+    for (int i = 0; i < n; ++i) {
+      const double x = 300.0 * rng.normal();
+      const double y = 200.0 * rng.normal();
+      p.push_back(Vec3(x, y, 0.002 * x - 0.001 * y + 0.01 * rng.normal()) + Vec3(1500.0, -400.0, 900.0));
+    }
+    core::PointNoise stated;
+    stated.distance_sigma_mm = 0.01;
+    const auto none = core::fit_plane_group({p.data(), p.size()}, core::PointNoise{});
+    const auto known = core::fit_plane_group({p.data(), p.size()}, stated);
+    REQUIRE(none.ok());
+    REQUIRE(known.ok());
+    const double rms = none.value().rms_residual_mm;
+    REQUIRE(rms > 0.0);
+    const double ratio = n * rms * rms / (n - 3.0) / (0.01 * 0.01);
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) {
+        const double scale = std::sqrt(none.value().covariance(r, r) * none.value().covariance(c, c));
+        CHECK(none.value().covariance(r, c) ==
+              Approx(ratio * known.value().covariance(r, c)).epsilon(1e-12).margin(1e-12 * scale));
+      }
+    }
+  }
+}

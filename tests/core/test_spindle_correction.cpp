@@ -426,3 +426,62 @@ TEST_CASE("the closed-form screw error against plucker_from_point and screw_erro
   CHECK(agree.theta <= 1e-12);
   CHECK(agree.distance <= 1e-9);
 }
+
+namespace {
+
+// spindle_phi_rad(phi) and deg_to_rad(fmod(phi, 360)), bit for bit (signed zeros too).
+bool same_as_fmod(double phi) {
+  const double got = core::spindle_phi_rad(phi);
+  const double want = core::deg_to_rad(std::fmod(phi, 360.0));
+  return std::memcmp(&got, &want, sizeof got) == 0;
+}
+
+}  // namespace
+
+TEST_CASE("spindle_phi_rad is fmod's reduction bit for bit at every multiple of 360 deg and its neighbours, to 2^44 deg",
+          "[spindle]") {
+  // Near a multiple 360 k the quotient phi / 360 never rounds up to k from
+  // below (the distance 360 k - phi, at least an ulp of phi, is over 0.7 of
+  // an ulp of k once divided by 360): trunc gives fmod's quotient, so no
+  // reduced angle takes the wrong sign. Held here at both sides of every
+  // multiple to 360 x 2^17, at every power of two of k and at the largest k
+  // below 2^44 deg, and on either side of 2^44 itself (where fmod takes over).
+  int cases = 0;
+  const auto around = [&cases](double k) {
+    const double m = 360.0 * k;
+    double lo = m;
+    double hi = m;
+    for (int step = 0; step < 3; ++step) {
+      for (const double phi : {lo, hi, -lo, -hi}) {
+        ++cases;
+        if (!same_as_fmod(phi)) FAIL_CHECK("phi = " << phi << " (k = " << k << ") is not fmod's reduction");
+      }
+      if (k >= 1.0 && step == 1 && std::trunc(lo / 360.0) != k - 1.0) {
+        FAIL_CHECK("the quotient of " << lo << " / 360 rounded up to " << k);
+      }
+      lo = std::nextafter(lo, 0.0);
+      hi = std::nextafter(hi, HUGE_VAL);
+    }
+  };
+  for (int k = 0; k <= (1 << 17); ++k) around(k);
+  for (int e = 17; e <= 35; ++e) {
+    for (const double k : {std::ldexp(1.0, e) - 1.0, std::ldexp(1.0, e), std::ldexp(1.0, e) + 1.0}) around(k);
+  }
+  const double k_max = std::floor(0x1p44 / 360.0);
+  for (double k = k_max - 3.0; k <= k_max; k += 1.0) around(k);
+  for (const double phi : {0x1p44, std::nextafter(0x1p44, 0.0), std::nextafter(0x1p44, HUGE_VAL), -0x1p44, 1e300}) {
+    INFO("phi = " << phi);
+    CHECK(same_as_fmod(phi));
+  }
+  // -720 reduces to -0, as fmod's does; +720 to +0.
+  CHECK(std::signbit(core::spindle_phi_rad(-720.0)));
+  CHECK_FALSE(std::signbit(core::spindle_phi_rad(720.0)));
+  // And between the multiples, log-uniform over 1e-3 .. 2^44 deg.
+  t::Rng rng(18);
+  for (int i = 0; i < 200000; ++i) {
+    const double phi = (i % 2 == 0 ? 1.0 : -1.0) * std::exp(rng.uniform(std::log(1e-3), std::log(0x1p44)));
+    ++cases;
+    if (!same_as_fmod(phi)) FAIL_CHECK("phi = " << phi << " is not fmod's reduction");
+  }
+  CHECK(cases > 1700000);
+}

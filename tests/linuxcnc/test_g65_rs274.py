@@ -25,7 +25,10 @@ rs274/NAME.expected; --regenerate writes the .expected files):
              finding the nominal centres, 9831 twelve times, 9832 building
              an ideal cradle's table
 Error cases: each program must stop (exit 1) with the module's code, name and
-text from the register map on one line, or the remap's own sentence.
+text from the register map on one line, or the remap's own sentence; under
+G20 only G65 P1 and P0 pass (o<interface_seen>: #9009 1, then 0).
+The work offsets' conversion (RegisterMap.work_offsets_of) on a small map
+whose macro reads G54 X..C: lengths from inches, angles as they are.
 Exit 0 when every check holds, 1 when one fails.
 """
 import json
@@ -275,13 +278,57 @@ def run_cases(checks, sim, folder, errors, regenerate):
     # ... and every 2xx code the map lists reaches the program as "error N name:
     # text" (the remap's lookup in the map, without a module to raise each).
     sys.path.insert(0, os.path.join(ROOT, "integrations", "linuxcnc", "python"))
-    from trueaxis_module import ModuleError, RegisterMap
+    from trueaxis_module import ModuleError, RegisterMap, TrueaxisError
     register_map = RegisterMap(os.path.join(ROOT, "macros", "register_map.json"))
     codes = [c for c in errors if 200 <= c < 300]
     lines = {c: str(ModuleError(9810, c, *register_map.error(c))) for c in codes}
     checks.check(len(codes) >= 23 and all(module_error(c, errors) in lines[c] for c in codes),
                  f"each of the map's {len(codes)} 2xx codes is named in the stop's line with its text",
                  str([c for c in codes if module_error(c, errors) not in lines[c]]))
+
+    # 4b. The work offsets a macro reads reach the module in its units
+    # (RegisterMap.work_offsets_of): lengths from machine units to mm, angles
+    # in degrees as they are; no macro of the map reads an angle yet, so a
+    # small map (the real one with one macro more) reads G54's X..C.
+    with open(os.path.join(ROOT, "macros", "register_map.json"), encoding="utf-8") as f:
+        data = json.load(f)
+    data["variables"].append({"number": 5230, "count": 1, "name": "test_offset_in", "access": "persistent",
+                              "kind": "real", "unit": "in"})
+    data["macros"].append({"number": 9998, "name": "test_g54", "inputs": [{"number": 5221, "count": 6}]})
+    data["macros"].append({"number": 9997, "name": "test_inches", "inputs": [{"number": 5230}]})
+    fake = os.path.join(folder, "fake_map.json")
+    with open(fake, "w", encoding="utf-8") as f:
+        json.dump(data, f)
+    small = RegisterMap(fake)
+    g54 = {5221: 1.0, 5222: -2.5, 5223: 0.125, 5224: 30.0, 5225: -45.5, 5226: 400.0}
+    per_mm = 1.0 / 25.4  # an inch machine: LinuxCNC's machine units per mm
+    got = small.work_offsets_of(9998, g54.get, per_mm)
+    want = {n: g54[n] / per_mm if n <= 5223 else g54[n] for n in g54}
+    checks.check(got == want, "a macro reading G54 X..C: X, Y, Z from inches to mm, A, B, C in degrees as they are",
+                 f"{got}")
+    checks.check(small.work_offsets_of(9998, g54.get, 1.0) == g54, "... and on a mm machine every offset as it is",
+                 str(small.work_offsets_of(9998, g54.get, 1.0)))
+    try:
+        small.work_offsets_of(9997, lambda n: 1.0, per_mm)
+        refused = ""
+    except TrueaxisError as e:
+        refused = str(e)
+    checks.check("work offset #5230 the unit 'in'" in refused, "a work offset of another unit is refused, named",
+                 refused)
+    units = {register_map.offset_units[n] for first, count in register_map.work_offsets[9810]
+             for n in range(first, first + count)}
+    checks.check(units == {"mm"}, "the real map: 9810 reads lengths only", str(units))
+
+    # 4c. G65 P1 and G65 P0 move nothing and take no length: they pass under
+    # G20 (an inch program's session, on_abort's P0 after it), P1 taking the
+    # macro interface for the remap's connection and P0 giving it back.
+    dump = os.path.join(folder, "dump.txt")
+    if os.path.exists(dump):
+        os.remove(dump)
+    code, output = rs274(ini, "G20\nG65 P1\no<interface_seen> call\nG65 P0\no<interface_seen> call\nM2\n", folder)
+    seen = open(dump, encoding="utf-8").read() if os.path.exists(dump) else ""
+    checks.check(code == 0 and "G20 is active" not in output and seen == "#9009 = 1.0\n#9009 = 0.0\n",
+                 "G20: G65 P1 takes the interface and G65 P0 gives it back", f"exit {code}; {seen!r}; {output[-600:]}")
 
     # 5. #<_ta_unlock> stores a table: unlocked for that macro alone.
     # The same program stores again without the code: the module must be locked

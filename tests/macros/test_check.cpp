@@ -144,3 +144,49 @@ TEST_CASE("publish_check logs with Q = 0 only: the verdict and, per kind, the wo
   REQUIRE(m::publish_check(ctx, figures.size(), at).status == Status::kOk);
   CHECK(ctx.logs == 1);  // a figure's query logs nothing
 }
+
+TEST_CASE("publish_check on a tie: the first of equal verdicts and ratios is the worst, and is logged for its kind",
+          "[check][log]") {
+  // Figures 1 and 2 of kind 1 both warn at ratio (6 + 2 x 2.5) / 10, exactly
+  // the same; figure 3 (kind 2) fails; figures 4, 5 (kind 3) tie as passes.
+  // Then one figure of the tie a few ulps of ratio above the other: it wins.
+  const double above = 6.0 + std::ldexp(1.0, -47);  // |d| + 2 sigma = 11 + 2^-47, exactly
+  std::vector<m::CheckFigure> figures = {figure(6.0, 2.5, 10.0), figure(-6.0, 2.5, 10.0), figure(10.5, 0.0, 10.0),
+                                         figure(1.0, 0.5, 10.0), figure(-1.0, 0.5, 10.0)};
+  const std::uint16_t kinds[] = {1, 1, 2, 3, 3};
+  const auto at = [&](std::size_t k) {
+    m::CheckFigure f = figures[k];
+    f.kind = kinds[k];
+    f.item = static_cast<std::uint16_t>(k + 1);
+    return f;
+  };
+  REQUIRE(m::check_ratio(figures[0]) == m::check_ratio(figures[1]));
+  REQUIRE(m::judge(figures[0]) == m::judge(figures[1]));
+  FakeContext ctx;
+  REQUIRE(m::publish_check(ctx, figures.size(), at).status == Status::kOk);
+  CHECK(ctx.results[2] == 3.0);  // the fail
+  REQUIRE(ctx.logged.figure_count == 3);
+  CHECK(ctx.logged.figures[0].item == 1);  // kind 1: the first of the tie
+  CHECK(ctx.logged.figures[0].value == 6.0F);
+  CHECK(ctx.logged.figures[2].item == 4);  // kind 3: the first of the tie
+  // Without the fail, the warns tie for the check's worst: the first.
+  figures[2] = figure(0.5, 0.0, 10.0);
+  REQUIRE(m::publish_check(ctx, figures.size(), at).status == Status::kOk);
+  CHECK(ctx.results[0] == 1.0);
+  CHECK(ctx.results[2] == 1.0);
+  CHECK(ctx.results[3] == m::check_ratio(figures[0]));
+  CHECK(ctx.logged.figures[0].item == 1);
+  // Figure 2's ratio just above figure 1's: now it is the worst, and its kind's.
+  figures[1] = figure(-above, 2.5, 10.0);
+  REQUIRE(m::check_ratio(figures[1]) > m::check_ratio(figures[0]));
+  REQUIRE(m::publish_check(ctx, figures.size(), at).status == Status::kOk);
+  CHECK(ctx.results[2] == 2.0);
+  CHECK(ctx.logged.figures[0].item == 2);
+  // Figure 1's just above figure 2's instead: figure 1 again.
+  figures[1] = figure(-6.0, 2.5, 10.0);
+  figures[0] = figure(above, 2.5, 10.0);
+  REQUIRE(m::check_ratio(figures[0]) > m::check_ratio(figures[1]));
+  REQUIRE(m::publish_check(ctx, figures.size(), at).status == Status::kOk);
+  CHECK(ctx.results[2] == 1.0);
+  CHECK(ctx.logged.figures[0].item == 1);
+}

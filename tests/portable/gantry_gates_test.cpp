@@ -174,3 +174,45 @@ TA_TEST("the fit gate: a sub-machine's C circle against the tracker's noise at #
   TA_CHECK_EQ(gf::build(rig, false), kDone);
   TA_CHECK_EQ(rig.get(v::kGantryFitRatio), 0.0);
 }
+
+TA_TEST("the fit gate reads #702 in mm per metre of range: the boundary with #701 = 0, at b = #702 / 1000 per mm") {
+  ModuleRig rig;
+  gf::Variation bumped;
+  bumped.c_bump_mm = 0.05;
+  TA_REQUIRE(rig.done(9820));
+  gf::stream_machine(rig);
+  gf::stream_sub(rig, 1, bumped);
+  gf::stream_sub(rig, 2);
+  t::configure(rig, v::kGantryTrackerNoise, 0.0);  // a range noise #702 alone: sigma_i = b |p_i|
+  t::configure(rig, v::kGantryTrackerNoisePerM, 0.01);
+  TA_REQUIRE(gf::build(rig, false) == kDone);
+  const double ratio = rig.get(v::kGantryFitRatio);
+  TA_CHECK_EQ(rig.get(v::kGantryFitSubMachine), 1.0);
+  rig.set(v::kArgT, 1.0);
+  rig.set(v::kArgR, 0.0);
+  TA_REQUIRE(rig.run(9826) == kDone);
+  const double rms = rig.get(v::kSubCCircleRms);
+  TA_CHECK(rms > 0.01);
+  // The statistic n rms^2 / mean(sigma_i^2) over sub-machine 1's six C points
+  // (the fixture's, the tracker at the origin), sigma_i = b |p_i|, b in mm per mm.
+  double mean_r2 = 0.0;
+  for (int i = 0; i < 6; ++i) {
+    const double th = trueaxis::core::deg_to_rad(60.0 * i);
+    const double radius = 120.0 + (i == 0 ? 0.05 : 0.0);
+    mean_r2 += (gf::wrist(1) + Vec3(radius * std::cos(th), radius * std::sin(th), -200.0)).squaredNorm() / 6.0;
+  }
+  const double z = trueaxis::core::normal_upper_quantile(1.0 - m::kDefaultGateConfidence);
+  const double q = trueaxis::core::chi_square_quantile_z(6, z);
+  const double b = 0.01 / 1000.0;  // 0.01 mm per metre
+  TA_CHECK_NEAR(ratio, 6.0 * rms * rms / (b * b * mean_r2) / q, 1e-9 * ratio);
+  const double boundary_per_m = 1000.0 * std::sqrt(6.0 * rms * rms / (q * mean_r2));
+  TA_CHECK(boundary_per_m > 1e-3 && boundary_per_m < 1.0);  // within #702's range, mm/m
+  t::configure(rig, v::kGantryTrackerNoisePerM, boundary_per_m * (1.0 + 1e-6));
+  TA_CHECK_EQ(gf::build(rig, false), kDone);
+  TA_CHECK(rig.get(v::kGantryFitRatio) < 1.0 && rig.get(v::kGantryFitRatio) > 1.0 - 1e-5);
+  t::configure(rig, v::kGantryTrackerNoisePerM, boundary_per_m * (1.0 - 1e-6));
+  const t::Refused r = refused_build(rig, true);
+  TA_CHECK_EQ(r.code, Status::kFitBeyondNoise);
+  TA_CHECK_EQ(r.item, 1.0);
+  TA_CHECK(r.value > 1.0 && r.value < 1.0 + 1e-5);
+}

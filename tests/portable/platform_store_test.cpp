@@ -15,6 +15,7 @@
 #include "split_mix64.hpp"
 #include "store_fakes.hpp"
 #include "store_harness.hpp"
+#include "trueaxis/core/byte_order.hpp"
 #include "trueaxis/hal/nv_storage.hpp"
 #include "trueaxis/macros/keyed_store.hpp"
 #include "trueaxis/macros/record_file.hpp"
@@ -243,4 +244,30 @@ TA_TEST("a record file reads back its payload; every bit flipped, every shorter 
     TA_CHECK(e == (n < m::kRecordFileOverhead ? m::RecordFileError::kNotAFile : m::RecordFileError::kLength));
   }
   TA_CHECK(m::decode_record_file(3, file, size, got, length) == m::RecordFileError::kNone);
+}
+
+TA_TEST("a record file whose header breaks a rule under a valid CRC is refused by that rule: the reserved byte, the version, the key") {
+  static std::uint8_t payload[40];
+  for (std::size_t i = 0; i < sizeof payload; ++i) payload[i] = static_cast<std::uint8_t>(i * 13 + 5);
+  static std::uint8_t file[sizeof payload + m::kRecordFileOverhead];
+  const std::uint8_t* got = nullptr;
+  std::size_t length = 0;
+  // The file made again with byte `at` set to `value` and its CRC put right.
+  const auto with = [&](std::size_t at, std::uint8_t value) -> m::RecordFileError {
+    TA_CHECK(m::encode_record_file(5, payload, sizeof payload, file, sizeof file) == sizeof file);
+    file[at] = value;
+    trueaxis::core::put_u32(file + 16 + sizeof payload, m::checksum::crc32(file, 16 + sizeof payload));
+    return m::decode_record_file(5, file, sizeof file, got, length);
+  };
+  TA_CHECK(with(11, 0) == m::RecordFileError::kNone);  // reserved 0: the file as written
+  for (int value = 1; value < 256; ++value) {  // reserved byte 11 set, each value
+    TA_CASE_INDEX(value);
+    TA_CHECK(with(11, static_cast<std::uint8_t>(value)) == m::RecordFileError::kVersion);
+  }
+  TA_CHECK(with(8, 0) == m::RecordFileError::kVersion);  // layout version 0, 2, 257 (high byte)
+  TA_CHECK(with(8, 2) == m::RecordFileError::kVersion);
+  TA_CHECK(with(9, 1) == m::RecordFileError::kVersion);
+  TA_CHECK(with(10, 3) == m::RecordFileError::kWrongRecord);  // the rigidity table's key, expected the spindle's
+  TA_CHECK(with(10, 5) == m::RecordFileError::kNone);
+  TA_CHECK(with(0, 't') == m::RecordFileError::kNotAFile);
 }

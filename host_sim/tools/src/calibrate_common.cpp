@@ -73,8 +73,13 @@ bool transport(VariableClient& client, bool ok, FlowResult& fail) {
   return ok;
 }
 
-void hand_time(VariableClient& client, double unix_s) {
-  if (unix_s > 0.0) static_cast<void>(client.write_one(macros::var::kLogTime, unix_s));
+bool hand_time(VariableClient& client, double unix_s, FlowResult& fail) {
+  if (!(unix_s > 0.0) || client.write_one(macros::var::kLogTime, unix_s)) return true;
+  // Never the controller's clock instead of the time asked for: the entry
+  // would carry another date (and a drift another slope).
+  fail.error = "the controller refused the measuring log's time #9015 = " + json_number(unix_s) +
+               " (--time: Unix seconds 1 .. 4294967295): " + client.failure_text() + "; nothing was stored";
+  return false;
 }
 
 bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail,
@@ -87,7 +92,7 @@ bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& 
   for (const MacroArgument& a : arguments) {
     stored = stored && transport(client, client.write_one(a.number, a.value), fail);
   }
-  if (stored) hand_time(client, fail.log_time);
+  stored = stored && hand_time(client, fail.log_time, fail);
   stored = stored && transport(client, client.write_one(var::kArgR, 1.0), fail) &&
            (!fail.accept_change || transport(client, client.write_one(var::kArgM, 1.0), fail)) &&
            run_or_fail(client, build_macro, "", fail);
@@ -157,7 +162,7 @@ bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResu
     return false;
   }
   const auto run_q = [&](double q, double* out) {
-    if (q == 0.0) hand_time(client, r.log_time);  // the check's entry in the measuring log
+    if (q == 0.0 && !hand_time(client, r.log_time, r)) return false;  // the check's entry in the measuring log
     if (!transport(client, client.write_one(var::kArgQ, q), r)) return false;
     if (!run_or_fail(client, info.macro, "", r)) {
       if (module_refused(r, static_cast<int>(core::Status::kNoTable))) {

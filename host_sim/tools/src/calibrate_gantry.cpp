@@ -246,7 +246,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
 
   // Computed without storing: the command stores only after the JSON and the
   // report are made (store_gantry), so a later failure stores nothing.
-  hand_time(client, options.log_time);  // the calibration's entry in the measuring log
+  if (!hand_time(client, options.log_time, r)) return r;  // the calibration's entry in the measuring log
   if (!transport(client, client.write_one(var::kArgR, 0.0), r)) return r;
   if (!run_or_fail(client, kBuild, "", r)) {
     if (module_refused(r, static_cast<int>(core::Status::kMissingGroup))) {

@@ -134,7 +134,8 @@ bool write_map(const std::string& path) {
   return waitpid(pid, &status, 0) == pid && WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
 
-// True when `text` is UTF-8 without control characters (an --operator NAME).
+// True when `text` is UTF-8 without control characters (an --operator NAME):
+// neither C0 (U+0000..U+001F), DEL nor C1 (U+0080..U+009F, C2 80..C2 9F).
 bool printable_utf8(const std::string& text) {
   for (std::size_t i = 0; i < text.size();) {
     const auto c = static_cast<unsigned char>(text[i]);
@@ -143,6 +144,7 @@ bool printable_utf8(const std::string& text) {
     for (std::size_t k = 1; k < n; ++k) {
       if ((static_cast<unsigned char>(text[i + k]) >> 6) != 0x2) return false;
     }
+    if (c == 0xC2 && static_cast<unsigned char>(text[i + 1]) < 0xA0) return false;
     i += n;
   }
   return true;

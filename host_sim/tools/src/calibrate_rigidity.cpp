@@ -89,7 +89,7 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
 
   // Built without storing: the command stores only after the JSON and the
   // report are made (store_rigidity), so a later failure stores nothing.
-  hand_time(client, options.log_time);  // the calibration's entry in the measuring log
+  if (!hand_time(client, options.log_time, r)) return r;  // the calibration's entry in the measuring log
   if (!transport(client, client.write_one(var::kArgR, 0.0), r)) return r;
   if (!run_or_fail(client, kBuild, "", r)) {
     // The module names no pose: the first in A order beyond its capacity (the builder's order).

@@ -142,7 +142,7 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
   r.build_arguments = {{var::kArgD, m.value[kGauge]}, {var::kArgU, m.value[kBall1]}, {var::kArgV, m.value[kBall2]}};
   bool written = true;
   for (const MacroArgument& a : r.build_arguments) written = written && client.write_one(a.number, a.value);
-  hand_time(client, options.log_time);  // the calibration's entry in the measuring log
+  if (!hand_time(client, options.log_time, r)) return r;  // the calibration's entry in the measuring log
   if (!transport(client, written && client.write_one(var::kArgR, 0.0), r)) return r;
   if (!run_or_fail(client, kBuild, "", r)) {
     if (module_refused(r, static_cast<int>(core::Status::kMissingGroup))) {

@@ -10,8 +10,9 @@ The remap (trueaxis.ini: REMAP=G65 ... python=g65):
 3. writes the module's argument variables (#1..#26 of the 21 G65 letters)
    from the call's letters (letters not given: 0),
    and, for a macro whose map entry reads work offsets, LinuxCNC's own values
-   of those offsets (#5221..#5326, converted from machine units to mm) where
-   they differ from the module's;
+   of those offsets (#5221..#5326: lengths converted from machine units to mm,
+   angles in degrees as they are; RegisterMap.work_offsets_of) where they
+   differ from the module's;
 4. runs the macro to its end and copies the module's #100..#199 into
    LinuxCNC's #100..#199, bit for bit; on a module error aborts the program
    with the module's code, name and text (and a gate's #9012..#9014).
@@ -253,13 +254,10 @@ def g65(self, **words):
         for letter, value in list(words.items()) + list(named.items()):
             if letter != "p":
                 arguments[letters[letter]] = float(value)
-        offsets = {}
         import emccanon  # LinuxCNC's canon: machine units per mm
-        per_mm = emccanon.GET_EXTERNAL_LENGTH_UNITS()
-        for first, count in remap.map.work_offsets.get(macro, []):
-            for number in range(first, first + count):
-                value = float(self.params[number])  # LinuxCNC's own #5221.. are the module's numbers
-                offsets[number] = value / per_mm if remap.map.offset_units[number] == "mm" else value
+        # LinuxCNC's own #5221.. are the module's numbers.
+        offsets = remap.map.work_offsets_of(macro, lambda number: self.params[number],
+                                            emccanon.GET_EXTERNAL_LENGTH_UNITS())
         results = remap.call(macro, arguments, offsets, unlock)
     except Exception as e:  # TrueaxisError, or anything else: one line
         text = str(e) if isinstance(e, TrueaxisError) else f"{type(e).__name__}: {e}"

@@ -117,6 +117,25 @@ class RegisterMap:
     def error(self, code):
         return self.errors.get(code, ("unknown_error", "an error code this register map does not list"))
 
+    def work_offsets_of(self, macro, value_of, machine_units_per_mm):
+        """The work offsets `macro` reads, {number: value} in the module's
+        units, from value_of(number) in LinuxCNC's: a length (unit "mm") from
+        machine units, an angle ("deg") as it is (LinuxCNC keeps angles in
+        degrees whatever G20 or G21). Any other unit in the map is an error."""
+        offsets = {}
+        for first, count in self.work_offsets.get(macro, []):
+            for number in range(first, first + count):
+                unit = self.offset_units[number]
+                value = float(value_of(number))
+                if unit == "mm":
+                    offsets[number] = value / machine_units_per_mm
+                elif unit == "deg":
+                    offsets[number] = value
+                else:
+                    raise TrueaxisError(f"the register map gives work offset #{number} the unit {unit!r}: "
+                                        "the remap converts mm and deg")
+        return offsets
+
 
 class Module:
     """One Modbus client of the module (convention 2)."""

@@ -401,3 +401,102 @@ TEST_CASE("plan: each method's outputs are named for what they are: the noise-fr
   CHECK(std::fabs(value(m1, "level_a")) == Approx(sim::FaceConfig{}.tilt_deg * 3600.0).margin(1e-6));
   CHECK(value(m1, "normal_turn_tilt") == Approx(0.0).margin(1e-6));
 }
+
+TEST_CASE("plan rigidity: a candidate A pose at the A limit itself is offered, one ulp beyond it is not", "[plan]") {
+  const auto offered = [](double a_min, double a_max) {
+    sim::RigidityPlan plan = sim::rigidity_plan(-60.0, 60.0, 30.0, 30.0);
+    plan.a_min_deg = a_min;
+    plan.a_max_deg = a_max;
+    std::vector<std::string> poses;
+    for (const sim::PlanChange& c : sim::rigidity_model(plan)->candidates()) poses.push_back(c.what);
+    return poses;
+  };
+  const auto has = [](const std::vector<std::string>& poses, const std::string& what) {
+    return std::find(poses.begin(), poses.end(), what) != poses.end();
+  };
+  const std::vector<std::string> at = offered(-90.0, 90.0);
+  CHECK(has(at, "add the A pose 90 deg (12 C positions)"));
+  CHECK(has(at, "add the A pose -90 deg (12 C positions)"));
+  CHECK(has(at, "add the A pose 75 deg (12 C positions)"));
+  CHECK_FALSE(has(at, "add the A pose 105 deg (12 C positions)"));
+  CHECK_FALSE(has(at, "add the A pose 60 deg (12 C positions)"));  // already planned
+  const std::vector<std::string> inside = offered(std::nextafter(-90.0, 0.0), std::nextafter(90.0, 0.0));
+  CHECK_FALSE(has(inside, "add the A pose 90 deg (12 C positions)"));
+  CHECK_FALSE(has(inside, "add the A pose -90 deg (12 C positions)"));
+  CHECK(has(inside, "add the A pose 75 deg (12 C positions)"));
+  CHECK(has(inside, "add the A pose -75 deg (12 C positions)"));
+}
+
+TEST_CASE("plan gantry: widening the A circles to the A limit itself is offered, beyond it is not", "[plan]") {
+  const auto widens = [](double limit) {
+    sim::GantryPlanSpec spec;
+    spec.a_limit_deg = limit;
+    for (const sim::PlanChange& c : sim::gantry_model(spec)->candidates()) {
+      if (c.what.find("widen every A circle") == 0) return true;
+    }
+    return false;
+  };
+  const sim::GantryPlanSpec spec;
+  const double step = (spec.a_to_deg - spec.a_from_deg) / (spec.circle_points - 1);
+  REQUIRE(spec.a_from_deg == -spec.a_to_deg);  // symmetric: a_to + step is the arc's new end at both sides
+  CHECK(widens(spec.a_to_deg + step));
+  CHECK_FALSE(widens(std::nextafter(spec.a_to_deg + step, 0.0)));
+}
+
+namespace {
+
+// A plan with one reading of unit noise (mm) per axis and outputs
+// x (mm), k x (mm), 1e-13 x (arcsec): k x is moved by the reading only at the
+// scale k of x, and the arcsec output is the only one of its unit.
+class ScaledOutputs final : public sim::PlanModel {
+ public:
+  explicit ScaledOutputs(double k) : k_(k) {
+    readings_.push_back({Vec3::Zero(), core::Mat3::Identity()});
+    outputs_ = {{"x", "mm", 0.0}, {"k_x", "mm", 0.0}, {"tiny_turn", "arcsec", 0.0}};
+  }
+  const char* method() const override { return "scaled"; }
+  std::string description() const override { return "x, k x, 1e-13 x"; }
+  const std::vector<sim::PlanReading>& readings() const override { return readings_; }
+  const std::vector<sim::PlanOutput>& outputs() const override { return outputs_; }
+  bool evaluate(const std::vector<Vec3>& values, std::vector<double>& out, std::string&) const override {
+    out = {values[0].x(), k_ * values[0].x(), 1e-13 * values[0].x()};
+    return true;
+  }
+  std::vector<sim::PlanChange> candidates() const override { return {}; }
+
+ private:
+  double k_;
+  std::vector<sim::PlanReading> readings_;
+  std::vector<sim::PlanOutput> outputs_;
+};
+
+bool reported(const sim::PlanPrediction& p, std::size_t a, std::size_t b) {
+  for (const sim::PlanInseparable& q : p.inseparable) {
+    if (q.first == a && q.second == b) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("plan: an output moved only at rounding's scale (1e-12 of its unit's largest sigma) is never \"not separated\"",
+          "[plan]") {
+  // x and k x are perfectly correlated; k x counts as moving only above 1e-12
+  // of the largest sigma among the mm outputs (x's, 1).
+  const ScaledOutputs above(1e-12 * (1.0 + 1e-6));
+  const sim::PlanPrediction pa = sim::predict_plan(above);
+  REQUIRE(pa.ok);
+  CHECK(pa.sigma[1] == Approx(1e-12 * (1.0 + 1e-6)).epsilon(1e-12));
+  CHECK(reported(pa, 0, 1));
+  CHECK(sim::plan_table(above, pa, {}, false).find("not separated: x and k_x") != std::string::npos);
+
+  const ScaledOutputs below(1e-12 * (1.0 - 1e-6));
+  const sim::PlanPrediction pb = sim::predict_plan(below);
+  REQUIRE(pb.ok);
+  CHECK_FALSE(reported(pb, 0, 1));
+  CHECK_FALSE(reported(pb, 1, 2));
+  CHECK(sim::plan_table(below, pb, {}, false).find("and k_x") == std::string::npos);
+  // The arcsec output's sigma (1e-13) is compared with its own unit's largest
+  // (itself), not with x's: it moves, and is as inseparable from x as it is.
+  CHECK(reported(pb, 0, 2));
+}

@@ -167,3 +167,61 @@ TEST_CASE("9840..9845: the module identifies, stores and answers as the core com
     for (int k = 0; k < 3; ++k) CHECK(std::fabs(err(k)) <= 3 * sd(k));
   }
 }
+
+TEST_CASE("9846: each figure's sigma holds both models' variances, and its log entry every figure, w_y the sixth",
+          "[spindle][flow][check][log]") {
+  // A model stored from one session and another identified (R = 0) from a
+  // second session of the same spindle: similar sigmas, so a sigma that left
+  // out either model's would be 1 / sqrt(2) of the right one.
+  Rig rig;
+  rig.stream(samples(91));
+  REQUIRE(rig.build(true) == kDone);
+  rig.stream(samples(92));
+  REQUIRE(rig.build(false) == kDone);
+  const auto parameter = [&rig](double r, int q, double& value, double& sigma) {
+    rig.set(v::kArgR, r);
+    rig.set(v::kArgQ, q);
+    REQUIRE(rig.run(9845) == kDone);
+    value = rig.get(v::kSpindleParamValue);
+    sigma = rig.get(v::kSpindleParamSigma);
+  };
+  double deviation[6], sigma[6], tolerance[6];
+  const char* names[6] = {"a_x", "a_y", "e_x", "e_y", "w_x", "w_y"};
+  for (int k = 0; k < 6; ++k) {
+    INFO("figure " << k + 1 << " " << names[k]);
+    double stored = 0, stored_sigma = 0, built = 0, built_sigma = 0;
+    parameter(1.0, k + 4, stored, stored_sigma);  // a_x .. w_y: parameters 4..9 (9845's Q)
+    parameter(0.0, k + 4, built, built_sigma);
+    const bool offset = k == 2 || k == 3;
+    const double scale = offset ? 1.0 : core::kArcsecPerRad;
+    rig.set(v::kArgQ, k + 1);
+    REQUIRE(rig.run(9846) == kDone);
+    CHECK(rig.get(m::var::kCheckFigureKind) == k + 1);
+    CHECK(rig.get(m::var::kCheckFigureDeviation) == built * scale - stored * scale);  // in the figure's unit
+    const double both = std::sqrt(stored_sigma * stored_sigma + built_sigma * built_sigma) * scale;
+    CHECK(rig.get(m::var::kCheckFigureSigma) == Approx(both).epsilon(1e-12));
+    CHECK(stored_sigma == Approx(built_sigma).epsilon(0.3));  // two comparable sessions: neither dominates
+    deviation[k] = rig.get(m::var::kCheckFigureDeviation);
+    sigma[k] = rig.get(m::var::kCheckFigureSigma);
+    tolerance[k] = rig.get(m::var::kCheckFigureTolerance);
+    CHECK(deviation[k] != 0.0);
+  }
+  // The check (Q = 0) logs one entry: per kind its worst figure, here each
+  // kind's only one, all six in the window #9030..#9059.
+  rig.set(v::kLogTime, 1'800'000'000.0);
+  REQUIRE(rig.run(9846) == kDone);
+  const double newest = rig.get(v::kLogNewest);
+  rig.set(v::kLogSelect, newest);
+  CHECK(rig.get(v::kLogMacro) == 9846.0);
+  CHECK(rig.get(v::kLogType) == 1.0);  // a check
+  REQUIRE(rig.get(v::kLogFigureCount) == 6.0);
+  for (int k = 0; k < 6; ++k) {
+    INFO("logged figure " << k + 1 << " " << names[k]);
+    const auto field = [&rig, k](int j) { return rig.get(static_cast<std::uint16_t>(v::kLogFigureFirst + 5 * k + j)); };
+    CHECK(field(0) == k + 1);  // kind
+    CHECK(field(1) == 0.0);    // item: the whole
+    CHECK(field(2) == static_cast<double>(static_cast<float>(deviation[k])));
+    CHECK(field(3) == static_cast<double>(static_cast<float>(sigma[k])));
+    CHECK(field(4) == static_cast<double>(static_cast<float>(tolerance[k])));
+  }
+}

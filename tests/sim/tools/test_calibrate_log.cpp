@@ -18,6 +18,7 @@
 #include "calibrate_support.hpp"
 #include "sim_fixture.hpp"
 #include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/sim/tools/calibrate.hpp"
 #include "trueaxis/sim/tools/log_reader.hpp"
 
 namespace {
@@ -291,4 +292,166 @@ TEST_CASE("trueaxis-calibrate log: 100 scratch runs and failed stores after a st
   CHECK(lines[3].find("2027-01-17") != std::string::npos);  // then the newest 30 scratch runs
   CHECK(lines[32].find("2027-01-17") != std::string::npos);
   CHECK(lines[33].empty());
+
+TEST_CASE("fit_drift calls a trend significant beyond 2 sigma of its slope, not 1: the exact boundary", "[log][drift]") {
+  using trueaxis::sim::fit_drift;
+  // An exact line (chi-square 0) at days 0, 7, 14 with sigma 0.1: the
+  // slope's sigma is 0.1 / sqrt(98) per day in closed form; a slope of
+  // 2 sigma_b (1 +- 1e-9) on either side of the rule, and 1.5 sigma_b.
+  const double sigma_b = 0.1 / std::sqrt(98.0);
+  const auto drift_of = [](double slope) {
+    std::vector<trueaxis::sim::LogRow> rows;
+    for (double day : {0.0, 7.0, 14.0}) rows.push_back(check_row(day, "rotation_change", 1.0 + slope * day, 0.1, 12.0));
+    const std::vector<trueaxis::sim::Drift> d = fit_drift(rows);
+    REQUIRE(d.size() == 1);
+    REQUIRE(d[0].enough);
+    return d[0];
+  };
+  const trueaxis::sim::Drift above = drift_of(2.0 * sigma_b * (1.0 + 1e-9));
+  CHECK(above.slope_sigma == Approx(sigma_b).epsilon(1e-12));
+  CHECK(above.significant);
+  CHECK(above.cross_s > 0.0);
+  CHECK(trueaxis::sim::drift_line(above).find("reaches its tolerance about") != std::string::npos);
+  const trueaxis::sim::Drift below = drift_of(2.0 * sigma_b * (1.0 - 1e-9));
+  CHECK(below.slope_sigma == Approx(sigma_b).epsilon(1e-12));
+  CHECK_FALSE(below.significant);
+  CHECK(below.cross_s == 0.0);
+  CHECK(trueaxis::sim::drift_line(below).find("no significant trend") != std::string::npos);
+  CHECK_FALSE(drift_of(1.5 * sigma_b).significant);
+  CHECK_FALSE(drift_of(-1.5 * sigma_b).significant);
+  CHECK(drift_of(-2.0 * sigma_b * (1.0 + 1e-9)).significant);  // falling: |b| counts
+  CHECK_FALSE(drift_of(-2.0 * sigma_b * (1.0 - 1e-9)).significant);
+}
+
+TEST_CASE("trueaxis-calibrate --operator refuses control characters and broken UTF-8, at the printable boundaries",
+          "[calibrate][log]") {
+  SimFixture sim;
+  Workspace w("trueaxis-calibrate-operator");
+  const std::string sentence = "--operator takes a name in UTF-8 without control characters";
+  const auto refused = [&](const std::string& name) {
+    const Run r = calibrate({"rigidity", "--in", w.file("none.csv"), "--json", w.file("y.json"), "--operator", name},
+                            sim.port(), w);
+    CHECK(r.exit_code == 1);  // refused for the name, or (accepted) for the missing file
+    return r.err.find(sentence) != std::string::npos;
+  };
+  // C0 (0x01, 0x1F: tab, newline and escape among them), DEL, C1 (U+0080,
+  // U+009F), a lead byte alone, a continuation byte alone, 0xFF.
+  for (const std::string bad : {"A\x01", "A\x1f", "A\tB", "A\nB", "A\x1b[31m", "A\x7f", "A\xc2\x80", "A\xc2\x9f",
+                                "A\xc3", "A\x80", "A\xff"}) {
+    INFO("refused: " << bad);
+    CHECK(refused(bad));
+  }
+  // Their neighbours: space (0x20), '~' (0x7E), U+00A0 and U+00FF, and names in other scripts.
+  for (const std::string good : {"A B", "A~", "A\xc2\xa0" "B", "Zo\xc3\xab \xc3\x98rsted", "\xe6\x9d\x8e \xe5\xa8\x9c",
+                                 "\xf0\x9f\x94\xa7"}) {
+    INFO("taken: " << good);
+    CHECK_FALSE(refused(good));
+  }
+}
+
+namespace {
+
+// 9833 at A = 0: true when a rigidity table is stored (404 no_table otherwise).
+bool rigidity_stored(trueaxis::sim::VariableClient& client) {
+  REQUIRE(client.write_one(v::kArgA, 0.0));
+  const trueaxis::sim::MacroOutcome outcome = client.run_macro(9833);
+  REQUIRE(client.give_back_interface());
+  REQUIRE((outcome.status == 2 || (outcome.status == 3 && outcome.error == 404)));
+  return outcome.status == 2;
+}
+
+}  // namespace
+
+TEST_CASE("--time takes 2^32 - 1 s and refuses one more; a #9015 the module refuses fails the run, nothing stored "
+          "or logged, never the controller's clock instead",
+          "[calibrate][log]") {
+  namespace ts = trueaxis::sim;
+  Workspace w("trueaxis-calibrate-time");
+  {
+    SimFixture sim;
+    REQUIRE(sim.client().give_back_interface());
+    const Run m = run({TRUEAXIS_MEASURE_BINARY, "--port", std::to_string(sim.port()), "--out", w.file("samples.csv")},
+                      w.file("measure.err"));
+    REQUIRE(m.exit_code == 0);
+    const std::string sentence = "--time takes Unix seconds or a UTC date and time";
+    for (const char* beyond : {"4294967296", "4294967295.5", "2106-02-07T06:28:16Z"}) {
+      INFO(beyond);
+      const Run r = calibrate({"rigidity", "--in", w.file("samples.csv"), "--json", w.file("y.json"), "--store",
+                               "--time", beyond},
+                              sim.port(), w);
+      CHECK(r.exit_code == 1);
+      CHECK(r.err.find(sentence) != std::string::npos);
+    }
+    CHECK(sim.get(v::kLogCount) == 0.0);
+    for (const char* last : {"4294967295", "2106-02-07T06:28:15Z"}) {
+      INFO(last);
+      const Run r = calibrate({"rigidity", "--in", w.file("samples.csv"), "--json", w.file("y.json"), "--store",
+                               "--time", last},
+                              sim.port(), w);
+      INFO(r.err);
+      REQUIRE(r.exit_code == 0);
+      sim.set(v::kLogSelect, sim.get(v::kLogNewest));
+      CHECK(sim.get(v::kLogStored) == 1.0);
+      CHECK(sim.get(v::kLogEntryTime) == 4294967295.0);  // the log's u32, to its last second
+      REQUIRE(sim.client().give_back_interface());
+    }
+  }
+
+  // Through the flows, a time the module's #9015 refuses (beyond its u32), on
+  // a controller with nothing stored.
+  SimFixture sim;
+  ts::VariableClient& client = sim.client();
+  const auto newest_entry = [&sim](std::uint16_t field) {
+    sim.set(v::kLogSelect, sim.get(v::kLogNewest));
+    const double value = sim.get(field);
+    REQUIRE(sim.client().give_back_interface());
+    return value;
+  };
+  ts::CalibrateOptions o;
+  o.method = "rigidity";
+  o.in_path = w.file("samples.csv");
+  o.log_time = 4294967296.0;
+  ts::FlowResult r = ts::calibrate_rigidity(client, o);
+  CHECK_FALSE(r.ok);
+  CHECK(r.error.find("the controller refused the measuring log's time #9015 = 4294967296") == 0);
+  CHECK(r.error.find("nothing was stored") != std::string::npos);
+  REQUIRE(client.give_back_interface());
+  CHECK(sim.get(v::kLogCount) == 0.0);  // nothing logged under the controller's clock
+  // A good calibration, then its store handed a refused time: nothing stored,
+  // locked again, the log as it was.
+  o.log_time = kT0;
+  r = ts::calibrate_rigidity(client, o);
+  INFO(r.error);
+  REQUIRE(r.ok);
+  REQUIRE(client.give_back_interface());
+  const double newest = sim.get(v::kLogNewest);
+  r.log_time = 4294967296.0;
+  CHECK_FALSE(ts::store_rigidity(client, r));
+  CHECK(r.error.find("#9015 = 4294967296") != std::string::npos);
+  CHECK(r.error.find("nothing was stored") != std::string::npos);
+  REQUIRE(client.give_back_interface());
+  CHECK(sim.get(v::kUnlock) == 0.0);
+  CHECK_FALSE(rigidity_stored(client));
+  CHECK(sim.get(v::kLogNewest) == newest);
+  if (newest > 0.0) {
+    CHECK(newest_entry(v::kLogStored) == 0.0);
+    CHECK(newest_entry(v::kLogEntryTime) == kT0);
+  }
+  // Stored with a good time, then a check handed a refused one: no check logged.
+  r.log_time = kT0 + 60.0;
+  REQUIRE(ts::store_rigidity(client, r));
+  REQUIRE(client.give_back_interface());
+  REQUIRE(rigidity_stored(client));
+  r = ts::calibrate_rigidity(client, o);
+  REQUIRE(r.ok);
+  REQUIRE(client.give_back_interface());
+  const double before = sim.get(v::kLogNewest);
+  REQUIRE(before > 0.0);
+  r.log_time = 4294967296.0;
+  trueaxis::macros::Verdict verdict = trueaxis::macros::Verdict::kPass;
+  CHECK_FALSE(ts::check_built(client, *ts::find_calibrate_method("rigidity"), r, verdict));
+  CHECK(r.error.find("#9015 = 4294967296") != std::string::npos);
+  REQUIRE(client.give_back_interface());
+  CHECK(sim.get(v::kLogNewest) == before);
+  CHECK(newest_entry(v::kLogType) == 0.0);  // no check replaced or followed the calibration
 }

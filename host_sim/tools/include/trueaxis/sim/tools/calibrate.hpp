@@ -82,8 +82,10 @@ struct FlowResult {
 };
 
 // Hands the module the measuring log's time (#9015, Unix seconds) for the
-// next macro; best effort: a module that refuses it logs its own clock's.
-void hand_time(VariableClient& client, double unix_s);
+// next macro (nothing for 0: the module's own clock). A write the module
+// refuses is a failure, fail.error naming #9015, the value and why: the entry
+// never takes the controller's clock instead, and the flow stores nothing.
+bool hand_time(VariableClient& client, double unix_s, FlowResult& fail);
 
 // The text of a module error code, "module error 402 session_full: The session is full ...".
 std::string module_error_text(int code);
