@@ -193,7 +193,8 @@ void print_help() {
 void print_method_help(const CalibrateMethod& m) {
   std::printf("trueaxis-calibrate %s: %s\n\n%s\n%s\n", m.name, m.title, kUsage, m.files);
   std::printf("CSV: a header row, columns in any order (others ignored); '#' lines are comments;\n"
-              "numbers as C strtod reads them (not NaN or infinite).\n");
+              "a field may be in double quotes (\"x_mm\", \"1.5\"); numbers as C strtod reads them, with '.'\n"
+              "as the decimal sign (not NaN or infinite).\n");
 }
 
 int remove_entry(const char* path, const struct stat*, int, struct FTW*) { return std::remove(path); }
