@@ -34,6 +34,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <string>
@@ -197,6 +198,77 @@ void print_method_help(const CalibrateMethod& m) {
               "as the decimal sign (not NaN or infinite).\n");
 }
 
+// ---- the outputs, tried before the work -------------------------------------------------
+
+// The folder that holds `path` ("." for a bare name).
+std::string parent_of(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+// Why a file cannot be made in folder `dir`, "" when it can: it is tried (a
+// hidden file made there and removed at once).
+std::string folder_cause(const std::string& dir) {
+  struct stat st {};
+  if (::stat(dir.c_str(), &st) != 0) {
+    const int error = errno;
+    if (error == ENOENT || error == ENOTDIR) {
+      // The first part of the path that is missing, or a file where a folder is wanted.
+      for (std::size_t at = dir.find('/', 1);; at = dir.find('/', at + 1)) {
+        const std::string part = dir.substr(0, at);
+        struct stat p {};
+        if (::stat(part.c_str(), &p) != 0) return "no such directory '" + part + "'";
+        if (!S_ISDIR(p.st_mode)) return "'" + part + "' is a file, where a folder is wanted";
+        if (at == std::string::npos) break;
+      }
+    }
+    return "'" + dir + "': " + std::strerror(error);
+  }
+  if (!S_ISDIR(st.st_mode)) return "'" + dir + "' is a file, where a folder is wanted";
+  std::string probe = dir + "/.trueaxis-calibrate-XXXXXX";
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0) {
+    const int error = errno;
+    if (error == EROFS) return "'" + dir + "' is on a read-only file system";
+    if (error == EACCES || error == EPERM) return "'" + dir + "' is read-only: no permission to write in it";
+    return "'" + dir + "': " + std::strerror(error);
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return "";
+}
+
+// Why the file `path` cannot be written (made beside it as PATH.tmp, then
+// renamed over it), "" when it can.
+std::string file_cause(const std::string& path) {
+  if (path.empty() || path.back() == '/') return "a file name is wanted, not a folder";
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) return "it is a folder, where a file is wanted";
+  return folder_cause(parent_of(path));
+}
+
+// Why the report folder `dir` cannot be made or filled, "" when it can: made
+// beside itself (DIR.tmp-XXXXXX, its parent) and moved into place (into DIR
+// when it exists).
+std::string report_cause(std::string dir) {
+  while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+  struct stat st {};
+  if (::stat(dir.c_str(), &st) == 0) {
+    if (!S_ISDIR(st.st_mode)) return "'" + dir + "' is a file, where a folder is wanted";
+    const std::string in_dir = folder_cause(dir);
+    if (!in_dir.empty()) return in_dir;
+  }
+  return folder_cause(parent_of(dir));
+}
+
+// "PATH: cannot be written (CAUSE)": the cause as it stands now, or errno's.
+std::string cannot_write(const std::string& path, int error = 0) {
+  std::string cause = file_cause(path);
+  if (cause.empty()) cause = error != 0 ? std::strerror(error) : "the write failed";
+  return path + ": cannot be written (" + cause + ")";
+}
+
 int remove_entry(const char* path, const struct stat*, int, struct FTW*) { return std::remove(path); }
 
 // A directory and all it holds.
@@ -330,6 +402,10 @@ int run_log(int argc, char** argv) {
       return usage_error("unknown or incomplete option '" + arg + "' for log");
     }
   }
+  if (!csv_path.empty()) {  // tried before the module is asked
+    const std::string cause = file_cause(csv_path);
+    if (!cause.empty()) return fail(csv_path + ": cannot be written (" + cause + ")");
+  }
   trueaxis::sim::VariableClient client;
   // Selecting an entry is a write to the macro interface (macros/module.hpp contract 8).
   const std::string why = connection.open(client);
@@ -342,8 +418,9 @@ int run_log(int argc, char** argv) {
   if (!csv_path.empty()) {
     const std::string tmp = csv_path + ".tmp";
     if (!write_text_file(tmp, trueaxis::sim::log_csv(rows)) || std::rename(tmp.c_str(), csv_path.c_str()) != 0) {
+      const int write_error = errno;
       std::remove(tmp.c_str());
-      return fail(csv_path + ": cannot be written");
+      return fail(cannot_write(csv_path, write_error));
     }
   }
   std::printf("%s", trueaxis::sim::log_table(rows, trueaxis::sim::fit_drift(rows)).c_str());
@@ -438,6 +515,8 @@ int run_kins_export(int argc, char** argv) {
     }
   }
   if (out_path.empty()) return usage_error("linuxcnc-kins needs --out FILE");
+  const std::string cause = file_cause(out_path);  // tried before the module is asked
+  if (!cause.empty()) return fail(out_path + ": cannot be written (" + cause + ")");
   trueaxis::sim::VariableClient client;
   const std::string why = connection.open(client);
   if (!why.empty()) return fail(why);
@@ -449,8 +528,9 @@ int run_kins_export(int argc, char** argv) {
   if (!read) return fail(r.error);
   const std::string tmp = out_path + ".tmp";
   if (!write_text_file(tmp, file) || std::rename(tmp.c_str(), out_path.c_str()) != 0) {
+    const int error = errno;
     std::remove(tmp.c_str());
-    return fail(out_path + ": cannot be written");
+    return fail(cannot_write(out_path, error));
   }
   std::printf("linuxcnc-kins: the stored %s calibration, %zu bytes; wrote %s\n", method->name, file.size(),
               out_path.c_str());
@@ -607,10 +687,8 @@ int run_plan(int argc, char** argv) {
   // PLAN.json's place is tried before the work, not after it.
   const std::string json_tmp = json_path.empty() ? "" : json_path + ".tmp";
   if (!json_tmp.empty()) {
-    struct stat st {};
-    const bool directory = ::stat(json_path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-    if (directory || !write_text_file(json_tmp, "")) return fail(json_path + ": cannot be written");
-    std::remove(json_tmp.c_str());
+    const std::string cause = file_cause(json_path);
+    if (!cause.empty()) return fail(json_path + ": cannot be written (" + cause + ")");
   }
   std::shared_ptr<const ts::PlanModel> model;
   if (method == "rigidity") {
@@ -649,8 +727,9 @@ int run_plan(int argc, char** argv) {
   std::printf("%s", table.c_str());
   if (!json_tmp.empty()) {
     if (!write_text_file(json_tmp, ts::plan_json(*model, p, s)) || std::rename(json_tmp.c_str(), json_path.c_str()) != 0) {
+      const int error = errno;
       std::remove(json_tmp.c_str());
-      return fail(json_path + ": cannot be written");
+      return fail(cannot_write(json_path, error));
     }
   }
   return p.ok ? 0 : 3;
@@ -753,6 +832,28 @@ int main(int argc, char** argv) {
                        "calibration)");
   }
 
+  // Every output is tried before anything is sent: a report found unwritable
+  // after an hour of streaming would lose the hour. Each names its cause.
+  {
+    const std::string nothing = "; nothing was sent to the controller, nothing stored";
+    const std::pair<const char*, const std::string*> files[] = {
+        {"--json", &o.json_path}, {"--linuxcnc-comp", &o.linuxcnc_comp_path}, {"--linuxcnc-kins", &o.linuxcnc_kins_path}};
+    for (const auto& [option, path] : files) {
+      if (path->empty()) continue;
+      for (const auto& [other, other_path] : files) {
+        if (other != option && *other_path == *path) {
+          return usage_error(std::string(option) + " and " + other + " name the same file '" + *path + "'");
+        }
+      }
+      const std::string cause = file_cause(*path);
+      if (!cause.empty()) return fail(*path + ": cannot be written (" + cause + ")" + nothing);
+    }
+    if (!o.report_dir.empty()) {
+      const std::string cause = report_cause(o.report_dir);
+      if (!cause.empty()) return fail(o.report_dir + ": the report cannot be made there (" + cause + ")" + nothing);
+    }
+  }
+
   trueaxis::sim::VariableClient client;
   if (!client.connect(o.host, o.port)) {
     return fail("cannot connect to " + o.host + ":" + std::to_string(o.port) + ": " + client.error_text());
@@ -822,12 +923,12 @@ int main(int argc, char** argv) {
     remove_tree(report_tmp);
     return fail(line);
   };
-  if (!write_text_file(tmp, r.json)) return fail_clean(o.json_path + ": cannot be written");
+  if (!write_text_file(tmp, r.json)) return fail_clean(cannot_write(o.json_path, errno));
   if (!comp_tmp.empty() && !write_text_file(comp_tmp, r.linuxcnc_comp)) {
-    return fail_clean(o.linuxcnc_comp_path + ": cannot be written");
+    return fail_clean(cannot_write(o.linuxcnc_comp_path, errno));
   }
   if (!kins_tmp.empty() && !write_text_file(kins_tmp, kins_file)) {
-    return fail_clean(o.linuxcnc_kins_path + ": cannot be written");
+    return fail_clean(cannot_write(o.linuxcnc_kins_path, errno));
   }
   std::string summary = r.summary + "; wrote " + o.json_path;
   if (!comp_tmp.empty()) summary += ", " + o.linuxcnc_comp_path;
@@ -839,7 +940,12 @@ int main(int argc, char** argv) {
     struct stat st {};
     const bool usable = ::stat(dir.c_str(), &st) != 0 ? errno == ENOENT : S_ISDIR(st.st_mode);
     if (usable && ::mkdtemp(templ.data()) != nullptr) report_tmp = templ;
-    if (report_tmp.empty() || !write_text_file(report_tmp + "/module_figures.json", r.report_extras) ||
+    if (report_tmp.empty()) {
+      const std::string cause = report_cause(dir);
+      return fail_clean(o.report_dir + ": the report cannot be made there (" +
+                        (cause.empty() ? std::string(std::strerror(errno)) : cause) + ")");
+    }
+    if (!write_text_file(report_tmp + "/module_figures.json", r.report_extras) ||
         !write_map(report_tmp + "/register_map.json") || !make_report(*method, report_tmp, tmp)) {
       return fail_clean(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
     }
