@@ -54,6 +54,11 @@ std::string gate_text(VariableClient& client) {
 }
 }  // namespace
 
+namespace {
+// Contract 5: what was under way when the connection failed.
+std::string under_way(const FlowResult& fail) { return fail.stage.empty() ? "" : " while " + fail.stage; }
+}  // namespace
+
 bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail) {
   const MacroOutcome outcome = client.run_macro(macro, 20000);
   if (outcome.status == 2) return true;
@@ -63,13 +68,23 @@ bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string&
   } else if (client.exception() != 0) {  // the command was refused: not the sample's doing, no line named
     fail.error = "macro " + std::to_string(macro) + " not started: " + client.failure_text();
   } else {
-    fail.error = where + "macro " + std::to_string(macro) + " did not finish: " + client.error_text();
+    fail.transport_failed = true;
+    fail.macro_started = outcome.started;
+    const std::string state = " (macro " + std::to_string(macro) + (outcome.started ? " sent, its end not seen)" : " not sent)");
+    fail.error = fail.stage.empty() ? where + "macro " + std::to_string(macro) + " did not finish: Modbus: " + client.error_text()
+                                    : "Modbus: " + client.error_text() + under_way(fail) + state;
   }
   return false;
 }
 
 bool transport(VariableClient& client, bool ok, FlowResult& fail) {
-  if (!ok) fail.error = client.failure_text();
+  if (!ok) {
+    fail.error = client.failure_text();
+    if (client.exception() == 0) {
+      fail.transport_failed = true;
+      fail.error += under_way(fail);
+    }
+  }
   return ok;
 }
 
@@ -80,6 +95,7 @@ void hand_time(VariableClient& client, double unix_s) {
 bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail,
                  const std::vector<MacroArgument>& arguments) {
   namespace var = macros::var;
+  fail.stage = "storing (macro " + std::to_string(build_macro) + ", R = 1)";
   if (!transport(client, client.write_one(var::kUnlock, fail.unlock_code), fail)) return false;
   // The same session computed again, now stored: the computation is
   // deterministic, so what is stored is what OUT.json describes.
@@ -94,8 +110,14 @@ bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& 
   if (!stored && module_refused(fail, static_cast<int>(core::Status::kChangeBeyondLimit))) {
     fail.error += " (trueaxis-calibrate --accept-change stores it: check the machine first)";
   }
+  fail.stored = stored;
+  fail.stage = "locking the controller again after the store";
   const bool locked = client.write_one(var::kUnlock, 0.0);  // lock again, whatever happened
-  if (stored && !locked) fail.error = "the controller could not be locked again: " + client.failure_text();
+  if (stored && !locked) {
+    fail.transport_failed = client.exception() == 0;
+    fail.error = "the controller could not be locked again: " + client.failure_text() +
+                 " (an unlock closes with its connection, or 300 s after its last write)";
+  }
   return stored && locked;
 }
 
@@ -135,13 +157,18 @@ std::string json_vec3(const double* v) {
   return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
 }
 
-std::string refused_sample(VariableClient& client, const std::string& where) {
+std::string refused_sample(VariableClient& client, const std::string& where, FlowResult& fail) {
   // Exceptions 02 and 03 are about the values written (their range, their
   // finiteness): the line is named. Anything else (the interface held, a macro
   // running, the transport) is not the line's doing.
   const int exception = client.exception();
   const std::string why = client.failure_text();
-  return exception == 2 || exception == 3 ? where + ": the module refused the sample: " + why : why;
+  if (exception == 2 || exception == 3) return where + ": the module refused the sample: " + why;
+  if (exception == 0) {
+    fail.transport_failed = true;
+    return why + under_way(fail);
+  }
+  return why;
 }
 
 namespace {
@@ -169,6 +196,7 @@ bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResu
     return transport(client, client.read(var::kCheckVerdict, 12, out), r);
   };
   double v[12];  // #100..#111 (check.hpp convention 3)
+  r.stage = "running the check (macro " + std::to_string(info.macro) + ")";
   if (!run_q(0.0, v)) return false;
   verdict = static_cast<macros::Verdict>(static_cast<int>(v[0]));
   const int count = static_cast<int>(v[1]);

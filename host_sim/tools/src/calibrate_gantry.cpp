@@ -208,15 +208,18 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
     }
   }
 
+  r.stage = "opening the session (macro 9820): nothing sent yet";
   if (!run_or_fail(client, kClear, "", r)) return r;
+  std::size_t streamed = 0;
   for (const Sample& s : samples) {
     const std::string where = options.in_path + ":" + std::to_string(s.row->line);
+    r.stage = "streaming sample " + std::to_string(++streamed) + " of " + std::to_string(samples.size()) + " of " + where;
     const double tqd[3] = {static_cast<double>(s.group.t), static_cast<double>(s.group.q),
                            static_cast<double>(s.group.d)};
     const double xyz[3] = {s.row->numbers[1], s.row->numbers[2], s.row->numbers[3]};
     if (!client.write_one(var::kArgT, tqd[0]) || !client.write_one(var::kArgQ, tqd[1]) ||
         !client.write_one(var::kArgD, tqd[2]) || !client.write(var::kArgX, 3, xyz)) {
-      r.error = refused_sample(client, where);
+      r.error = refused_sample(client, where, r);
       return r;
     }
     if (!run_or_fail(client, kAdd, where, r)) {
@@ -235,6 +238,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
   for (const auto& [n, row] : parameters) {
     if (!mentioned[n]) continue;
     const std::string where = options.machine_path + ":" + std::to_string(row->line);
+    r.stage = "sending sub-machine " + std::to_string(n) + "'s row of " + where + " (macro 9822)";
     const double tool[3] = {row->numbers[2], row->numbers[3], row->numbers[4]};
     if (!client.write_one(var::kArgT, n) || !client.write_one(var::kArgD, row->numbers[1]) ||
         !client.write(var::kArgI, 3, tool)) {
@@ -246,6 +250,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
 
   // Computed without storing: the command stores only after the JSON and the
   // report are made (store_gantry), so a later failure stores nothing.
+  r.stage = "running the build (macro 9823, R = 0), every sample sent";
   hand_time(client, options.log_time);  // the calibration's entry in the measuring log
   if (!transport(client, client.write_one(var::kArgR, 0.0), r)) return r;
   if (!run_or_fail(client, kBuild, "", r)) {
@@ -256,6 +261,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
     }
     return r;
   }
+  r.stage = "running the report query (macros 9824, 9826)";
   double build[4];
   double global[26];
   if (!transport(client, client.read(var::kGantryBuilt, 4, build), r) ||

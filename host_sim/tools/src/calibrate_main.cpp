@@ -865,13 +865,22 @@ int main(int argc, char** argv) {
   const bool taken = client.take_interface(o.wait_s * 1000, waiting);
   if (!taken) {
     const std::string why = client.failure_text();
-    return fail(why == busy ? busy + " (waited " + std::to_string(o.wait_s) + " s; --wait SECONDS)" : why);
+    if (why == busy) return fail(busy + " (waited " + std::to_string(o.wait_s) + " s; --wait SECONDS)");
+    return fail(why + (client.exception() == 0 ? " while taking the controller's macro interface (#9009); nothing "
+                                                 "was sent, nothing stored"
+                                               : ""));
   }
+  // Contract 5 of calibrate.hpp: a transport failure says what was under way,
+  // and what became of the store.
+  const std::string nothing_stored = "; nothing was stored";
+  const auto failed = [&nothing_stored](const FlowResult& f) {
+    return fail(f.error + (f.transport_failed ? nothing_stored : ""));
+  };
   FlowResult r = method->calibrate(client, o);
-  if (!r.ok) return fail(r.error);
+  if (!r.ok) return failed(r);
   r.log_time = o.log_time;
   trueaxis::macros::Verdict verdict = trueaxis::macros::Verdict::kPass;
-  if (o.check && !trueaxis::sim::check_built(client, *method, r, verdict)) return fail(r.error);
+  if (o.check && !trueaxis::sim::check_built(client, *method, r, verdict)) return failed(r);
   if (o.check && !o.report_dir.empty()) {
     // The report shows this method's drift, the check just logged included.
     // A module that cannot give its log (older firmware) leaves the drift out:
@@ -900,14 +909,17 @@ int main(int argc, char** argv) {
   // the store builds the same session again, deterministically, so it is the
   // one stored.
   std::string kins_file;
+  r.stage = "exporting the LinuxCNC kinematics' file (" + o.linuxcnc_kins_path + ")";
   if (!o.linuxcnc_kins_path.empty() && !method->kins_file(client, false, kins_file, r)) {
-    return fail(r.error);
+    return failed(r);
   }
   // The macros this run has counted: the store checks that no other client ran
   // one since (the interface is free once #903 s pass without a write, and the
   // report is made meanwhile), so that what it stores is built from this run's session.
   double done_count = 0.0;
-  if (!client.read_one(trueaxis::macros::var::kDoneCount, done_count)) return fail(client.failure_text());
+  if (!client.read_one(trueaxis::macros::var::kDoneCount, done_count)) {
+    return fail(client.failure_text() + " while reading the controller's macro count (#9003)" + nothing_stored);
+  }
 
   // OUT.json and the report go to temporaries beside their targets first and
   // into place last, after the store: on any failure neither is there and
@@ -956,29 +968,46 @@ int main(int argc, char** argv) {
   if (o.store) {
     double done_now = -1.0;
     if (!client.take_interface(o.wait_s * 1000, waiting) || !client.read_one(trueaxis::macros::var::kDoneCount, done_now)) {
-      return fail_clean(client.failure_text() + "; nothing stored");
+      return fail_clean(client.failure_text() + " while taking the macro interface again for the store" + nothing_stored);
     }
     if (done_now != done_count) {
       return fail_clean("another client ran macros on the controller while the report was made (the macro interface "
                         "is free after #903 s without a write, default 30): nothing stored; run the command again");
     }
   }
-  if (o.store && !method->store(client, r)) return fail_clean(r.error);
+  // The table is stored once the store's macro succeeded: a failure after it says so.
+  const trueaxis::macros::RecordSpec* record = trueaxis::sim::stored_record(method->name);
+  const std::string was_stored =
+      !o.store ? ""
+               : "; the table WAS stored" +
+                     (record != nullptr ? " (record " + std::to_string(record->key) + " " + record->name + ")"
+                                        : std::string()) +
+                     ": `trueaxis-calibrate log` shows the store";
+  if (o.store && !method->store(client, r)) {
+    if (r.stored) return fail_clean(r.error + was_stored + "; OUT.json and the report were not written");
+    if (r.transport_failed && r.macro_started) {
+      return fail_clean(r.error + "; whether the table was stored is not known (the connection failed after the store's "
+                                  "macro was sent): `trueaxis-calibrate log` shows it");
+    }
+    return fail_clean(r.error + (r.transport_failed ? nothing_stored : ""));
+  }
   summary += o.store ? "; " + stored_text(method->name) : "; not stored";
   client.give_back_interface();  // closing gives it back too; this is at once
   client.close();
   if (!report_tmp.empty() && !place_report(report_tmp, o.report_dir)) {
     report_tmp.clear();  // place_report removed it
-    return fail_clean(o.report_dir + ": the report could not be moved into place");
+    return fail_clean(o.report_dir + ": the report could not be moved into place" + was_stored);
   }
   report_tmp.clear();
   if (!comp_tmp.empty() && std::rename(comp_tmp.c_str(), o.linuxcnc_comp_path.c_str()) != 0) {
-    return fail_clean(o.linuxcnc_comp_path + ": cannot be written");
+    return fail_clean(cannot_write(o.linuxcnc_comp_path, errno) + was_stored);
   }
   if (!kins_tmp.empty() && std::rename(kins_tmp.c_str(), o.linuxcnc_kins_path.c_str()) != 0) {
-    return fail_clean(o.linuxcnc_kins_path + ": cannot be written");
+    return fail_clean(cannot_write(o.linuxcnc_kins_path, errno) + was_stored);
   }
-  if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
+  if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) {
+    return fail_clean(cannot_write(o.json_path, errno) + was_stored);
+  }
   std::printf("%s\n", summary.c_str());
   return o.check && verdict == trueaxis::macros::Verdict::kFail ? 3 : 0;
 }

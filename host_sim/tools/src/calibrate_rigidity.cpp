@@ -65,6 +65,7 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
     }
   }
 
+  r.stage = "opening the session (macro 9830): nothing sent yet";
   if (!run_or_fail(client, kClear, "", r)) return r;
   CsvReader reader(options.in_path, columns);
   CsvRow row;
@@ -72,10 +73,11 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
   std::uint64_t sent = 0;
   while (reader.next(row)) {
     const std::string where = options.in_path + ":" + std::to_string(row.line);
+    r.stage = "streaming sample " + std::to_string(sent + 1) + " of " + std::to_string(rows) + " of " + where;
     const double ac[3] = {row.numbers[0], 0.0, row.numbers[1]};
     const double xyz[3] = {row.numbers[2], row.numbers[3], row.numbers[4]};
     if (!client.write(var::kArgA, 3, ac) || !client.write(var::kArgX, 3, xyz)) {
-      r.error = refused_sample(client, where);
+      r.error = refused_sample(client, where, r);
       return r;
     }
     if (!run_or_fail(client, kAdd, where, r)) {
@@ -89,6 +91,7 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
 
   // Built without storing: the command stores only after the JSON and the
   // report are made (store_rigidity), so a later failure stores nothing.
+  r.stage = "running the build (macro 9832, R = 0), every sample sent";
   hand_time(client, options.log_time);  // the calibration's entry in the measuring log
   if (!transport(client, client.write_one(var::kArgR, 0.0), r)) return r;
   if (!run_or_fail(client, kBuild, "", r)) {
@@ -113,6 +116,7 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
   std::string pose_json;
   std::string comp;
   for (int q = 1; q <= poses; ++q) {
+    r.stage = "running the report query (macro 9834, pose " + std::to_string(q) + " of " + std::to_string(poses) + ")";
     const double args[2] = {static_cast<double>(q), 0.0};  // Q = pose, R = 0: the table just built
     if (!transport(client, client.write(var::kArgQ, 2, args), r)) return r;
     if (!run_or_fail(client, kPose, "", r)) return r;

@@ -22,6 +22,11 @@
 //     memory (the gantry keeps its rows to sort them, at most the session's
 //     capacity: a longer file is refused at the first row beyond it). Work
 //     that takes more than 2 s reports its progress on stderr (Progress).
+//  5. A transport failure (the connection reset, a time-out) says what was
+//     under way (FlowResult::stage: which sample of which file, the build,
+//     the report query, the check, the store) and, through the command, what
+//     became of the store: nothing stored, not known (the connection failed
+//     after the store's macro was sent), or stored (a failure after it).
 #pragma once
 
 #include <cstddef>
@@ -79,6 +84,13 @@ struct FlowResult {
   bool accept_change = false;
   // The measuring log's time for the store and the check (CalibrateOptions::log_time).
   double log_time = 0.0;
+  // What was under way (contract 5), after "while": "streaming sample 12 of
+  // 252 of ball.csv:14", "running the build (macro 9832, R = 0), every sample
+  // sent", "storing (macro 9832, R = 1)"; a transport failure names it.
+  std::string stage;
+  bool transport_failed = false;  // the failure was the connection's (a reset, a time-out), not a refusal
+  bool macro_started = false;     // ... after the macro number was sent: whether it ran is not known
+  bool stored = false;            // the store's macro succeeded (a later failure leaves the table stored)
 };
 
 // Hands the module the measuring log's time (#9015, Unix seconds) for the
@@ -110,8 +122,9 @@ class Progress {
 bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail);
 
 // The refusal of a sample's write: "FILE:LINE: the module refused the sample:
-// WHY" when its values were refused (exception 02 or 03), else WHY alone.
-std::string refused_sample(VariableClient& client, const std::string& where);
+// WHY" when its values were refused (exception 02 or 03), else WHY alone,
+// with what was under way (fail.stage) when it is the transport's (contract 5).
+std::string refused_sample(VariableClient& client, const std::string& where, FlowResult& fail);
 
 // `ok` as it is; when false, fail.error names the transport problem ("Modbus: ...").
 bool transport(VariableClient& client, bool ok, FlowResult& fail);
