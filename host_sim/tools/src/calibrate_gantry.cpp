@@ -200,10 +200,40 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
       return r;
     }
   }
+  // A MACHINE row with no points, or a point of a sub-machine --sub-machines leaves out.
+  const std::vector<int>& listed = options.sub_machines;
+  const auto in_list = [&listed](int n) { return listed.empty() || std::count(listed.begin(), listed.end(), n) > 0; };
+  std::string measured;
+  for (int n = 1; n <= 8; ++n) measured += mentioned[n] ? (measured.empty() ? "" : ",") + std::to_string(n) : "";
+  const Sample* outside = nullptr;  // the first in the file
+  for (const Sample& s : samples) {
+    if (s.group.t != 0 && !in_list(s.group.t) && (outside == nullptr || s.row->line < outside->row->line)) outside = &s;
+  }
+  if (outside != nullptr) {
+    r.error = options.in_path + ":" + std::to_string(outside->row->line) + ": group '" + outside->row->texts[0] +
+              "': sub-machine " + std::to_string(outside->group.t) + " is not among --sub-machines";
+    return r;
+  }
   for (int n = 1; n <= 8; ++n) {
     if (mentioned[n] && parameters.count(n) == 0) {
       r.error = options.machine_path + ": no row for sub-machine " + std::to_string(n) + ", which " +
                 options.in_path + " measures";
+      return r;
+    }
+  }
+  for (const auto& [n, row] : parameters) {
+    if (!in_list(n) || mentioned[n]) continue;
+    r.error = options.machine_path + ":" + std::to_string(row->line) + ": sub-machine " + std::to_string(n) +
+              " has no points in " + options.in_path + " (no group sp" + std::to_string(n) + "_...)" +
+              (listed.empty() ? ": not measured, or its groups misnamed? (to calibrate some sub-machines only, name "
+                                "them: --sub-machines " + (measured.empty() ? std::string("N,...") : measured) + ")"
+                              : ", though --sub-machines names it");
+    return r;
+  }
+  for (const int n : listed) {
+    if (!mentioned[n] && parameters.count(n) == 0) {
+      r.error = "--sub-machines names sub-machine " + std::to_string(n) + ", which neither " + options.in_path +
+                " measures nor " + options.machine_path + " gives";
       return r;
     }
   }

@@ -1,7 +1,7 @@
 // trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
 //                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
 //                   [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE] [--linuxcnc-kins FILE]
-//                   [--check] [--operator NAME] [--time WHEN]
+//                   [--check] [--operator NAME] [--time WHEN] [--sub-machines N,N...]
 // trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]
 // trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]
 // trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]
@@ -66,7 +66,7 @@ constexpr const char* kUsage =
     "usage: trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]\n"
     "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n"
     "                          [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE] [--linuxcnc-kins FILE]\n"
-    "                          [--check] [--operator NAME] [--time WHEN]\n"
+    "                          [--check] [--operator NAME] [--time WHEN] [--sub-machines N,N...]\n"
     "       trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]\n"
     "       trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]\n"
     "       trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]\n";
@@ -158,6 +158,8 @@ void print_help() {
               "  --in SAMPLES.csv       the measurements (required)\n"
               "  --json OUT.json        where the result goes (required)\n"
               "  --machine MACHINE.csv  the machine's nominal data (gantry, spindle)\n"
+              "  --sub-machines N,N...  gantry: the sub-machines this session measures (MACHINE's other\n"
+              "                         rows are not read); without it every MACHINE row needs its points\n"
               "  --report DIR           also DIR/index.html with plots (DIR made if absent)\n"
               "  --store                store the result as the controller's calibration table:\n"
               "                         unlock, store, lock again\n"
@@ -795,6 +797,20 @@ int main(int argc, char** argv) {
       o.linuxcnc_comp_path = argv[++i];
     } else if (arg == "--linuxcnc-kins" && has_value) {
       o.linuxcnc_kins_path = argv[++i];
+    } else if (arg == "--sub-machines" && has_value) {
+      const std::string list = argv[++i];
+      o.sub_machines.clear();
+      std::size_t from = 0;
+      bool ok = !list.empty();
+      while (ok && from <= list.size()) {
+        const std::size_t comma = std::min(list.find(',', from), list.size());
+        const std::string n = list.substr(from, comma - from);
+        ok = n.size() == 1 && n[0] >= '1' && n[0] <= '8' &&
+             std::count(o.sub_machines.begin(), o.sub_machines.end(), n[0] - '0') == 0;
+        if (ok) o.sub_machines.push_back(n[0] - '0');
+        from = comma + 1;
+      }
+      if (!ok) return usage_error("--sub-machines takes N,N,... : sub-machines 1..8, each once");
     } else if (arg == "--accept-change") {
       o.accept_change = true;
     } else if (arg == "--unlock-code" && has_value) {
@@ -823,6 +839,9 @@ int main(int argc, char** argv) {
   if (o.accept_change && !o.store) return usage_error("--accept-change goes with --store");
   if (o.check && o.store) {
     return usage_error("--check compares with the stored calibration and stores nothing: not with --store");
+  }
+  if (!o.sub_machines.empty() && o.method != "gantry") {
+    return usage_error("--sub-machines goes with gantry (the sub-machines a session measures)");
   }
   if (!o.linuxcnc_comp_path.empty() && o.method != "rigidity") {
     return usage_error("--linuxcnc-comp goes with rigidity (M3's A positioning error)");

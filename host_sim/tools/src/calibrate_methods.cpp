@@ -28,7 +28,8 @@ const CalibrateMethod kMethods[] = {
    "  Passes in measuring order along the axis' positive direction, circles in order of\n"
    "  increasing angle; a group's rows need not be adjacent.\n"
    "MACHINE.csv (--machine, required): sub_machine,swing_mm,tool_x,tool_y,tool_z\n"
-   "  sub_machine        N, 1..8, each once; a row for every sub-machine SAMPLES measures\n"
+   "  sub_machine        N, 1..8, each once; a row for every sub-machine SAMPLES measures, and\n"
+   "                     points for every row (or --sub-machines N,N...: the ones measured)\n"
    "  swing_mm           the A axis' swing length, wrist centre to tool tip (mm)\n"
    "  tool_x, tool_y, tool_z  the nominal tool direction, tracker frame (only its sense is used)\n",
    calibrate_gantry, store_gantry, "gantry", nullptr},

@@ -120,13 +120,14 @@ inline std::vector<std::vector<double>> conversions(sim::VariableClient& client)
 }
 
 // The command's flow as calibrate_main.cpp runs it, without the files: the
-// flow, then (on success, with store) the store.
+// flow, then (on success, with store) the store; `sub_machines` is --sub-machines.
 inline sim::FlowResult flow(sim::VariableClient& client, const std::string& in, const std::string& machine,
-                            bool store) {
+                            bool store, const std::vector<int>& sub_machines = {}) {
   sim::CalibrateOptions o;
   o.method = "gantry";
   o.in_path = in;
   o.machine_path = machine;
+  o.sub_machines = sub_machines;
   o.json_path = "unused.json";
   o.store = store;
   sim::FlowResult r = sim::calibrate_gantry(client, o);

@@ -38,6 +38,7 @@ TEST_CASE("calibrate gantry: every bad input has its own error and stores nothin
   struct Case {
     std::string name, samples, machine, error;  // error: the whole line, or its start
     bool whole;
+    std::vector<int> sub_machines = {};  // --sub-machines
   };
   std::vector<Case> cases;
   // Lines 1 comment, 2 header, then good[k] on line 3 + k.
@@ -223,13 +224,35 @@ TEST_CASE("calibrate gantry: every bad input has its own error and stores nothin
     cases.push_back({"a zero tool direction", with(good), zero,
                      zero + ":3: " + module_error(Status::kArgumentOutOfRange), false});
     cases.push_back({"no MACHINE file", with(good), "", "gantry needs --machine MACHINE.csv", false});
+    // A MACHINE row (sub-machine 3, line 5) whose sub-machine has no points: forgotten, or its groups misnamed.
+    std::vector<Row> no_sp3;
+    for (const Row& r : good) {
+      if (r.group.rfind("sp3_", 0) != 0) no_sp3.push_back(r);
+    }
+    cases.push_back({"a MACHINE row without points", with(no_sp3), machine,
+                     machine + ":5: sub-machine 3 has no points in " + bad + " (no group sp3_...): not measured, or "
+                     "its groups misnamed? (to calibrate some sub-machines only, name them: --sub-machines 1,2,4)",
+                     true});
+    // The same with --sub-machines naming it, and a point of one it leaves out (sp2's first, in file order).
+    cases.push_back({"--sub-machines names one without points", with(no_sp3), machine,
+                     machine + ":5: sub-machine 3 has no points in " + bad + " (no group sp3_...), though "
+                     "--sub-machines names it",
+                     true, {1, 2, 3, 4}});
+    std::size_t first_sp2 = 0;
+    while (good[first_sp2].group.rfind("sp2_", 0) != 0) ++first_sp2;
+    cases.push_back({"a point of a sub-machine --sub-machines leaves out", with(good), machine,
+                     at(first_sp2, "group '" + good[first_sp2].group + "': sub-machine 2 is not among --sub-machines"),
+                     true, {1, 3, 4}});
+    cases.push_back({"--sub-machines names one neither file has", with(no_sp3), no3,
+                     "--sub-machines names sub-machine 3, which neither " + bad + " measures nor " + no3 + " gives",
+                     true, {1, 2, 3, 4}});
   }
 
   const auto check_refusals = [&](const std::vector<std::vector<double>>& before) {
     for (const Case& c : cases) {
       CAPTURE(c.name);
       w.write("bad.csv", c.samples);
-      const sim::FlowResult r = flow(client, bad, c.machine, true);
+      const sim::FlowResult r = flow(client, bad, c.machine, true, c.sub_machines);
       CAPTURE(r.error);
       CHECK_FALSE(r.ok);
       CHECK(r.json.empty());

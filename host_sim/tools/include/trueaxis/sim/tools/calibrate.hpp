@@ -49,6 +49,9 @@ struct CalibrateOptions {
   std::string report_dir;    // "" when absent
   std::string linuxcnc_comp_path;  // --linuxcnc-comp (rigidity): "" when absent
   std::string linuxcnc_kins_path;  // --linuxcnc-kins (rigidity, with --store): "" when absent
+  // --sub-machines (gantry): the sub-machines this session measures, each
+  // 1..8 once; empty: every sub-machine MACHINE gives (calibrate_gantry).
+  std::vector<int> sub_machines;
   bool store = false;
   bool check = false;          // --check: compare with the stored calibration (check.hpp), store nothing
   std::string operator_name;   // --operator NAME: who measured, for the report
@@ -164,7 +167,12 @@ bool spindle_kins_file(VariableClient& client, bool stored, std::string& file, F
 
 // Streams the tracker points (grouped by name, measuring order kept) and the
 // MACHINE rows, computes the frames WITHOUT storing them; reads back what the
-// module computed (9824, 9826).
+// module computed (9824, 9826). Every sub-machine SAMPLES measures needs its
+// MACHINE row, and every MACHINE row its points: a row whose sub-machine has
+// no points is refused at its line (a sub-machine forgotten, or its groups
+// misnamed), unless options.sub_machines names the ones measured (one
+// sub-machine measured again with the whole machine's MACHINE file); then
+// the others' rows are not read, and a point of another is refused.
 FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& options);
 
 // Stores the frames of the session already in the module (unlock, 9823 with
