@@ -210,12 +210,18 @@ bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResu
     const bool known = kind >= 1 && kind <= info.figures.size;
     const std::string kind_name = known ? info.figures[kind - 1].name : "figure_" + std::to_string(kind);
     const std::string unit = known ? info.figures[kind - 1].unit : "";
+    // Named by what the item is (the pose's A, the sub-machine), not its number.
     const int item = static_cast<int>(f[6]);
-    const std::string name = item > 0 ? kind_name + "_" + std::to_string(item) : kind_name;
+    const auto named = r.check_items.find(item);
+    const bool is_named = item > 0 && named != r.check_items.end();
+    const std::string name =
+        item <= 0 ? kind_name : kind_name + "_" + (is_named ? named->second.suffix : std::to_string(item));
+    const std::string item_key =
+        is_named ? ", \"" + named->second.key + "\": " + json_value(named->second.value) : std::string();
     const macros::Verdict fv = static_cast<macros::Verdict>(static_cast<int>(f[4]));
     figures += q > 1 ? ",\n" : "\n";
     figures += "      { \"name\": \"" + name + "\", \"kind\": \"" + kind_name + "\", \"item\": " +
-               std::to_string(item) + ", \"unit\": \"" + unit + "\", \"verdict\": \"" + macros::verdict_name(fv) +
+               std::to_string(item) + item_key + ", \"unit\": \"" + unit + "\", \"verdict\": \"" + macros::verdict_name(fv) +
                "\",\n        \"stored\": " + json_value(f[7]) + ", \"measured\": " + json_value(f[8]) +
                ", \"deviation\": " + json_value(f[9]) + ", \"sigma\": " + json_value(f[10]) +
                ", \"tolerance\": " + json_value(f[11]) + " }";

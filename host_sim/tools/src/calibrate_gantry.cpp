@@ -316,6 +316,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
       return r;
     }
     ++count;
+    r.check_items[n] = {"sp" + std::to_string(n), "sub_machine", static_cast<double>(n)};  // the check's item: its id
     if (s[3] > worst_sigma_mm) {
       worst_sigma_mm = s[3];
       worst_id = n;

@@ -123,6 +123,9 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
     double p[21];  // #100..#120 (rigidity_map.hpp kPoseOutputs)
     if (!transport(client, client.read(var::kPoseA, 21, p), r)) return r;
     if (std::fabs(p[0]) <= core::kPoseAToleranceDeg) reference_a_deg = p[0];
+    char a_name[32];  // the check names pose q by its A (calibrate.hpp, check_items)
+    std::snprintf(a_name, sizeof a_name, "a%g", p[0]);
+    r.check_items[q] = {a_name, "a_deg", p[0]};
     if (p[7] > worst[0]) {
       worst[0] = p[7];
       worst[1] = p[8];

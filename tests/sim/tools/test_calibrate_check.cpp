@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -121,7 +122,21 @@ TEST_CASE("calibrate rigidity --check: refused without a stored table, passes un
   const std::string page = slurp(w.file("report/index.html"));
   CHECK(page.find("Verdict: pass") != std::string::npos);
   CHECK(page.find("Ann &quot;A&quot; O&#x27;Neil") != std::string::npos);
-  CHECK(page.find("rotation_change_7") != std::string::npos);
+  CHECK(page.find("rotation_change_a90") != std::string::npos);
+  // Every figure named by its pose's A (issue 32): item q is OUT.json's pose q, in A order.
+  for (const Json& f : doc["check"]["figures"].items) {
+    INFO(f["name"].text);
+    const auto q = static_cast<std::size_t>(f["item"].number);
+    REQUIRE(q >= 1);
+    REQUIRE(q <= doc["poses"].items.size());
+    const double a = doc["poses"].items[q - 1]["a_deg"].number;
+    CHECK(f["a_deg"].number == a);
+    char suffix[32];
+    std::snprintf(suffix, sizeof suffix, "_a%g", a);
+    CHECK(f["name"].text == f["kind"].text + suffix);
+  }
+  CHECK(doc["check"]["figures"].items[0]["name"].text == "rotation_change_a-90");
+  CHECK(doc["check"]["figures"].items[1]["name"].text == "a_positioning_error_change_a-90");
   CHECK(page.find("SHA-256") != std::string::npos);
   CHECK(stored_rotvec(sim.client()) == before);
 
@@ -193,5 +208,9 @@ TEST_CASE("calibrate spindle and gantry --check: a second measurement of the unc
   const Json g2 = parse(slurp(w.file("g.json")));
   check_object(g2["check"], "pass");
   CHECK(g2["check"]["figures"].items.size() == 8);
-  CHECK(g2["check"]["figures"].items[0]["name"].text == "origin_change_1");
+  CHECK(g2["check"]["figures"].items[0]["name"].text == "origin_change_sp1");
+  for (const Json& figure : g2["check"]["figures"].items) {
+    CHECK(figure["sub_machine"].number == figure["item"].number);
+    CHECK(figure["name"].text == figure["kind"].text + "_sp" + std::to_string(static_cast<int>(figure["item"].number)));
+  }
 }

@@ -31,6 +31,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -94,6 +95,16 @@ struct FlowResult {
   bool transport_failed = false;  // the failure was the connection's (a reset, a time-out), not a refusal
   bool macro_started = false;     // ... after the macro number was sent: whether it ran is not known
   bool stored = false;            // the store's macro succeeded (a later failure leaves the table stored)
+  // What the check's items are (check.hpp figure item, the module's number):
+  // item -> the suffix of the figure's name ("a-90": the pose at A = -90 deg,
+  // "sp2": sub-machine 2) and the key OUT.json's figure adds ("a_deg": -90,
+  // "sub_machine": 2). An item not here is named by its number.
+  struct CheckItem {
+    std::string suffix;
+    std::string key;
+    double value = 0.0;
+  };
+  std::map<int, CheckItem> check_items;
 };
 
 // Hands the module the measuring log's time (#9015, Unix seconds) for the
@@ -226,7 +237,8 @@ macros::CheckInfo check_of(const char* name);
 // --check (check.hpp): runs the method's check macro on the result the flow
 // has just built (R = 0) against the stored calibration, adds OUT.json's
 // "check" object (docs/INTERFACE.md "Check mode and the log") to r.json and
-// the verdict to r.summary; verdict is set to the check's. False with
+// the verdict to r.summary; verdict is set to the check's. The figures are
+// named by r.check_items. False with
 // r.error set when the module refused (no stored calibration among others).
 bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResult& r, macros::Verdict& verdict);
 
