@@ -46,6 +46,20 @@ def num(v, spec):
     return "not a number" if v is None else format(v, spec)
 
 
+def stored_calibration_text(judged):
+    """The stored calibration a check judged, in one line: its table sequence,
+    when it was stored, its record's SHA-256 (as the module exports it), and
+    why a part is missing."""
+    seq = judged.get("table_sequence")
+    parts = [f"table sequence {seq}" if seq is not None else "table sequence unknown",
+             f"stored {judged['stored_time_utc']} UTC" if judged.get("stored_time_utc") else "store date unknown"]
+    if judged.get("record_sha256"):
+        parts.append(f"{judged.get('record', 'record')} ({judged.get('record_bytes')} bytes as the module exports it) "
+                     f"SHA-256 {judged['record_sha256']}")
+    text = "; ".join(parts)
+    return text + (f" ({judged['note']})" if judged.get("note") else "")
+
+
 def record(data, report):
     """What makes the page a record: the verdict first, then who, when, with what
     (trueaxis-calibrate's "record", DIR/module_figures.json), and --check's
@@ -65,6 +79,9 @@ def record(data, report):
                  if os.path.isfile(map_file) else "not recorded"))
     for path in rec.get("inputs", []):
         rows.append(("Input " + path, "SHA-256 " + sha256_of(path) if os.path.isfile(path) else "not found"))
+    judged = (data.get("check") or {}).get("stored_calibration")
+    if judged is not None:
+        rows.append(("Stored calibration judged", stored_calibration_text(judged)))
     out_json = rec.get("out_json", "")
     link = os.path.relpath(os.path.abspath(out_json), os.path.abspath(rec.get("report_dir") or "."))
     report.record(rows, verdict, link)

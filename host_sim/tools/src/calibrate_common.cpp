@@ -4,8 +4,11 @@
 #include <utility>
 
 #include "trueaxis/core/status.hpp"
+#include "trueaxis/macros/record_file.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
+#include "trueaxis/sim/tools/log_reader.hpp"
+#include "trueaxis/sim/tools/sha256.hpp"
 
 namespace trueaxis::sim {
 
@@ -174,6 +177,71 @@ std::string refused_sample(VariableClient& client, const std::string& where, Flo
 namespace {
 // A number, or null when it is not finite (JSON has no NaN; the figure then fails, check.hpp).
 std::string json_value(double v) { return std::isfinite(v) ? json_number(v) : "null"; }
+
+// The stored calibration a check has just judged: its table sequence (the
+// check's entry in the measuring log, #9026), when it was stored (the log's
+// entry of the store that made that sequence), and the SHA-256 of its record
+// as the module exports it (the method's kins_file: M3 9837, M4 9847; M2 has
+// no exact export). The "stored_calibration" member of OUT.json's check;
+// r.log_rows keeps the log read. A part that cannot be had is null, and
+// "note" says why.
+std::string stored_calibration(VariableClient& client, const CalibrateMethod& method, FlowResult& r) {
+  std::string note;
+  std::string error;
+  r.log_read = read_log(client, r.log_rows, error);
+  const LogRow* check = nullptr;
+  const LogRow* store = nullptr;
+  if (!r.log_read) {
+    note = "the module's measuring log could not be read (" + error + "): no table sequence, no date";
+  } else {
+    for (const LogRow& row : r.log_rows) {
+      if (row.method == method.name && row.check) check = &row;
+    }
+    for (const LogRow& row : r.log_rows) {
+      if (check != nullptr && row.method == method.name && row.stored && row.table_sequence == check->table_sequence) {
+        store = &row;
+      }
+    }
+    if (check == nullptr) {
+      note = "the module's measuring log holds no entry of this check";
+    } else if (store == nullptr) {
+      note = "the store of table sequence " + std::to_string(check->table_sequence) +
+             " is no longer in the module's measuring log (its newest 32 entries): no date";
+    } else if (store->time_s == 0) {
+      note = "the store was logged without a time";
+    }
+  }
+  const macros::RecordSpec* spec = stored_record(method.name);
+  std::string sha = "null";
+  std::size_t bytes = 0;
+  if (method.kins_file == nullptr) {
+    note += std::string(note.empty() ? "" : "; ") + method.name +
+            " has no exact export of its stored record (no macro gives its bytes): it is named by its table sequence "
+            "and the time of its store";
+  } else {
+    std::string file;
+    FlowResult exported;
+    const std::uint8_t* payload = nullptr;
+    if (spec != nullptr && method.kins_file(client, true, file, exported) &&
+        macros::decode_record_file(static_cast<std::uint8_t>(spec->key), reinterpret_cast<const std::uint8_t*>(file.data()),
+                                   file.size(), payload, bytes) == macros::RecordFileError::kNone) {
+      sha = "\"" + sha256_hex(payload, bytes) + "\"";
+    } else {
+      bytes = 0;
+      note += std::string(note.empty() ? "" : "; ") + "the stored record could not be exported (" +
+              (exported.error.empty() ? "not a valid record" : exported.error) + "): no hash";
+    }
+  }
+  const bool timed = store != nullptr && store->time_s != 0;
+  return "\"stored_calibration\": { \"table_sequence\": " +
+         (check != nullptr ? std::to_string(check->table_sequence) : std::string("null")) +
+         ", \"stored_time_s\": " + (timed ? std::to_string(store->time_s) : std::string("null")) +
+         ", \"stored_time_utc\": " + (timed ? json_string(utc_text(store->time_s)) : std::string("null")) +
+         ",\n    \"record\": " +
+         (spec != nullptr ? json_string("record " + std::to_string(spec->key) + " " + spec->name) : std::string("null")) +
+         ", \"record_bytes\": " + (sha == "null" ? std::string("null") : std::to_string(bytes)) +
+         ", \"record_sha256\": " + sha + (note.empty() ? "" : ",\n    \"note\": " + json_string(note)) + " }";
+}
 }  // namespace
 
 bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResult& r, macros::Verdict& verdict) {
@@ -232,9 +300,10 @@ bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResu
       worst_line = line;
     }
   }
+  const std::string judged = stored_calibration(client, method, r);
   r.json = with_member(r.json, "\"check\": { \"verdict\": \"" + std::string(macros::verdict_name(verdict)) +
-                                    "\", \"worst\": " + std::to_string(worst) + ", \"figures\": [" + figures +
-                                    "\n  ] }");
+                                    "\", \"worst\": " + std::to_string(worst) + ",\n    " + judged +
+                                    ",\n    \"figures\": [" + figures + "\n  ] }");
   r.summary += "; check: " + std::string(macros::verdict_name(verdict)) + " (" + worst_line + ")";
   return true;
 }

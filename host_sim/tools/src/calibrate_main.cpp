@@ -904,17 +904,15 @@ int main(int argc, char** argv) {
     // The report shows this method's drift, the check just logged included.
     // A module that cannot give its log (older firmware) leaves the drift out:
     // the check itself stands.
-    std::vector<trueaxis::sim::LogRow> rows;
-    std::string error;
-    if (trueaxis::sim::read_log(client, rows, error)) {
+    // check_built read the log, the check's entry included.
+    if (r.log_read) {
       std::vector<trueaxis::sim::Drift> drift;
-      for (const trueaxis::sim::Drift& d : trueaxis::sim::fit_drift(rows)) {
+      for (const trueaxis::sim::Drift& d : trueaxis::sim::fit_drift(r.log_rows)) {
         if (d.method == method->name) drift.push_back(d);
       }
       r.report_extras = trueaxis::sim::with_member(r.report_extras, "\"drift\": " + trueaxis::sim::drift_json(drift));
     } else {
-      std::fprintf(stderr, "trueaxis-calibrate: the report shows no drift: the module's log could not be read (%s)\n",
-                   error.c_str());
+      std::fprintf(stderr, "trueaxis-calibrate: the report shows no drift: the module's log could not be read\n");
     }
   }
   // For the record only: a module without #902 (older firmware) reads as not set.

@@ -39,6 +39,7 @@
 #include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/macros/records.hpp"
 #include "trueaxis/sim/tools/client.hpp"
+#include "trueaxis/sim/tools/log_reader.hpp"
 
 namespace trueaxis::sim {
 
@@ -105,6 +106,11 @@ struct FlowResult {
     double value = 0.0;
   };
   std::map<int, CheckItem> check_items;
+  // --check: the module's measuring log as check_built read it (for the
+  // stored calibration judged and the report's drift); log_read false when
+  // the module could not give it.
+  std::vector<LogRow> log_rows;
+  bool log_read = false;
 };
 
 // Hands the module the measuring log's time (#9015, Unix seconds) for the
@@ -238,7 +244,9 @@ macros::CheckInfo check_of(const char* name);
 // has just built (R = 0) against the stored calibration, adds OUT.json's
 // "check" object (docs/INTERFACE.md "Check mode and the log") to r.json and
 // the verdict to r.summary; verdict is set to the check's. The figures are
-// named by r.check_items. False with
+// named by r.check_items; "stored_calibration" names the calibration judged
+// (its table sequence and store time from the measuring log, kept in
+// r.log_rows, and the SHA-256 of the record the module exports). False with
 // r.error set when the module refused (no stored calibration among others).
 bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResult& r, macros::Verdict& verdict);
 
