@@ -70,9 +70,13 @@ def record(data, report):
         return
     verdict = rec.get("verdict") or "calibration, no tolerance given"
     machine = rec.get("machine_id", 0)
+    name = rec.get("machine_name") or ""
+    machine_text = f"{machine:.0f}" if machine else "not set (#902 machine_id)"
+    if name:
+        machine_text += f"; named {name} (--machine-name)"
     rows = [("Verdict", verdict), ("Date", rec.get("date", "")), ("trueaxis", rec.get("version", "")),
             ("Interface version (#9006)", f"{rec.get('interface_version', 0):g}"),
-            ("Machine (#902)", f"{machine:.0f}" if machine else "not set (#902 machine_id)"),
+            ("Machine (#902)", machine_text),
             ("Operator", rec.get("operator") or "not given (--operator NAME)")]
     map_file = os.path.join(report.directory, rec.get("register_map", "register_map.json"))
     rows.append(("Register map", "SHA-256 " + sha256_of(map_file) + " (register_map.json, trueaxis-map --json)"

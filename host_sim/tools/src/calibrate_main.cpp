@@ -1,7 +1,8 @@
 // trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
 //                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
 //                   [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE] [--linuxcnc-kins FILE]
-//                   [--check] [--operator NAME] [--time WHEN] [--sub-machines N,N...]
+//                   [--check] [--operator NAME] [--machine-name NAME] [--time WHEN]
+//                   [--sub-machines N,N...]
 // trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]
 // trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]
 // trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]
@@ -66,7 +67,8 @@ constexpr const char* kUsage =
     "usage: trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]\n"
     "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n"
     "                          [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE] [--linuxcnc-kins FILE]\n"
-    "                          [--check] [--operator NAME] [--time WHEN] [--sub-machines N,N...]\n"
+    "                          [--check] [--operator NAME] [--machine-name NAME] [--time WHEN]\n"
+    "                          [--sub-machines N,N...]\n"
     "       trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]\n"
     "       trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]\n"
     "       trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]\n";
@@ -177,6 +179,8 @@ void print_help() {
               "                         verdict (pass, warn, fail) against the tolerances configured in the\n"
               "                         module; exit 3 on fail\n"
               "  --operator NAME        who measured: shown in the report\n"
+              "  --machine-name NAME    the machine's name, letters and all: shown in the report beside\n"
+              "                         its number #902 (the module holds numbers only)\n"
               "  --time WHEN            when it was measured, for the module's measuring log: Unix seconds,\n"
               "                         or UTC as 2027-01-15, 2027-01-15T08:00:00Z (default now)\n"
               "  --wait SECONDS         how long to wait while another client holds the controller's\n"
@@ -318,7 +322,8 @@ std::string with_record(const std::string& extras, const CalibrateOptions& o, co
       "\"record\": { \"verdict\": " + json_string(verdict) + ", \"date\": " + json_string(when) +
       ", \"version\": " + json_string(trueaxis::sim::version_line("trueaxis-calibrate")) +
       ", \"interface_version\": " + trueaxis::sim::json_number(interface_version) + ", \"machine_id\": " +
-      trueaxis::sim::json_number(machine_id) + ", \"operator\": " + json_string(o.operator_name) + ", \"inputs\": [" + inputs + "], \"out_json\": " +
+      trueaxis::sim::json_number(machine_id) + ", \"machine_name\": " + json_string(o.machine_name) +
+      ", \"operator\": " + json_string(o.operator_name) + ", \"inputs\": [" + inputs + "], \"out_json\": " +
       json_string(o.json_path) + ", \"report_dir\": " + json_string(o.report_dir) +
       ", \"register_map\": \"register_map.json\" }";
   return trueaxis::sim::with_member(extras, record);
@@ -780,6 +785,11 @@ int main(int argc, char** argv) {
     } else if (arg == "--operator" && has_value) {
       o.operator_name = argv[++i];
       if (!printable_utf8(o.operator_name)) return usage_error("--operator takes a name in UTF-8 without control characters");
+    } else if (arg == "--machine-name" && has_value) {
+      o.machine_name = argv[++i];
+      if (o.machine_name.empty() || !printable_utf8(o.machine_name)) {
+        return usage_error("--machine-name takes a name in UTF-8 without control characters");
+      }
     } else if (arg == "--time" && has_value) {
       o.log_time = parse_time(argv[++i]);
       if (o.log_time == 0.0) {

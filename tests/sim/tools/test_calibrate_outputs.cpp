@@ -143,3 +143,27 @@ TEST_CASE("sha256_hex gives FIPS 180-4's digests (what names a stored record on 
         "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
   CHECK(sha256_hex(std::string(1000000, 'a')) == "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0");
 }
+
+TEST_CASE("calibrate: the machine's identity, #902 a number and --machine-name a name with letters, on the page",
+          "[calibrate][record]") {
+  SimFixture sim({"--errors", "realistic"});
+  Workspace w("trueaxis-calibrate-machine");
+  const std::string samples = measure(sim.port(), w, "ball.csv");
+  // #902 holds a number only (every variable is one): a serial with letters goes with --machine-name.
+  sim.set(v::kUnlock, trueaxis::sim::test::kUnlockCode);
+  CHECK(sim.write_exception(v::kMachineId, {4711.5}) == 3);
+  sim.set(v::kMachineId, 4711.0);
+  sim.set(v::kUnlock, 0.0);
+  REQUIRE(sim.client().give_back_interface());
+  const Run r = calibrate(sim.port(), w, {"--in", samples, "--json", w.file("out.json"), "--report", w.file("report"),
+                                          "--machine-name", "DMU 65 / A12"});
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const std::string page = slurp(w.file("report/index.html"));
+  CHECK(page.find("<th>Machine (#902)</th><td>4711; named DMU 65 / A12 (--machine-name)</td>") != std::string::npos);
+  const Run bad = calibrate(sim.port(), w, {"--in", samples, "--json", w.file("bad.json"), "--machine-name", "A\tB"});
+  CHECK(bad.exit_code == 1);
+  CHECK(bad.err == "trueaxis-calibrate: --machine-name takes a name in UTF-8 without control characters "
+                   "(trueaxis-calibrate --help)\n");
+  CHECK_FALSE(exists(w.file("bad.json")));
+}

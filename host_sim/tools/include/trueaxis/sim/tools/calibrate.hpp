@@ -57,6 +57,7 @@ struct CalibrateOptions {
   bool store = false;
   bool check = false;          // --check: compare with the stored calibration (check.hpp), store nothing
   std::string operator_name;   // --operator NAME: who measured, for the report
+  std::string machine_name;    // --machine-name NAME: the machine's name with letters, for the report (#902 holds a number)
   bool accept_change = false;  // --accept-change: the store's M = 1 (gates.hpp, change)
   double unlock_code = macros::kUnlockCode;  // --unlock-code: the machine's own (#900)
   std::string host = "127.0.0.1";
