@@ -667,7 +667,7 @@ int run_plan(int argc, char** argv) {
           {"--side-grid", "ROWS,COLS: 2..20 each"},
           {"--passes", "1..8"},
           {"--pass-points", "3..60"},
-          {"--circle-points", "5..36 (a circle group's capacity)"},
+          {"--circle-points", "5..36 (the module's session holds 30 a circle: more is refused as it refuses them)"},
           {"--c-arc", "FROM,TO in degrees, FROM < TO, less than a turn"},
           {"--a-arc", "FROM,TO in degrees, FROM < TO, less than a turn"},
           {"--mpe", "UM,UM_PER_M: micrometres > 0 and micrometres per metre >= 0"},
