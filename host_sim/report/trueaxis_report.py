@@ -46,6 +46,20 @@ def num(v, spec):
     return "not a number" if v is None else format(v, spec)
 
 
+def stored_calibration_text(judged):
+    """The stored calibration a check judged, in one line: its table sequence,
+    when it was stored, its record's SHA-256 (as the module exports it), and
+    why a part is missing."""
+    seq = judged.get("table_sequence")
+    parts = [f"table sequence {seq}" if seq is not None else "table sequence unknown",
+             f"stored {judged['stored_time_utc']} UTC" if judged.get("stored_time_utc") else "store date unknown"]
+    if judged.get("record_sha256"):
+        parts.append(f"{judged.get('record', 'record')} ({judged.get('record_bytes')} bytes as the module exports it) "
+                     f"SHA-256 {judged['record_sha256']}")
+    text = "; ".join(parts)
+    return text + (f" ({judged['note']})" if judged.get("note") else "")
+
+
 def record(data, report):
     """What makes the page a record: the verdict first, then who, when, with what
     (trueaxis-calibrate's "record", DIR/module_figures.json), and --check's
@@ -56,15 +70,24 @@ def record(data, report):
         return
     verdict = rec.get("verdict") or "calibration, no tolerance given"
     machine = rec.get("machine_id", 0)
+    name = rec.get("machine_name") or ""
+    machine_text = f"{machine:.0f}" if machine else "not set (#902 machine_id)"
+    if name:
+        machine_text += f"; named {name} (--machine-name)"
     rows = [("Verdict", verdict), ("Date", rec.get("date", "")), ("trueaxis", rec.get("version", "")),
             ("Interface version (#9006)", f"{rec.get('interface_version', 0):g}"),
-            ("Machine (#902)", f"{machine:.0f}" if machine else "not set (#902 machine_id)"),
+            ("Machine (#902)", machine_text),
             ("Operator", rec.get("operator") or "not given (--operator NAME)")]
     map_file = os.path.join(report.directory, rec.get("register_map", "register_map.json"))
     rows.append(("Register map", "SHA-256 " + sha256_of(map_file) + " (register_map.json, trueaxis-map --json)"
                  if os.path.isfile(map_file) else "not recorded"))
     for path in rec.get("inputs", []):
         rows.append(("Input " + path, "SHA-256 " + sha256_of(path) if os.path.isfile(path) else "not found"))
+    for given in data.get("taken_as_given", []):  # MACHINE values no data of this run tested
+        rows.append(("Taken as given", given))
+    judged = (data.get("check") or {}).get("stored_calibration")
+    if judged is not None:
+        rows.append(("Stored calibration judged", stored_calibration_text(judged)))
     out_json = rec.get("out_json", "")
     link = os.path.relpath(os.path.abspath(out_json), os.path.abspath(rec.get("report_dir") or "."))
     report.record(rows, verdict, link)

@@ -216,3 +216,81 @@ TA_TEST("the fit gate reads #702 in mm per metre of range: the boundary with #70
   TA_CHECK_EQ(r.item, 1.0);
   TA_CHECK(r.value > 1.0 && r.value < 1.0 + 1e-5);
 }
+
+namespace {
+// 9822 for sub-machine `id` with a nominal origin (Q = 1, X, Y, Z).
+double nominal_parameters(ModuleRig& rig, int id, double swing_mm, const Vec3& tool, const Vec3& nominal) {
+  rig.set(v::kArgQ, 1.0);
+  rig.set3(v::kArgX, nominal);
+  return gf::parameters(rig, id, swing_mm, tool);
+}
+// The fixture again, sub-machine 1's 9822 as given.
+void restream(ModuleRig& rig, double swing_mm, const Vec3& tool, const Vec3* nominal) {
+  TA_REQUIRE(rig.done(9820));
+  gf::stream_machine(rig);
+  gf::stream_sub(rig, 1);
+  gf::stream_sub(rig, 2);
+  const double s = nominal != nullptr ? nominal_parameters(rig, 1, swing_mm, tool, *nominal)
+                                      : gf::parameters(rig, 1, swing_mm, tool);
+  TA_REQUIRE(s == kDone);
+}
+}  // namespace
+
+TA_TEST("9823 refuses a swing length below #709 (MACHINE in metres) with swing_implausible, at the exact boundary") {
+  ModuleRig rig;
+  restream(rig, gf::kSwingMm * 1e-3, Vec3(0, 0, -1), nullptr);
+  t::Refused r = refused_build(rig, true);
+  TA_CHECK_EQ(r.code, m::gantry::kSwingImplausible);
+  TA_CHECK_EQ(r.item, 1.0);
+  TA_CHECK_EQ(r.value, gf::kSwingMm * 1e-3);
+  TA_CHECK_EQ(r.limit, m::gantry::kDefaultMinSwingMm);
+  TA_CHECK_EQ(gf::convert(rig, 1, Vec3::Zero()), kError);  // nothing stored
+  TA_CHECK_EQ(rig.code(), Status::kNoTable);
+  t::configure(rig, v::kGantryMinSwing, gf::kSwingMm * (1.0 + 1e-9));
+  restream(rig, gf::kSwingMm, Vec3(0, 0, -1), nullptr);
+  r = refused_build(rig, false);
+  TA_CHECK_EQ(r.code, m::gantry::kSwingImplausible);
+  TA_CHECK_EQ(r.value, gf::kSwingMm);
+  t::configure(rig, v::kGantryMinSwing, gf::kSwingMm);  // the length itself passes
+  restream(rig, gf::kSwingMm, Vec3(0, 0, -1), nullptr);
+  TA_CHECK_EQ(gf::build(rig, false), kDone);
+}
+
+TA_TEST("9823 holds a measured origin to its nominal one within #708: a swing typed wrong, a tool flipped; the boundary") {
+  ModuleRig rig;
+  const Vec3 off(3.0, 4.0, 0.0);  // the drawing 5 mm off the truth
+  const Vec3 nominal = gf::origin(1) + off;
+  restream(rig, gf::kSwingMm, Vec3(0, 0, -1), &nominal);
+  TA_CHECK_EQ(gf::build(rig, false), kDone);  // within the default 10 mm
+  // A swing length with a digit typed twice: the origin 2,700 mm off.
+  restream(rig, gf::kSwingMm * 10.0, Vec3(0, 0, -1), &nominal);
+  t::Refused r = refused_build(rig, true);
+  TA_CHECK_EQ(r.code, m::gantry::kOriginOffNominal);
+  TA_CHECK_EQ(r.item, 1.0);
+  TA_CHECK_NEAR(r.value, (Vec3(0, 0, -9.0 * gf::kSwingMm) - off).norm(), 1e-6);
+  TA_CHECK_EQ(r.limit, m::gantry::kDefaultMaxNominalOffsetMm);
+  TA_CHECK_EQ(gf::convert(rig, 1, Vec3::Zero()), kError);  // nothing stored
+  TA_CHECK_EQ(rig.code(), Status::kNoTable);
+  // The tool direction the wrong way round: the origin above the wrist, 600 mm off.
+  restream(rig, gf::kSwingMm, Vec3(0, 0, 1), &nominal);
+  r = refused_build(rig, false);
+  TA_CHECK_EQ(r.code, m::gantry::kOriginOffNominal);
+  TA_CHECK_NEAR(r.value, (Vec3(0, 0, 2.0 * gf::kSwingMm) - off).norm(), 1e-6);
+  // The exact boundary: the right parameters, #708 just below and just above the 5 mm.
+  t::configure(rig, v::kGantryMaxNominalOffset, 5.0 * (1.0 - 1e-9));
+  restream(rig, gf::kSwingMm, Vec3(0, 0, -1), &nominal);
+  r = refused_build(rig, false);
+  TA_CHECK_EQ(r.code, m::gantry::kOriginOffNominal);
+  TA_CHECK_NEAR(r.value, 5.0, 1e-9);
+  t::configure(rig, v::kGantryMaxNominalOffset, 5.0 * (1.0 + 1e-9));
+  restream(rig, gf::kSwingMm, Vec3(0, 0, -1), &nominal);
+  TA_CHECK_EQ(gf::build(rig, false), kDone);
+  // Without Q = 1 a swing typed wrong is taken as given: computed (the host says so).
+  restream(rig, gf::kSwingMm * 10.0, Vec3(0, 0, -1), nullptr);
+  TA_CHECK_EQ(gf::build(rig, false), kDone);
+  // Q other than 0 and 1 is refused at 9822.
+  TA_REQUIRE(rig.done(9820));
+  rig.set(v::kArgQ, 2.0);
+  TA_CHECK_EQ(gf::parameters(rig, 1, gf::kSwingMm, Vec3(0, 0, -1)), kError);
+  TA_CHECK_EQ(rig.code(), Status::kArgumentOutOfRange);
+}

@@ -204,3 +204,30 @@ TA_TEST("the change gate: a store whose tool tip at V moves beyond #804 needs M 
   TA_REQUIRE(sf::correction(rig, 0.0, sf::kBallMm[1]) == kDone);
   TA_CHECK((rig.get3(v::kSpindleTipX) - sf::tip_error_mm(0.0, sf::kBallMm[1])).norm() < 1e-9);
 }
+
+TA_TEST("9842 refuses both files in metres with balls_too_close (the spacings agree), at #807's exact boundary") {
+  ModuleRig rig;
+  Stream metres;
+  metres.scale = 1e-3;
+  stream(rig, metres);
+  TA_REQUIRE(rig.unlock());
+  // MACHINE in metres too: D, U and V 1000 times short; V - U = 0.1 agrees with the samples.
+  sf::arguments(rig, 1.0, sf::kGaugeMm * 1e-3, sf::kBallMm[0] * 1e-3, sf::kBallMm[1] * 1e-3);
+  TA_CHECK_EQ(rig.run(9842), kError);
+  TA_CHECK_EQ(rig.code(), m::spindle::kBallsTooClose);
+  const double given = (sf::kBallMm[1] - sf::kBallMm[0]) * 1e-3;
+  TA_CHECK_NEAR(rig.get(v::kGateValue), given, 1e-15);
+  TA_CHECK_EQ(rig.get(v::kGateLimit), m::spindle::kDefaultMinBallSpacingMm);
+  TA_CHECK(rig.logged_refusal(m::spindle::kBallsTooClose));
+  TA_CHECK_EQ(sf::correction(rig, 0.0, 0.0), kError);  // nothing stored
+  TA_CHECK_EQ(rig.code(), Status::kNoTable);
+  // The boundary, in mm: V - U = 100 against #807 just above and just below it.
+  stream(rig, Stream{});
+  const double spacing = sf::kBallMm[1] - sf::kBallMm[0];
+  t::configure(rig, v::kSpindleMinBallSpacing, spacing * (1.0 + 1e-9));
+  const t::Refused r = refused_build(rig, false);
+  TA_CHECK_EQ(r.code, m::spindle::kBallsTooClose);
+  TA_CHECK_EQ(r.value, spacing);
+  t::configure(rig, v::kSpindleMinBallSpacing, spacing * (1.0 - 1e-9));
+  TA_CHECK_EQ(build(rig, false), kDone);
+}

@@ -4,8 +4,11 @@
 #include <utility>
 
 #include "trueaxis/core/status.hpp"
+#include "trueaxis/macros/record_file.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
+#include "trueaxis/sim/tools/log_reader.hpp"
+#include "trueaxis/sim/tools/sha256.hpp"
 
 namespace trueaxis::sim {
 
@@ -40,18 +43,62 @@ void Progress::update(std::uint64_t done, std::uint64_t total) {
 }
 
 namespace {
-// What a gate refused (#9012 .. #9014, gates.hpp), "" when no gate did.
-std::string gate_text(VariableClient& client) {
+// What a gate of `macro`'s method refused (#9012 .. #9014, gates.hpp), "" when
+// no gate did: the gate by its name and what it judges (the JSON map's
+// "gates"), the item by what it is (the flow's check_items: a pose's A, a
+// sub-machine; else its number), the figure and the limit with the
+// configuration variable that sets it.
+std::string gate_text(VariableClient& client, std::uint16_t macro, int code, const FlowResult& fail) {
   double g[3] = {0.0, 0.0, 0.0};
   if (!client.read(macros::var::kGateItem, 3, g) || (g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0)) return "";
-  char buf[160];
-  if (g[0] != 0.0) {
-    std::snprintf(buf, sizeof buf, "; item %g (#9012): %.6g (#9013) against the limit %.6g (#9014)", g[0], g[1], g[2]);
-  } else {
-    std::snprintf(buf, sizeof buf, "; %.6g (#9013) against the limit %.6g (#9014)", g[1], g[2]);
+  const macros::GateInfo* gate = nullptr;
+  const macros::MacroEntry entry = macros::find_macro_entry(macro);
+  if (entry.info != nullptr) {
+    for (const macros::GateInfo& info : macros::BuiltMethods::kGates[entry.method]) {
+      if (static_cast<int>(info.status) == code) gate = &info;
+    }
   }
-  return buf;
+  std::string text = "; ";
+  if (gate != nullptr) text += std::string("gate ") + gate->name + " (" + gate->what + ")";
+  const int item = static_cast<int>(g[0]);
+  if (item > 0) {
+    const auto named = fail.check_items.find(item);
+    char what[80];
+    if (named != fail.check_items.end() && named->second.key == "a_deg") {
+      std::snprintf(what, sizeof what, " at pose %d (A = %g deg)", item, named->second.value);
+    } else if (named != fail.check_items.end() && named->second.key == "sub_machine") {
+      std::snprintf(what, sizeof what, " at sub-machine %d", item);
+    } else {
+      std::snprintf(what, sizeof what, " at item %d", item);
+    }
+    text += what;
+  }
+  char figures[240];
+  if (code == static_cast<int>(core::Status::kFitBeyondNoise)) {
+    std::snprintf(figures, sizeof figures, ": the residuals' chi-square statistic is %.4g times its quantile at #%u's "
+                  "confidence (limit 1): more scatter than the stated noise", g[1],
+                  static_cast<unsigned>(macros::var::kGateConfidence));
+    return text + figures;
+  }
+  // The limit is one of the gate's configuration variables: the one that holds it now.
+  const macros::VarInfo* limit = nullptr;
+  for (int k = 0; gate != nullptr && k < 3 && limit == nullptr; ++k) {
+    double now = 0.0;
+    if (gate->thresholds[k] != 0 && client.read_one(gate->thresholds[k], now) && now == g[2]) {
+      limit = macros::find_var(gate->thresholds[k]);
+    }
+  }
+  const std::string unit = limit != nullptr && limit->unit[0] != '\0' ? std::string(" ") + limit->unit : "";
+  std::snprintf(figures, sizeof figures, ": %.6g%s against the limit %.6g%s", g[1], unit.c_str(), g[2], unit.c_str());
+  text += figures;
+  if (limit != nullptr) text += " (#" + std::to_string(limit->number) + " " + limit->name + ")";
+  return text;
 }
+}  // namespace
+
+namespace {
+// Contract 5: what was under way when the connection failed.
+std::string under_way(const FlowResult& fail) { return fail.stage.empty() ? "" : " while " + fail.stage; }
 }  // namespace
 
 bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail) {
@@ -59,17 +106,28 @@ bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string&
   if (outcome.status == 2) return true;
   const std::string where = context.empty() ? "" : context + ": ";
   if (outcome.status == 3) {
-    fail.error = where + module_error_text(outcome.error) + " (macro " + std::to_string(macro) + gate_text(client) + ")";
+    fail.error = where + module_error_text(outcome.error) + " (macro " + std::to_string(macro) +
+                 gate_text(client, macro, outcome.error, fail) + ")";
   } else if (client.exception() != 0) {  // the command was refused: not the sample's doing, no line named
     fail.error = "macro " + std::to_string(macro) + " not started: " + client.failure_text();
   } else {
-    fail.error = where + "macro " + std::to_string(macro) + " did not finish: " + client.error_text();
+    fail.transport_failed = true;
+    fail.macro_started = outcome.started;
+    const std::string state = " (macro " + std::to_string(macro) + (outcome.started ? " sent, its end not seen)" : " not sent)");
+    fail.error = fail.stage.empty() ? where + "macro " + std::to_string(macro) + " did not finish: Modbus: " + client.error_text()
+                                    : "Modbus: " + client.error_text() + under_way(fail) + state;
   }
   return false;
 }
 
 bool transport(VariableClient& client, bool ok, FlowResult& fail) {
-  if (!ok) fail.error = client.failure_text();
+  if (!ok) {
+    fail.error = client.failure_text();
+    if (client.exception() == 0) {
+      fail.transport_failed = true;
+      fail.error += under_way(fail);
+    }
+  }
   return ok;
 }
 
@@ -85,6 +143,7 @@ bool hand_time(VariableClient& client, double unix_s, FlowResult& fail) {
 bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail,
                  const std::vector<MacroArgument>& arguments) {
   namespace var = macros::var;
+  fail.stage = "storing (macro " + std::to_string(build_macro) + ", R = 1)";
   if (!transport(client, client.write_one(var::kUnlock, fail.unlock_code), fail)) return false;
   // The same session computed again, now stored: the computation is
   // deterministic, so what is stored is what OUT.json describes.
@@ -99,8 +158,14 @@ bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& 
   if (!stored && module_refused(fail, static_cast<int>(core::Status::kChangeBeyondLimit))) {
     fail.error += " (trueaxis-calibrate --accept-change stores it: check the machine first)";
   }
+  fail.stored = stored;
+  fail.stage = "locking the controller again after the store";
   const bool locked = client.write_one(var::kUnlock, 0.0);  // lock again, whatever happened
-  if (stored && !locked) fail.error = "the controller could not be locked again: " + client.failure_text();
+  if (stored && !locked) {
+    fail.transport_failed = client.exception() == 0;
+    fail.error = "the controller could not be locked again: " + client.failure_text() +
+                 " (an unlock closes with its connection, or 300 s after its last write)";
+  }
   return stored && locked;
 }
 
@@ -140,18 +205,88 @@ std::string json_vec3(const double* v) {
   return "[" + json_number(v[0]) + ", " + json_number(v[1]) + ", " + json_number(v[2]) + "]";
 }
 
-std::string refused_sample(VariableClient& client, const std::string& where) {
+std::string refused_sample(VariableClient& client, const std::string& where, FlowResult& fail) {
   // Exceptions 02 and 03 are about the values written (their range, their
   // finiteness): the line is named. Anything else (the interface held, a macro
   // running, the transport) is not the line's doing.
   const int exception = client.exception();
   const std::string why = client.failure_text();
-  return exception == 2 || exception == 3 ? where + ": the module refused the sample: " + why : why;
+  if (exception == 2 || exception == 3) return where + ": the module refused the sample: " + why;
+  if (exception == 0) {
+    fail.transport_failed = true;
+    return why + under_way(fail);
+  }
+  return why;
 }
 
 namespace {
 // A number, or null when it is not finite (JSON has no NaN; the figure then fails, check.hpp).
 std::string json_value(double v) { return std::isfinite(v) ? json_number(v) : "null"; }
+
+// The stored calibration a check has just judged: its table sequence (the
+// check's entry in the measuring log, #9026), when it was stored (the log's
+// entry of the store that made that sequence), and the SHA-256 of its record
+// as the module exports it (the method's kins_file: M3 9837, M4 9847; M2 has
+// no exact export). The "stored_calibration" member of OUT.json's check;
+// r.log_rows keeps the log read. A part that cannot be had is null, and
+// "note" says why.
+std::string stored_calibration(VariableClient& client, const CalibrateMethod& method, FlowResult& r) {
+  std::string note;
+  std::string error;
+  r.log_read = read_log(client, r.log_rows, error);
+  const LogRow* check = nullptr;
+  const LogRow* store = nullptr;
+  if (!r.log_read) {
+    note = "the module's measuring log could not be read (" + error + "): no table sequence, no date";
+  } else {
+    for (const LogRow& row : r.log_rows) {
+      if (row.method == method.name && row.check) check = &row;
+    }
+    for (const LogRow& row : r.log_rows) {
+      if (check != nullptr && row.method == method.name && row.stored && row.table_sequence == check->table_sequence) {
+        store = &row;
+      }
+    }
+    if (check == nullptr) {
+      note = "the module's measuring log holds no entry of this check";
+    } else if (store == nullptr) {
+      note = "the store of table sequence " + std::to_string(check->table_sequence) +
+             " is no longer in the module's measuring log (its newest 32 entries): no date";
+    } else if (store->time_s == 0) {
+      note = "the store was logged without a time";
+    }
+  }
+  const macros::RecordSpec* spec = stored_record(method.name);
+  std::string sha = "null";
+  std::size_t bytes = 0;
+  if (method.kins_file == nullptr) {
+    note += std::string(note.empty() ? "" : "; ") + method.name +
+            " has no exact export of its stored record (no macro gives its bytes): it is named by its table sequence "
+            "and the time of its store";
+  } else {
+    std::string file;
+    FlowResult exported;
+    const std::uint8_t* payload = nullptr;
+    if (spec != nullptr && method.kins_file(client, true, file, exported) &&
+        macros::decode_record_file(static_cast<std::uint8_t>(spec->key), reinterpret_cast<const std::uint8_t*>(file.data()),
+                                   file.size(), payload, bytes) == macros::RecordFileError::kNone) {
+      sha = "\"" + sha256_hex(payload, bytes) + "\"";
+    } else {
+      bytes = 0;
+      note += std::string(note.empty() ? "" : "; ") + "the stored record could not be exported (" +
+              (exported.error.empty() ? "not a valid record" : exported.error) + "): no hash";
+    }
+  }
+  const bool timed = store != nullptr && store->time_s != 0;
+  return "\"stored_calibration\": { \"table_sequence\": " +
+         (check != nullptr ? std::to_string(check->table_sequence) : std::string("null")) +
+         ", \"stored_time_s\": " + (timed ? std::to_string(store->time_s) : std::string("null")) +
+         ", \"stored_time_utc\": " + (timed ? json_string(utc_text(store->time_s)) : std::string("null")) +
+         ",\n    \"record\": " +
+         (spec != nullptr ? json_string("record " + std::to_string(spec->key) + " " + spec->name) : std::string("null")) +
+         ", \"record_bytes\": " + (sha == "null" ? std::string("null") : std::to_string(bytes)) +
+         ", \"record_sha256\": " + sha + (note.empty() ? "" : ",\n    \"note\": " + json_string(note)) + " }";
+}
 }  // namespace
 
 bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResult& r, macros::Verdict& verdict) {
@@ -174,6 +309,7 @@ bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResu
     return transport(client, client.read(var::kCheckVerdict, 12, out), r);
   };
   double v[12];  // #100..#111 (check.hpp convention 3)
+  r.stage = "running the check (macro " + std::to_string(info.macro) + ")";
   if (!run_q(0.0, v)) return false;
   verdict = static_cast<macros::Verdict>(static_cast<int>(v[0]));
   const int count = static_cast<int>(v[1]);
@@ -187,12 +323,18 @@ bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResu
     const bool known = kind >= 1 && kind <= info.figures.size;
     const std::string kind_name = known ? info.figures[kind - 1].name : "figure_" + std::to_string(kind);
     const std::string unit = known ? info.figures[kind - 1].unit : "";
+    // Named by what the item is (the pose's A, the sub-machine), not its number.
     const int item = static_cast<int>(f[6]);
-    const std::string name = item > 0 ? kind_name + "_" + std::to_string(item) : kind_name;
+    const auto named = r.check_items.find(item);
+    const bool is_named = item > 0 && named != r.check_items.end();
+    const std::string name =
+        item <= 0 ? kind_name : kind_name + "_" + (is_named ? named->second.suffix : std::to_string(item));
+    const std::string item_key =
+        is_named ? ", \"" + named->second.key + "\": " + json_value(named->second.value) : std::string();
     const macros::Verdict fv = static_cast<macros::Verdict>(static_cast<int>(f[4]));
     figures += q > 1 ? ",\n" : "\n";
     figures += "      { \"name\": \"" + name + "\", \"kind\": \"" + kind_name + "\", \"item\": " +
-               std::to_string(item) + ", \"unit\": \"" + unit + "\", \"verdict\": \"" + macros::verdict_name(fv) +
+               std::to_string(item) + item_key + ", \"unit\": \"" + unit + "\", \"verdict\": \"" + macros::verdict_name(fv) +
                "\",\n        \"stored\": " + json_value(f[7]) + ", \"measured\": " + json_value(f[8]) +
                ", \"deviation\": " + json_value(f[9]) + ", \"sigma\": " + json_value(f[10]) +
                ", \"tolerance\": " + json_value(f[11]) + " }";
@@ -203,9 +345,10 @@ bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResu
       worst_line = line;
     }
   }
+  const std::string judged = stored_calibration(client, method, r);
   r.json = with_member(r.json, "\"check\": { \"verdict\": \"" + std::string(macros::verdict_name(verdict)) +
-                                    "\", \"worst\": " + std::to_string(worst) + ", \"figures\": [" + figures +
-                                    "\n  ] }");
+                                    "\", \"worst\": " + std::to_string(worst) + ",\n    " + judged +
+                                    ",\n    \"figures\": [" + figures + "\n  ] }");
   r.summary += "; check: " + std::string(macros::verdict_name(verdict)) + " (" + worst_line + ")";
   return true;
 }

@@ -2,6 +2,7 @@
 // 9820/9821, MACHINE rows -> 9822, frames 9823 (stored with --store), global
 // 9824 and per sub-machine 9826 -> OUT.json.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
@@ -137,6 +138,35 @@ std::string json_axes(const double* x, const double* y, const double* z) {
 
 }  // namespace
 
+namespace {
+
+// The MACHINE row behind a refusal of the swing or nominal-origin gate: the
+// file, the row, its values and the likely mistake; "" for another refusal.
+std::string machine_row_cause(VariableClient& client, const FlowResult& r, const std::map<int, const CsvRow*>& rows,
+                              const std::string& machine_path) {
+  const bool swing = module_refused(r, static_cast<int>(macros::gantry::kSwingImplausible));
+  const bool nominal = module_refused(r, static_cast<int>(macros::gantry::kOriginOffNominal));
+  double gate[3] = {0.0, 0.0, 0.0};  // #9012 .. #9014: the sub-machine, the figure, the limit
+  if ((!swing && !nominal) || !client.read(var::kGateItem, 3, gate)) return "";
+  const auto found = rows.find(static_cast<int>(gate[0]));
+  if (found == rows.end()) return "";
+  const CsvRow& row = *found->second;
+  char text[400];
+  if (swing) {
+    std::snprintf(text, sizeof text, " -- %s:%d: sub-machine %d's swing_mm %g is shorter than %g mm: MACHINE.csv in "
+                  "metres? trueaxis takes mm", machine_path.c_str(), row.line, found->first, row.numbers[1], gate[2]);
+  } else {
+    std::snprintf(text, sizeof text, " -- %s:%d: sub-machine %d's measured origin lies %.4g mm from its nominal origin "
+                  "(%g, %g, %g) (limit %g mm, #708): is swing_mm %g typed wrong (a digit twice? metres?), the tool "
+                  "direction (%g, %g, %g) the wrong way round, or the nominal origin in another frame than the "
+                  "global one?", machine_path.c_str(), row.line, found->first, gate[1], row.numbers[5], row.numbers[6],
+                  row.numbers[7], gate[2], row.numbers[1], row.numbers[2], row.numbers[3], row.numbers[4]);
+  }
+  return text;
+}
+
+}  // namespace
+
 FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& options) {
   FlowResult r;
   if (options.machine_path.empty()) {
@@ -162,8 +192,13 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
       return r;
     }
   }
+  // origin_x_mm .. origin_z_mm: the nominal origin (global frame), optional: with
+  // it the module holds the measured origin to it (#708), without it the swing
+  // length and the tool direction are taken as given.
   const CsvResult machine = read_csv(options.machine_path,
-                                     {{"sub_machine"}, {"swing_mm"}, {"tool_x"}, {"tool_y"}, {"tool_z"}});
+                                     {{"sub_machine"}, {"swing_mm"}, {"tool_x"}, {"tool_y"}, {"tool_z"},
+                                      {"origin_x_mm", true, true}, {"origin_y_mm", true, true},
+                                      {"origin_z_mm", true, true}});
   if (!machine.ok) {
     r.error = machine.error;
     return r;
@@ -195,10 +230,30 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
       r.error = where + ": sub_machine must be a whole number 1..8";
       return r;
     }
+    const int given = (std::isnan(row.numbers[5]) ? 0 : 1) + (std::isnan(row.numbers[6]) ? 0 : 1) +
+                      (std::isnan(row.numbers[7]) ? 0 : 1);
+    if (given != 0 && given != 3) {
+      r.error = where + ": a nominal origin needs origin_x_mm, origin_y_mm and origin_z_mm, all three, or none";
+      return r;
+    }
     if (!parameters.emplace(static_cast<int>(n), &row).second) {
       r.error = where + ": sub-machine " + std::to_string(static_cast<int>(n)) + " is given twice";
       return r;
     }
+  }
+  // A MACHINE row with no points, or a point of a sub-machine --sub-machines leaves out.
+  const std::vector<int>& listed = options.sub_machines;
+  const auto in_list = [&listed](int n) { return listed.empty() || std::count(listed.begin(), listed.end(), n) > 0; };
+  std::string measured;
+  for (int n = 1; n <= 8; ++n) measured += mentioned[n] ? (measured.empty() ? "" : ",") + std::to_string(n) : "";
+  const Sample* outside = nullptr;  // the first in the file
+  for (const Sample& s : samples) {
+    if (s.group.t != 0 && !in_list(s.group.t) && (outside == nullptr || s.row->line < outside->row->line)) outside = &s;
+  }
+  if (outside != nullptr) {
+    r.error = options.in_path + ":" + std::to_string(outside->row->line) + ": group '" + outside->row->texts[0] +
+              "': sub-machine " + std::to_string(outside->group.t) + " is not among --sub-machines";
+    return r;
   }
   for (int n = 1; n <= 8; ++n) {
     if (mentioned[n] && parameters.count(n) == 0) {
@@ -207,16 +262,35 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
       return r;
     }
   }
+  for (const auto& [n, row] : parameters) {
+    if (!in_list(n) || mentioned[n]) continue;
+    r.error = options.machine_path + ":" + std::to_string(row->line) + ": sub-machine " + std::to_string(n) +
+              " has no points in " + options.in_path + " (no group sp" + std::to_string(n) + "_...)" +
+              (listed.empty() ? ": not measured, or its groups misnamed? (to calibrate some sub-machines only, name "
+                                "them: --sub-machines " + (measured.empty() ? std::string("N,...") : measured) + ")"
+                              : ", though --sub-machines names it");
+    return r;
+  }
+  for (const int n : listed) {
+    if (!mentioned[n] && parameters.count(n) == 0) {
+      r.error = "--sub-machines names sub-machine " + std::to_string(n) + ", which neither " + options.in_path +
+                " measures nor " + options.machine_path + " gives";
+      return r;
+    }
+  }
 
+  r.stage = "opening the session (macro 9820): nothing sent yet";
   if (!run_or_fail(client, kClear, "", r)) return r;
+  std::size_t streamed = 0;
   for (const Sample& s : samples) {
     const std::string where = options.in_path + ":" + std::to_string(s.row->line);
+    r.stage = "streaming sample " + std::to_string(++streamed) + " of " + std::to_string(samples.size()) + " of " + where;
     const double tqd[3] = {static_cast<double>(s.group.t), static_cast<double>(s.group.q),
                            static_cast<double>(s.group.d)};
     const double xyz[3] = {s.row->numbers[1], s.row->numbers[2], s.row->numbers[3]};
     if (!client.write_one(var::kArgT, tqd[0]) || !client.write_one(var::kArgQ, tqd[1]) ||
         !client.write_one(var::kArgD, tqd[2]) || !client.write(var::kArgX, 3, xyz)) {
-      r.error = refused_sample(client, where);
+      r.error = refused_sample(client, where, r);
       return r;
     }
     if (!run_or_fail(client, kAdd, where, r)) {
@@ -235,17 +309,41 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
   for (const auto& [n, row] : parameters) {
     if (!mentioned[n]) continue;
     const std::string where = options.machine_path + ":" + std::to_string(row->line);
+    r.stage = "sending sub-machine " + std::to_string(n) + "'s row of " + where + " (macro 9822)";
     const double tool[3] = {row->numbers[2], row->numbers[3], row->numbers[4]};
+    const bool nominal = !std::isnan(row->numbers[5]);
+    const double origin[3] = {row->numbers[5], row->numbers[6], row->numbers[7]};
     if (!client.write_one(var::kArgT, n) || !client.write_one(var::kArgD, row->numbers[1]) ||
-        !client.write(var::kArgI, 3, tool)) {
+        !client.write(var::kArgI, 3, tool) || (nominal && !client.write_one(var::kArgQ, 1.0)) ||
+        (nominal && !client.write(var::kArgX, 3, origin))) {
       r.error = where + ": the module refused the row: " + client.failure_text();
       return r;
     }
     if (!run_or_fail(client, kSubMachine, where, r)) return r;
+    if (!nominal) {
+      char text[200];
+      std::snprintf(text, sizeof text, "sub-machine %d's swing_mm %g and tool direction (%g, %g, %g) (%s; no nominal "
+                    "origin to hold them to)", n, row->numbers[1], tool[0], tool[1], tool[2], where.c_str());
+      r.as_given.push_back(text);
+    }
   }
 
+  // The module's item for a sub-machine is its id: named so in a gate's refusal and the check.
+  for (int n = 1; n <= 8; ++n) {
+    if (mentioned[n]) r.check_items[n] = {"sp" + std::to_string(n), "sub_machine", static_cast<double>(n)};
+  }
+  std::string unheld;  // the sub-machines without a nominal origin
+  for (const auto& [n, row] : parameters) {
+    if (mentioned[n] && std::isnan(row->numbers[5])) unheld += (unheld.empty() ? "" : ", ") + std::to_string(n);
+  }
+  if (!unheld.empty()) {
+    r.as_given_summary = "swing_mm and tool direction of sub-machine" +
+                         std::string(unheld.find(',') != std::string::npos ? "s " : " ") + unheld + " (" +
+                         options.machine_path + " gives no nominal origin: origin_x_mm .. origin_z_mm)";
+  }
   // Computed without storing: the command stores only after the JSON and the
   // report are made (store_gantry), so a later failure stores nothing.
+  r.stage = "running the build (macro 9823, R = 0), every sample sent";
   if (!hand_time(client, options.log_time, r)) return r;  // the calibration's entry in the measuring log
   if (!transport(client, client.write_one(var::kArgR, 0.0), r)) return r;
   if (!run_or_fail(client, kBuild, "", r)) {
@@ -254,8 +352,10 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
       for (const Sample& s : samples) sent.push_back(s.group);
       r.error += ": " + first_missing_group(sent, options.in_path);
     }
+    r.error += machine_row_cause(client, r, parameters, options.machine_path);
     return r;
   }
+  r.stage = "running the report query (macros 9824, 9826)";
   double build[4];
   double global[26];
   if (!transport(client, client.read(var::kGantryBuilt, 4, build), r) ||
@@ -280,6 +380,7 @@ FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& opti
       return r;
     }
     ++count;
+    r.check_items[n] = {"sp" + std::to_string(n), "sub_machine", static_cast<double>(n)};  // the check's item: its id
     if (s[3] > worst_sigma_mm) {
       worst_sigma_mm = s[3];
       worst_id = n;

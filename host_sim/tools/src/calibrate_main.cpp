@@ -1,7 +1,8 @@
 // trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]
 //                   [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]
 //                   [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE] [--linuxcnc-kins FILE]
-//                   [--check] [--operator NAME] [--time WHEN]
+//                   [--check] [--operator NAME] [--machine-name NAME] [--time WHEN]
+//                   [--sub-machines N,N...]
 // trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]
 // trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]
 // trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]
@@ -34,6 +35,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <fstream>
 #include <string>
@@ -65,7 +67,8 @@ constexpr const char* kUsage =
     "usage: trueaxis-calibrate METHOD --in SAMPLES.csv --json OUT.json [--machine MACHINE.csv]\n"
     "                          [--report DIR] [--store] [--port PORT] [--host ADDR] [--unlock-code CODE]\n"
     "                          [--accept-change] [--wait SECONDS] [--linuxcnc-comp FILE] [--linuxcnc-kins FILE]\n"
-    "                          [--check] [--operator NAME] [--time WHEN]\n"
+    "                          [--check] [--operator NAME] [--machine-name NAME] [--time WHEN]\n"
+    "                          [--sub-machines N,N...]\n"
     "       trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]\n"
     "       trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]\n"
     "       trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]\n";
@@ -159,6 +162,8 @@ void print_help() {
               "  --in SAMPLES.csv       the measurements (required)\n"
               "  --json OUT.json        where the result goes (required)\n"
               "  --machine MACHINE.csv  the machine's nominal data (gantry, spindle)\n"
+              "  --sub-machines N,N...  gantry: the sub-machines this session measures (MACHINE's other\n"
+              "                         rows are not read); without it every MACHINE row needs its points\n"
               "  --report DIR           also DIR/index.html with plots (DIR made if absent)\n"
               "  --store                store the result as the controller's calibration table:\n"
               "                         unlock, store, lock again\n"
@@ -176,6 +181,8 @@ void print_help() {
               "                         verdict (pass, warn, fail) against the tolerances configured in the\n"
               "                         module; exit 3 on fail\n"
               "  --operator NAME        who measured: shown in the report\n"
+              "  --machine-name NAME    the machine's name, letters and all: shown in the report beside\n"
+              "                         its number #902 (the module holds numbers only)\n"
               "  --time WHEN            when it was measured, for the module's measuring log: Unix seconds,\n"
               "                         or UTC as 2027-01-15, 2027-01-15T08:00:00Z (default now)\n"
               "  --wait SECONDS         how long to wait while another client holds the controller's\n"
@@ -195,7 +202,79 @@ void print_help() {
 void print_method_help(const CalibrateMethod& m) {
   std::printf("trueaxis-calibrate %s: %s\n\n%s\n%s\n", m.name, m.title, kUsage, m.files);
   std::printf("CSV: a header row, columns in any order (others ignored); '#' lines are comments;\n"
-              "numbers as C strtod reads them (not NaN or infinite).\n");
+              "a field may be in double quotes (\"x_mm\", \"1.5\"); numbers as C strtod reads them, with '.'\n"
+              "as the decimal sign (not NaN or infinite).\n");
+}
+
+// ---- the outputs, tried before the work -------------------------------------------------
+
+// The folder that holds `path` ("." for a bare name).
+std::string parent_of(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+// Why a file cannot be made in folder `dir`, "" when it can: it is tried (a
+// hidden file made there and removed at once).
+std::string folder_cause(const std::string& dir) {
+  struct stat st {};
+  if (::stat(dir.c_str(), &st) != 0) {
+    const int error = errno;
+    if (error == ENOENT || error == ENOTDIR) {
+      // The first part of the path that is missing, or a file where a folder is wanted.
+      for (std::size_t at = dir.find('/', 1);; at = dir.find('/', at + 1)) {
+        const std::string part = dir.substr(0, at);
+        struct stat p {};
+        if (::stat(part.c_str(), &p) != 0) return "no such directory '" + part + "'";
+        if (!S_ISDIR(p.st_mode)) return "'" + part + "' is a file, where a folder is wanted";
+        if (at == std::string::npos) break;
+      }
+    }
+    return "'" + dir + "': " + std::strerror(error);
+  }
+  if (!S_ISDIR(st.st_mode)) return "'" + dir + "' is a file, where a folder is wanted";
+  std::string probe = dir + "/.trueaxis-calibrate-XXXXXX";
+  const int fd = ::mkstemp(probe.data());
+  if (fd < 0) {
+    const int error = errno;
+    if (error == EROFS) return "'" + dir + "' is on a read-only file system";
+    if (error == EACCES || error == EPERM) return "'" + dir + "' is read-only: no permission to write in it";
+    return "'" + dir + "': " + std::strerror(error);
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
+  return "";
+}
+
+// Why the file `path` cannot be written (made beside it as PATH.tmp, then
+// renamed over it), "" when it can.
+std::string file_cause(const std::string& path) {
+  if (path.empty() || path.back() == '/') return "a file name is wanted, not a folder";
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) return "it is a folder, where a file is wanted";
+  return folder_cause(parent_of(path));
+}
+
+// Why the report folder `dir` cannot be made or filled, "" when it can: made
+// beside itself (DIR.tmp-XXXXXX, its parent) and moved into place (into DIR
+// when it exists).
+std::string report_cause(std::string dir) {
+  while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+  struct stat st {};
+  if (::stat(dir.c_str(), &st) == 0) {
+    if (!S_ISDIR(st.st_mode)) return "'" + dir + "' is a file, where a folder is wanted";
+    const std::string in_dir = folder_cause(dir);
+    if (!in_dir.empty()) return in_dir;
+  }
+  return folder_cause(parent_of(dir));
+}
+
+// "PATH: cannot be written (CAUSE)": the cause as it stands now, or errno's.
+std::string cannot_write(const std::string& path, int error = 0) {
+  std::string cause = file_cause(path);
+  if (cause.empty()) cause = error != 0 ? std::strerror(error) : "the write failed";
+  return path + ": cannot be written (" + cause + ")";
 }
 
 int remove_entry(const char* path, const struct stat*, int, struct FTW*) { return std::remove(path); }
@@ -245,7 +324,8 @@ std::string with_record(const std::string& extras, const CalibrateOptions& o, co
       "\"record\": { \"verdict\": " + json_string(verdict) + ", \"date\": " + json_string(when) +
       ", \"version\": " + json_string(trueaxis::sim::version_line("trueaxis-calibrate")) +
       ", \"interface_version\": " + trueaxis::sim::json_number(interface_version) + ", \"machine_id\": " +
-      trueaxis::sim::json_number(machine_id) + ", \"operator\": " + json_string(o.operator_name) + ", \"inputs\": [" + inputs + "], \"out_json\": " +
+      trueaxis::sim::json_number(machine_id) + ", \"machine_name\": " + json_string(o.machine_name) +
+      ", \"operator\": " + json_string(o.operator_name) + ", \"inputs\": [" + inputs + "], \"out_json\": " +
       json_string(o.json_path) + ", \"report_dir\": " + json_string(o.report_dir) +
       ", \"register_map\": \"register_map.json\" }";
   return trueaxis::sim::with_member(extras, record);
@@ -331,6 +411,10 @@ int run_log(int argc, char** argv) {
       return usage_error("unknown or incomplete option '" + arg + "' for log");
     }
   }
+  if (!csv_path.empty()) {  // tried before the module is asked
+    const std::string cause = file_cause(csv_path);
+    if (!cause.empty()) return fail(csv_path + ": cannot be written (" + cause + ")");
+  }
   trueaxis::sim::VariableClient client;
   // Selecting an entry is a write to the macro interface (macros/module.hpp contract 8).
   const std::string why = connection.open(client);
@@ -343,8 +427,9 @@ int run_log(int argc, char** argv) {
   if (!csv_path.empty()) {
     const std::string tmp = csv_path + ".tmp";
     if (!write_text_file(tmp, trueaxis::sim::log_csv(rows)) || std::rename(tmp.c_str(), csv_path.c_str()) != 0) {
+      const int write_error = errno;
       std::remove(tmp.c_str());
-      return fail(csv_path + ": cannot be written");
+      return fail(cannot_write(csv_path, write_error));
     }
   }
   std::printf("%s", trueaxis::sim::log_table(rows, trueaxis::sim::fit_drift(rows)).c_str());
@@ -439,6 +524,8 @@ int run_kins_export(int argc, char** argv) {
     }
   }
   if (out_path.empty()) return usage_error("linuxcnc-kins needs --out FILE");
+  const std::string cause = file_cause(out_path);  // tried before the module is asked
+  if (!cause.empty()) return fail(out_path + ": cannot be written (" + cause + ")");
   trueaxis::sim::VariableClient client;
   const std::string why = connection.open(client);
   if (!why.empty()) return fail(why);
@@ -450,8 +537,9 @@ int run_kins_export(int argc, char** argv) {
   if (!read) return fail(r.error);
   const std::string tmp = out_path + ".tmp";
   if (!write_text_file(tmp, file) || std::rename(tmp.c_str(), out_path.c_str()) != 0) {
+    const int error = errno;
     std::remove(tmp.c_str());
-    return fail(out_path + ": cannot be written");
+    return fail(cannot_write(out_path, error));
   }
   std::printf("linuxcnc-kins: the stored %s calibration, %zu bytes; wrote %s\n", method->name, file.size(),
               out_path.c_str());
@@ -581,7 +669,7 @@ int run_plan(int argc, char** argv) {
           {"--side-grid", "ROWS,COLS: 2..20 each"},
           {"--passes", "1..8"},
           {"--pass-points", "3..60"},
-          {"--circle-points", "5..36 (a circle group's capacity)"},
+          {"--circle-points", "5..36 (the module's session holds 30 a circle: more is refused as it refuses them)"},
           {"--c-arc", "FROM,TO in degrees, FROM < TO, less than a turn"},
           {"--a-arc", "FROM,TO in degrees, FROM < TO, less than a turn"},
           {"--mpe", "UM,UM_PER_M: micrometres > 0 and micrometres per metre >= 0"},
@@ -608,10 +696,8 @@ int run_plan(int argc, char** argv) {
   // PLAN.json's place is tried before the work, not after it.
   const std::string json_tmp = json_path.empty() ? "" : json_path + ".tmp";
   if (!json_tmp.empty()) {
-    struct stat st {};
-    const bool directory = ::stat(json_path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
-    if (directory || !write_text_file(json_tmp, "")) return fail(json_path + ": cannot be written");
-    std::remove(json_tmp.c_str());
+    const std::string cause = file_cause(json_path);
+    if (!cause.empty()) return fail(json_path + ": cannot be written (" + cause + ")");
   }
   std::shared_ptr<const ts::PlanModel> model;
   if (method == "rigidity") {
@@ -650,8 +736,9 @@ int run_plan(int argc, char** argv) {
   std::printf("%s", table.c_str());
   if (!json_tmp.empty()) {
     if (!write_text_file(json_tmp, ts::plan_json(*model, p, s)) || std::rename(json_tmp.c_str(), json_path.c_str()) != 0) {
+      const int error = errno;
       std::remove(json_tmp.c_str());
-      return fail(json_path + ": cannot be written");
+      return fail(cannot_write(json_path, error));
     }
   }
   return p.ok ? 0 : 3;
@@ -700,6 +787,11 @@ int main(int argc, char** argv) {
     } else if (arg == "--operator" && has_value) {
       o.operator_name = argv[++i];
       if (!printable_utf8(o.operator_name)) return usage_error("--operator takes a name in UTF-8 without control characters");
+    } else if (arg == "--machine-name" && has_value) {
+      o.machine_name = argv[++i];
+      if (o.machine_name.empty() || !printable_utf8(o.machine_name)) {
+        return usage_error("--machine-name takes a name in UTF-8 without control characters");
+      }
     } else if (arg == "--time" && has_value) {
       o.log_time = parse_time(argv[++i]);
       if (o.log_time == 0.0) {
@@ -717,6 +809,20 @@ int main(int argc, char** argv) {
       o.linuxcnc_comp_path = argv[++i];
     } else if (arg == "--linuxcnc-kins" && has_value) {
       o.linuxcnc_kins_path = argv[++i];
+    } else if (arg == "--sub-machines" && has_value) {
+      const std::string list = argv[++i];
+      o.sub_machines.clear();
+      std::size_t from = 0;
+      bool ok = !list.empty();
+      while (ok && from <= list.size()) {
+        const std::size_t comma = std::min(list.find(',', from), list.size());
+        const std::string n = list.substr(from, comma - from);
+        ok = n.size() == 1 && n[0] >= '1' && n[0] <= '8' &&
+             std::count(o.sub_machines.begin(), o.sub_machines.end(), n[0] - '0') == 0;
+        if (ok) o.sub_machines.push_back(n[0] - '0');
+        from = comma + 1;
+      }
+      if (!ok) return usage_error("--sub-machines takes N,N,... : sub-machines 1..8, each once");
     } else if (arg == "--accept-change") {
       o.accept_change = true;
     } else if (arg == "--unlock-code" && has_value) {
@@ -746,12 +852,37 @@ int main(int argc, char** argv) {
   if (o.check && o.store) {
     return usage_error("--check compares with the stored calibration and stores nothing: not with --store");
   }
+  if (!o.sub_machines.empty() && o.method != "gantry") {
+    return usage_error("--sub-machines goes with gantry (the sub-machines a session measures)");
+  }
   if (!o.linuxcnc_comp_path.empty() && o.method != "rigidity") {
     return usage_error("--linuxcnc-comp goes with rigidity (M3's A positioning error)");
   }
   if (!o.linuxcnc_kins_path.empty() && (method->kins_file == nullptr || !o.store)) {
     return usage_error("--linuxcnc-kins goes with rigidity or spindle, and --store (the kinematics take the stored "
                        "calibration)");
+  }
+
+  // Every output is tried before anything is sent: a report found unwritable
+  // after an hour of streaming would lose the hour. Each names its cause.
+  {
+    const std::string nothing = "; nothing was sent to the controller, nothing stored";
+    const std::pair<const char*, const std::string*> files[] = {
+        {"--json", &o.json_path}, {"--linuxcnc-comp", &o.linuxcnc_comp_path}, {"--linuxcnc-kins", &o.linuxcnc_kins_path}};
+    for (const auto& [option, path] : files) {
+      if (path->empty()) continue;
+      for (const auto& [other, other_path] : files) {
+        if (other != option && *other_path == *path) {
+          return usage_error(std::string(option) + " and " + other + " name the same file '" + *path + "'");
+        }
+      }
+      const std::string cause = file_cause(*path);
+      if (!cause.empty()) return fail(*path + ": cannot be written (" + cause + ")" + nothing);
+    }
+    if (!o.report_dir.empty()) {
+      const std::string cause = report_cause(o.report_dir);
+      if (!cause.empty()) return fail(o.report_dir + ": the report cannot be made there (" + cause + ")" + nothing);
+    }
   }
 
   trueaxis::sim::VariableClient client;
@@ -765,28 +896,35 @@ int main(int argc, char** argv) {
   const bool taken = client.take_interface(o.wait_s * 1000, waiting);
   if (!taken) {
     const std::string why = client.failure_text();
-    return fail(why == busy ? busy + " (waited " + std::to_string(o.wait_s) + " s; --wait SECONDS)" : why);
+    if (why == busy) return fail(busy + " (waited " + std::to_string(o.wait_s) + " s; --wait SECONDS)");
+    return fail(why + (client.exception() == 0 ? " while taking the controller's macro interface (#9009); nothing "
+                                                 "was sent, nothing stored"
+                                               : ""));
   }
+  // Contract 5 of calibrate.hpp: a transport failure says what was under way,
+  // and what became of the store.
+  const std::string nothing_stored = "; nothing was stored";
+  const auto failed = [&nothing_stored](const FlowResult& f) {
+    return fail(f.error + (f.transport_failed ? nothing_stored : ""));
+  };
   FlowResult r = method->calibrate(client, o);
-  if (!r.ok) return fail(r.error);
+  if (!r.ok) return failed(r);
   r.log_time = o.log_time;
   trueaxis::macros::Verdict verdict = trueaxis::macros::Verdict::kPass;
-  if (o.check && !trueaxis::sim::check_built(client, *method, r, verdict)) return fail(r.error);
+  if (o.check && !trueaxis::sim::check_built(client, *method, r, verdict)) return failed(r);
   if (o.check && !o.report_dir.empty()) {
     // The report shows this method's drift, the check just logged included.
     // A module that cannot give its log (older firmware) leaves the drift out:
     // the check itself stands.
-    std::vector<trueaxis::sim::LogRow> rows;
-    std::string error;
-    if (trueaxis::sim::read_log(client, rows, error)) {
+    // check_built read the log, the check's entry included.
+    if (r.log_read) {
       std::vector<trueaxis::sim::Drift> drift;
-      for (const trueaxis::sim::Drift& d : trueaxis::sim::fit_drift(rows)) {
+      for (const trueaxis::sim::Drift& d : trueaxis::sim::fit_drift(r.log_rows)) {
         if (d.method == method->name) drift.push_back(d);
       }
       r.report_extras = trueaxis::sim::with_member(r.report_extras, "\"drift\": " + trueaxis::sim::drift_json(drift));
     } else {
-      std::fprintf(stderr, "trueaxis-calibrate: the report shows no drift: the module's log could not be read (%s)\n",
-                   error.c_str());
+      std::fprintf(stderr, "trueaxis-calibrate: the report shows no drift: the module's log could not be read\n");
     }
   }
   // For the record only: a module without #902 (older firmware) reads as not set.
@@ -796,18 +934,26 @@ int main(int argc, char** argv) {
   if (!client.read_one(trueaxis::macros::var::kInterfaceVersion, interface_version)) interface_version = 0.0;
   r.report_extras = with_record(r.report_extras, o, o.check ? trueaxis::macros::verdict_name(verdict) : "",
                                 machine_id, interface_version);
+  if (!r.as_given.empty()) {  // the MACHINE values no data tested, for the report's record
+    std::string list;
+    for (const std::string& given : r.as_given) list += (list.empty() ? "" : ", ") + trueaxis::sim::json_string(given);
+    r.report_extras = trueaxis::sim::with_member(r.report_extras, "\"taken_as_given\": [" + list + "]");
+  }
   // The kinematics' file: the table or model just built (R = 0, 9837 or 9847);
   // the store builds the same session again, deterministically, so it is the
   // one stored.
   std::string kins_file;
+  r.stage = "exporting the LinuxCNC kinematics' file (" + o.linuxcnc_kins_path + ")";
   if (!o.linuxcnc_kins_path.empty() && !method->kins_file(client, false, kins_file, r)) {
-    return fail(r.error);
+    return failed(r);
   }
   // The macros this run has counted: the store checks that no other client ran
   // one since (the interface is free once #903 s pass without a write, and the
   // report is made meanwhile), so that what it stores is built from this run's session.
   double done_count = 0.0;
-  if (!client.read_one(trueaxis::macros::var::kDoneCount, done_count)) return fail(client.failure_text());
+  if (!client.read_one(trueaxis::macros::var::kDoneCount, done_count)) {
+    return fail(client.failure_text() + " while reading the controller's macro count (#9003)" + nothing_stored);
+  }
 
   // OUT.json and the report go to temporaries beside their targets first and
   // into place last, after the store: on any failure neither is there and
@@ -823,12 +969,12 @@ int main(int argc, char** argv) {
     remove_tree(report_tmp);
     return fail(line);
   };
-  if (!write_text_file(tmp, r.json)) return fail_clean(o.json_path + ": cannot be written");
+  if (!write_text_file(tmp, r.json)) return fail_clean(cannot_write(o.json_path, errno));
   if (!comp_tmp.empty() && !write_text_file(comp_tmp, r.linuxcnc_comp)) {
-    return fail_clean(o.linuxcnc_comp_path + ": cannot be written");
+    return fail_clean(cannot_write(o.linuxcnc_comp_path, errno));
   }
   if (!kins_tmp.empty() && !write_text_file(kins_tmp, kins_file)) {
-    return fail_clean(o.linuxcnc_kins_path + ": cannot be written");
+    return fail_clean(cannot_write(o.linuxcnc_kins_path, errno));
   }
   std::string summary = r.summary + "; wrote " + o.json_path;
   if (!comp_tmp.empty()) summary += ", " + o.linuxcnc_comp_path;
@@ -840,7 +986,12 @@ int main(int argc, char** argv) {
     struct stat st {};
     const bool usable = ::stat(dir.c_str(), &st) != 0 ? errno == ENOENT : S_ISDIR(st.st_mode);
     if (usable && ::mkdtemp(templ.data()) != nullptr) report_tmp = templ;
-    if (report_tmp.empty() || !write_text_file(report_tmp + "/module_figures.json", r.report_extras) ||
+    if (report_tmp.empty()) {
+      const std::string cause = report_cause(dir);
+      return fail_clean(o.report_dir + ": the report cannot be made there (" +
+                        (cause.empty() ? std::string(std::strerror(errno)) : cause) + ")");
+    }
+    if (!write_text_file(report_tmp + "/module_figures.json", r.report_extras) ||
         !write_map(report_tmp + "/register_map.json") || !make_report(*method, report_tmp, tmp)) {
       return fail_clean(o.report_dir + ": the report could not be made (" TRUEAXIS_PYTHON " " TRUEAXIS_REPORT_SCRIPT ")");
     }
@@ -851,29 +1002,51 @@ int main(int argc, char** argv) {
   if (o.store) {
     double done_now = -1.0;
     if (!client.take_interface(o.wait_s * 1000, waiting) || !client.read_one(trueaxis::macros::var::kDoneCount, done_now)) {
-      return fail_clean(client.failure_text() + "; nothing stored");
+      return fail_clean(client.failure_text() + " while taking the macro interface again for the store" + nothing_stored);
     }
     if (done_now != done_count) {
       return fail_clean("another client ran macros on the controller while the report was made (the macro interface "
                         "is free after #903 s without a write, default 30): nothing stored; run the command again");
     }
   }
-  if (o.store && !method->store(client, r)) return fail_clean(r.error);
-  summary += o.store ? "; " + stored_text(method->name) : "; not stored";
+  // The table is stored once the store's macro succeeded: a failure after it says so.
+  const trueaxis::macros::RecordSpec* record = trueaxis::sim::stored_record(method->name);
+  const std::string was_stored =
+      !o.store ? ""
+               : "; the table WAS stored" +
+                     (record != nullptr ? " (record " + std::to_string(record->key) + " " + record->name + ")"
+                                        : std::string()) +
+                     ": `trueaxis-calibrate log` shows the store";
+  bool had_table = true;
+  if (o.store && !trueaxis::sim::has_stored_table(client, *method, had_table, r)) {
+    return fail_clean(r.error + nothing_stored);
+  }
+  if (o.store && !method->store(client, r)) {
+    if (r.stored) return fail_clean(r.error + was_stored + "; OUT.json and the report were not written");
+    if (r.transport_failed && r.macro_started) {
+      return fail_clean(r.error + "; whether the table was stored is not known (the connection failed after the store's "
+                                  "macro was sent): `trueaxis-calibrate log` shows it");
+    }
+    return fail_clean(r.error + (r.transport_failed ? nothing_stored : ""));
+  }
+  summary += o.store ? "; " + stored_text(method->name) + (had_table ? "" : ", the first this controller stores") : "; not stored";
+  if (!r.as_given_summary.empty()) summary += "; taken as given (no data tests them): " + r.as_given_summary;
   client.give_back_interface();  // closing gives it back too; this is at once
   client.close();
   if (!report_tmp.empty() && !place_report(report_tmp, o.report_dir)) {
     report_tmp.clear();  // place_report removed it
-    return fail_clean(o.report_dir + ": the report could not be moved into place");
+    return fail_clean(o.report_dir + ": the report could not be moved into place" + was_stored);
   }
   report_tmp.clear();
   if (!comp_tmp.empty() && std::rename(comp_tmp.c_str(), o.linuxcnc_comp_path.c_str()) != 0) {
-    return fail_clean(o.linuxcnc_comp_path + ": cannot be written");
+    return fail_clean(cannot_write(o.linuxcnc_comp_path, errno) + was_stored);
   }
   if (!kins_tmp.empty() && std::rename(kins_tmp.c_str(), o.linuxcnc_kins_path.c_str()) != 0) {
-    return fail_clean(o.linuxcnc_kins_path + ": cannot be written");
+    return fail_clean(cannot_write(o.linuxcnc_kins_path, errno) + was_stored);
   }
-  if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) return fail_clean(o.json_path + ": cannot be written");
+  if (std::rename(tmp.c_str(), o.json_path.c_str()) != 0) {
+    return fail_clean(cannot_write(o.json_path, errno) + was_stored);
+  }
   std::printf("%s\n", summary.c_str());
   return o.check && verdict == trueaxis::macros::Verdict::kFail ? 3 : 0;
 }

@@ -65,6 +65,18 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
     }
   }
 
+  r.stage = "opening the session (macro 9830): nothing sent yet";
+  // The module numbers the poses in A order (its builder's): a gate's refusal names a pose by its A.
+  {
+    std::vector<double> as;
+    for (const Pose& p : pose_rows) as.push_back(p.a_deg);
+    std::sort(as.begin(), as.end());
+    for (std::size_t q = 0; q < as.size(); ++q) {
+      char a_name[32];
+      std::snprintf(a_name, sizeof a_name, "a%g", as[q]);
+      r.check_items[static_cast<int>(q + 1)] = {a_name, "a_deg", as[q]};
+    }
+  }
   if (!run_or_fail(client, kClear, "", r)) return r;
   CsvReader reader(options.in_path, columns);
   CsvRow row;
@@ -72,10 +84,11 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
   std::uint64_t sent = 0;
   while (reader.next(row)) {
     const std::string where = options.in_path + ":" + std::to_string(row.line);
+    r.stage = "streaming sample " + std::to_string(sent + 1) + " of " + std::to_string(rows) + " of " + where;
     const double ac[3] = {row.numbers[0], 0.0, row.numbers[1]};
     const double xyz[3] = {row.numbers[2], row.numbers[3], row.numbers[4]};
     if (!client.write(var::kArgA, 3, ac) || !client.write(var::kArgX, 3, xyz)) {
-      r.error = refused_sample(client, where);
+      r.error = refused_sample(client, where, r);
       return r;
     }
     if (!run_or_fail(client, kAdd, where, r)) {
@@ -89,6 +102,7 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
 
   // Built without storing: the command stores only after the JSON and the
   // report are made (store_rigidity), so a later failure stores nothing.
+  r.stage = "running the build (macro 9832, R = 0), every sample sent";
   if (!hand_time(client, options.log_time, r)) return r;  // the calibration's entry in the measuring log
   if (!transport(client, client.write_one(var::kArgR, 0.0), r)) return r;
   if (!run_or_fail(client, kBuild, "", r)) {
@@ -113,12 +127,16 @@ FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& op
   std::string pose_json;
   std::string comp;
   for (int q = 1; q <= poses; ++q) {
+    r.stage = "running the report query (macro 9834, pose " + std::to_string(q) + " of " + std::to_string(poses) + ")";
     const double args[2] = {static_cast<double>(q), 0.0};  // Q = pose, R = 0: the table just built
     if (!transport(client, client.write(var::kArgQ, 2, args), r)) return r;
     if (!run_or_fail(client, kPose, "", r)) return r;
     double p[21];  // #100..#120 (rigidity_map.hpp kPoseOutputs)
     if (!transport(client, client.read(var::kPoseA, 21, p), r)) return r;
     if (std::fabs(p[0]) <= core::kPoseAToleranceDeg) reference_a_deg = p[0];
+    char a_name[32];  // the check names pose q by its A (calibrate.hpp, check_items)
+    std::snprintf(a_name, sizeof a_name, "a%g", p[0]);
+    r.check_items[q] = {a_name, "a_deg", p[0]};
     if (p[7] > worst[0]) {
       worst[0] = p[7];
       worst[1] = p[8];

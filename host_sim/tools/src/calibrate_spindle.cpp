@@ -112,6 +112,7 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
     }
   }
 
+  r.stage = "opening the session (macro 9840): nothing sent yet";
   if (!run_or_fail(client, kClear, "", r)) return r;
   {
     CsvReader reader(options.in_path, columns);
@@ -120,10 +121,11 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
     std::uint64_t sent = 0;
     while (reader.next(row)) {
       const std::string where = options.in_path + ":" + std::to_string(row.line);
+      r.stage = "streaming sample " + std::to_string(sent + 1) + " of " + std::to_string(rows) + " of " + where;
       const double st[2] = {row.numbers[0], row.numbers[1]};  // S = #19, T = #20
       const double xyz[3] = {row.numbers[2], row.numbers[3], row.numbers[4]};
       if (!client.write(var::kArgS, 2, st) || !client.write(var::kArgX, 3, xyz)) {
-        r.error = refused_sample(client, where);
+        r.error = refused_sample(client, where, r);
         return r;
       }
       if (!run_or_fail(client, kAdd, where, r)) {
@@ -139,6 +141,7 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
 
   // Identified without storing: the command stores only after the JSON and the
   // report are made (store_spindle), so a later failure stores nothing.
+  r.stage = "running the build (macro 9842, R = 0), every sample sent";
   r.build_arguments = {{var::kArgD, m.value[kGauge]}, {var::kArgU, m.value[kBall1]}, {var::kArgV, m.value[kBall2]}};
   bool written = true;
   for (const MacroArgument& a : r.build_arguments) written = written && client.write_one(a.number, a.value);
@@ -168,6 +171,15 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
       r.error += why;
       return r;
     }
+    if (module_refused(r, static_cast<int>(macros::spindle::kBallsTooClose))) {
+      char why[400];
+      std::snprintf(why, sizeof why, " -- %s:%d and :%d: ball_2_mm %g - ball_1_mm %g = %g mm, and the balls' centres "
+                    "in %s lie %.6g apart: both files in metres? trueaxis takes mm",
+                    options.machine_path.c_str(), m.line[kBall2], m.line[kBall1], m.value[kBall2], m.value[kBall1],
+                    machine_mm, options.in_path.c_str(), apart_mm);
+      r.error += why;
+      return r;
+    }
     // D, U and V are MACHINE's lengths: name the file when the module refuses one.
     if (module_refused(r, static_cast<int>(core::Status::kArgumentOutOfRange))) {
       r.error =
@@ -175,6 +187,22 @@ FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& opt
     }
     return r;
   }
+  // What no data of this run tests (docs/METHODS.md M4): the analyser sees the
+  // balls, not the bearings, the gauge line or the tool.
+  const auto given = [&](int k, const char* use) {
+    char text[200];
+    std::snprintf(text, sizeof text, "%s %g (%s:%d; %s)", kNameText[k], m.value[k], options.machine_path.c_str(),
+                  m.line[k], use);
+    r.as_given.push_back(text);
+  };
+  given(kGauge, "places O1, the ideal axis' point, on the measured axis");
+  given(kToolLength, "where the tool-tip error is given");
+  given(kBearingSpacing, "shown in the report only");
+  char clause[200];
+  std::snprintf(clause, sizeof clause, "gauge_from_upper_bearing_mm %g, tool_length_mm %g, bearing_spacing_mm %g",
+                m.value[kGauge], m.value[kToolLength], m.value[kBearingSpacing]);
+  r.as_given_summary = clause;
+  r.stage = "running the report query (macros 9845, 9844)";
   double build[5];  // evaluations, noise sigma, synchronous RMS, noise from repeats, samples
   if (!transport(client, client.read(var::kSpindleEvaluations, 5, build), r)) return r;
 

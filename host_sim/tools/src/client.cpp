@@ -100,7 +100,9 @@ bool VariableClient::write(std::uint16_t first, std::uint16_t count, const doubl
 MacroOutcome VariableClient::run_macro(std::uint16_t number, int timeout_ms) {
   MacroOutcome outcome;
   double before[3];  // status, error, done_count
-  if (!read(9001, 3, before) || !write_one(9000, number)) return outcome;
+  if (!read(9001, 3, before)) return outcome;
+  outcome.started = true;
+  if (!write_one(9000, number)) return outcome;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   do {
     double now[3];
@@ -174,10 +176,9 @@ bool VariableClient::take_interface(int wait_ms, const std::function<void()>& wa
   bool told = false;
   for (;;) {
     if (write_one(macros::var::kInterface, 1.0)) return true;
-    const int error = error_;
-    double interface = 0.0;  // this client's own view: 2 when another holds it
-    const bool held = exception() == 6 && read_one(macros::var::kInterface, interface) && interface == 2.0;
-    error_ = error;
+    // 06: held by another client or a macro running; either passes. (#9009 may
+    // already read 0 here: the holder let it go since the refusal.)
+    const bool held = exception() == 6;
     if (!held || std::chrono::steady_clock::now() >= deadline) return false;
     if (!told && waiting) waiting();
     told = true;

@@ -1,10 +1,13 @@
 #include "trueaxis/sim/tools/csv.hpp"
 
+#include <limits>
+
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace trueaxis::sim {
 
@@ -17,13 +20,47 @@ std::string trim(const std::string& s) {
   return s.substr(first, last - first + 1);
 }
 
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> fields;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) fields.push_back(trim(field));
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
+// The fields of `line` (RFC 4180): separated by commas, each trimmed of
+// spaces and tabs; a field enclosed in double quotes is unquoted ("" inside
+// stands for one ", a comma inside belongs to the field). "" when they are
+// read, else what is wrong with the quotes.
+std::string split(const std::string& line, std::vector<std::string>& fields) {
+  fields.clear();
+  std::size_t at = 0;
+  for (;;) {
+    while (at < line.size() && (line[at] == ' ' || line[at] == '\t')) ++at;
+    std::string field;
+    if (at < line.size() && line[at] == '"') {
+      const std::size_t open = at++;
+      for (;;) {
+        if (at >= line.size()) {
+          return "field " + std::to_string(fields.size() + 1) + ": the quote at column " + std::to_string(open + 1) +
+                 " is not closed";
+        }
+        if (line[at] == '"') {
+          if (at + 1 < line.size() && line[at + 1] == '"') {
+            field += '"';
+            at += 2;
+            continue;
+          }
+          ++at;
+          break;
+        }
+        field += line[at++];
+      }
+      while (at < line.size() && (line[at] == ' ' || line[at] == '\t' || line[at] == '\r')) ++at;
+      if (at < line.size() && line[at] != ',') {
+        return "field " + std::to_string(fields.size() + 1) + ": text after its closing quote";
+      }
+    } else {
+      const std::size_t comma = line.find(',', at);
+      field = trim(line.substr(at, comma == std::string::npos ? std::string::npos : comma - at));
+      at = comma == std::string::npos ? line.size() : comma;
+    }
+    fields.push_back(field);
+    if (at >= line.size()) return "";
+    ++at;  // the comma
+  }
 }
 
 bool parse_number(const std::string& field, double& out) {
@@ -63,7 +100,9 @@ CsvLines::Kind CsvLines::feed(std::string raw, CsvRow& row) {
   }
   const std::string content = trim(raw);
   if (content.empty() || content[0] == '#') return Kind::kSkip;
-  const std::vector<std::string> fields = split(content);
+  std::vector<std::string> fields;
+  const std::string quotes = split(content, fields);
+  if (!quotes.empty()) return fail(quotes);
   if (header_line_ == 0) {
     header_line_ = line_;
     index_.assign(columns_.size(), -1);
@@ -71,7 +110,7 @@ CsvLines::Kind CsvLines::feed(std::string raw, CsvRow& row) {
       for (std::size_t f = 0; f < fields.size(); ++f) {
         if (fields[f] == columns_[c].name) index_[c] = static_cast<int>(f);
       }
-      if (index_[c] < 0) {
+      if (index_[c] < 0 && !columns_[c].optional) {
         const std::string form = header_form(content);
         return fail(!form.empty() ? form : "the header has no column '" + columns_[c].name + "'");
       }
@@ -82,11 +121,19 @@ CsvLines::Kind CsvLines::feed(std::string raw, CsvRow& row) {
   row.numbers.clear();
   row.texts.clear();
   for (std::size_t c = 0; c < columns_.size(); ++c) {
+    if (columns_[c].optional &&
+        (index_[c] < 0 || static_cast<std::size_t>(index_[c]) >= fields.size() || fields[static_cast<std::size_t>(index_[c])].empty())) {
+      row.numbers.push_back(std::numeric_limits<double>::quiet_NaN());  // contract 5: not given
+      row.texts.emplace_back();
+      continue;
+    }
     const auto f = static_cast<std::size_t>(index_[c]);
     if (f >= fields.size()) return fail("too few fields: no value for '" + columns_[c].name + "'");
     double v = 0.0;
     if (columns_[c].numeric && !parse_number(fields[f], v)) {
-      return fail("'" + columns_[c].name + "' is not a finite number: '" + fields[f] + "'");
+      const bool comma = fields[f].find(',') != std::string::npos;
+      return fail("'" + columns_[c].name + "' is not a finite number: '" + fields[f] + "'" +
+                  (comma ? " (a decimal comma? trueaxis reads '.')" : ""));
     }
     row.numbers.push_back(v);
     row.texts.push_back(fields[f]);

@@ -110,13 +110,24 @@ std::string samples_csv_text(const std::vector<TrackerSample>& samples, const st
   return text;
 }
 
-std::string machine_csv_text(const GantryMachine& machine, const LaserTracker& tracker) {
-  std::string text = "# nominal tool directions in the tracker frame\nsub_machine,swing_mm,tool_x,tool_y,tool_z\n";
-  for (const SubMachineConfig& s : machine.config().sub_machines) {
+std::string machine_csv_text(const GantryMachine& machine, const LaserTracker& tracker, bool nominal_origins) {
+  std::string text = nominal_origins
+                         ? "# nominal tool directions in the tracker frame; nominal origins (the tool tip at home, "
+                           "global frame) as a drawing gives them, to 0.1 mm\n"
+                           "sub_machine,swing_mm,tool_x,tool_y,tool_z,origin_x_mm,origin_y_mm,origin_z_mm\n"
+                         : "# nominal tool directions in the tracker frame\nsub_machine,swing_mm,tool_x,tool_y,tool_z\n";
+  for (std::size_t i = 0; i < machine.sub_machine_count(); ++i) {
+    const SubMachineConfig& s = machine.config().sub_machines[i];
     const Vec3 tool = tracker.tracker_T_machine().rotation * s.tool_nominal;
-    char line[160];
-    std::snprintf(line, sizeof line, "%d,%.9f,%.9f,%.9f,%.9f\n", s.id, s.swing_mm, tool.x(), tool.y(), tool.z());
+    char line[240];
+    std::snprintf(line, sizeof line, "%d,%.9f,%.9f,%.9f,%.9f", s.id, s.swing_mm, tool.x(), tool.y(), tool.z());
     text += line;
+    if (nominal_origins) {
+      const Vec3 o = machine.truth(i).origin_global_mm;
+      std::snprintf(line, sizeof line, ",%.1f,%.1f,%.1f", o.x(), o.y(), o.z());
+      text += line;
+    }
+    text += "\n";
   }
   return text;
 }

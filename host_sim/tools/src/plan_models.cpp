@@ -39,6 +39,16 @@ using core::kArcsecPerRad;
 
 std::string refusal(core::Status s) { return module_error_text(static_cast<int>(s)); }
 
+namespace var = macros::var;
+
+// #X, #Y, #Z = p, after `first` (planner.hpp contract 6).
+std::vector<std::pair<std::uint16_t, double>> with_xyz(std::vector<std::pair<std::uint16_t, double>> first, const Vec3& p) {
+  first.push_back({var::kArgX, p.x()});
+  first.push_back({static_cast<std::uint16_t>(var::kArgX + 1), p.y()});
+  first.push_back({static_cast<std::uint16_t>(var::kArgX + 2), p.z()});
+  return first;
+}
+
 // ---- M3 -----------------------------------------------------------------------------
 
 class RigidityModel final : public PlanModel {
@@ -124,6 +134,21 @@ class RigidityModel final : public PlanModel {
     out.push_back((t.a_axis_point_mm - t.poses[t.reference].c_centre_mm).dot(offset_direction_));
     out.push_back(t.c_to_a_squareness_rad * kArcsecPerRad);
     return true;
+  }
+
+  std::vector<std::pair<std::uint16_t, double>> module_configuration() const override {
+    return {{var::kRigidityBallNoise, plan_.sigma_mm}};
+  }
+  // As trueaxis-calibrate rigidity: 9830, a 9831 per reading, 9832 with R = 0.
+  std::vector<PlanMacro> module_macros(const std::vector<Vec3>& values) const override {
+    std::vector<PlanMacro> out = {{9830, {}, ""}};
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const core::RigiditySample& s = samples_[i];
+      out.push_back({9831, with_xyz({{var::kArgA, s.a_deg}, {var::kArgC, s.c_deg}}, values[i]),
+                     plan_text("reading %zu (A = %g, C = %g deg)", i + 1, s.a_deg, s.c_deg)});
+    }
+    out.push_back({9832, {{var::kArgR, 0.0}}, ""});
+    return out;
   }
 
   std::vector<PlanChange> candidates() const override {
@@ -250,6 +275,48 @@ class GantryModel final : public PlanModel {
     return true;
   }
 
+  std::vector<std::pair<std::uint16_t, double>> module_configuration() const override {
+    // The tracker's transverse MPE read as 2 sigma, as the plan reads it (#701 + #702 r).
+    return {{var::kGantryTrackerNoise, spec_.transverse_mpe_mm / 2.0},
+            {var::kGantryTrackerNoisePerM, spec_.transverse_mpe_per_m_mm / 2.0}};
+  }
+  // As trueaxis-calibrate gantry: 9820, a 9821 per reading in group order,
+  // a 9822 per sub-machine (its swing length and nominal tool direction), 9823 with R = 0.
+  std::vector<PlanMacro> module_macros(const std::vector<Vec3>& values) const override {
+    std::vector<PlanMacro> out = {{9820, {}, ""}};
+    for (const GroupRange& g : groups_) {
+      int t = 0, q = 0, d = 0;
+      if (g.name == "bed" || g.name == "side_1" || g.name == "side_2") {
+        q = g.name == "bed" ? 1 : g.name == "side_1" ? 2 : 3;
+      } else if (g.name.rfind("gantry_", 0) == 0) {
+        q = 4;
+        d = std::atoi(g.name.c_str() + 7);
+      } else {
+        t = std::atoi(g.name.c_str() + 2);
+        const std::string rest = g.name.substr(g.name.find('_') + 1);
+        q = rest == "c" ? 8 : rest == "a" ? 9 : 5 + (rest[0] - 'x');
+        d = rest.size() > 2 ? std::atoi(rest.c_str() + 2) : 0;
+      }
+      for (std::size_t i = g.begin; i < g.begin + g.count; ++i) {
+        out.push_back({9821,
+                       with_xyz({{var::kArgT, static_cast<double>(t)}, {var::kArgQ, static_cast<double>(q)},
+                                 {var::kArgD, static_cast<double>(d)}},
+                                values[i]),
+                       plan_text("reading %zu (group %s)", i + 1, g.name.c_str())});
+      }
+    }
+    for (std::size_t k = 0; k < machine_.sub_machine_count(); ++k) {
+      const SubMachineConfig& c = machine_.config().sub_machines[k];
+      out.push_back({9822,
+                     {{var::kArgT, static_cast<double>(c.id)}, {var::kArgD, c.swing_mm}, {var::kArgI, tools_[k].x()},
+                      {static_cast<std::uint16_t>(var::kArgI + 1), tools_[k].y()},
+                      {static_cast<std::uint16_t>(var::kArgI + 2), tools_[k].z()}},
+                     plan_text("sub-machine %d's swing length and tool direction", c.id)});
+    }
+    out.push_back({9823, {{var::kArgR, 0.0}}, ""});
+    return out;
+  }
+
   std::vector<PlanChange> candidates() const override {
     std::vector<PlanChange> out;
     auto add = [&](const std::string& what, const GantryPlanSpec& next) {
@@ -269,12 +336,13 @@ class GantryModel final : public PlanModel {
       next.c_to_deg = std::min(spec_.c_from_deg + 345.0, spec_.c_to_deg + 45.0);
       add(plan_text("widen every C circle to %g..%g deg", next.c_from_deg, next.c_to_deg), next);
     }
-    if (spec_.circle_points + 4 <= static_cast<int>(core::kMaxCirclePoints)) {
+    // Within the module's session (a circle, a pass count): beyond it the module refuses the plan.
+    if (spec_.circle_points + 4 <= static_cast<int>(macros::gantry::kMaxCirclePoints)) {
       next = spec_;
       next.circle_points += 4;
       add("4 more points on every C and A circle", next);
     }
-    if (spec_.passes + 1 <= static_cast<int>(core::kMaxPasses)) {
+    if (spec_.passes + 1 <= static_cast<int>(macros::gantry::kMaxPasses)) {
       next = spec_;
       next.passes += 1;
       add("one more pass of every linear axis and of the gantry", next);
@@ -400,6 +468,24 @@ class SpindleModel final : public PlanModel {
     return true;
   }
 
+  std::vector<std::pair<std::uint16_t, double>> module_configuration() const override {
+    return {{var::kSpindleProbeNoise, plan_.sigma_mm}};
+  }
+  // As trueaxis-calibrate spindle: 9840, a 9841 per reading, 9842 with the lengths and R = 0.
+  std::vector<PlanMacro> module_macros(const std::vector<Vec3>& values) const override {
+    std::vector<PlanMacro> out = {{9840, {}, ""}};
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const core::SpindleSample& s = samples_[i];
+      out.push_back({9841, with_xyz({{var::kArgS, s.phi_deg}, {var::kArgT, static_cast<double>(s.ball)}}, values[i]),
+                     plan_text("reading %zu (ball %d at %g deg)", i + 1, s.ball, s.phi_deg)});
+    }
+    out.push_back({9842,
+                   {{var::kArgD, geometry_.gauge_mm}, {var::kArgU, geometry_.ball_mm[0]}, {var::kArgV, geometry_.ball_mm[1]},
+                    {var::kArgR, 0.0}},
+                   ""});
+    return out;
+  }
+
   std::vector<PlanChange> candidates() const override {
     std::vector<PlanChange> out;
     SpindlePlan next = plan_;
@@ -475,6 +561,20 @@ class LevelModel final : public PlanModel {
     out = {turn.dot(e_level_) * kArcsecPerRad, turn.dot(e_slope_) * kArcsecPerRad,
            r.value().chosen.a_deg * 3600.0, r.value().chosen.c_deg * 3600.0};
     return true;
+  }
+
+  std::vector<std::pair<std::uint16_t, double>> module_configuration() const override {
+    return {{var::kProbeSigma, plan_.sigma_mm}};
+  }
+  // The operator's session: 9812, a 9813 per probe point, 9814 with the table at zero.
+  std::vector<PlanMacro> module_macros(const std::vector<Vec3>& values) const override {
+    std::vector<PlanMacro> out = {{9812, {}, ""}};
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      out.push_back({9813, with_xyz({}, values[i]),
+                     plan_text("probe point %zu (%g, %g mm)", i + 1, plan_.points[i].first, plan_.points[i].second)});
+    }
+    out.push_back({9814, {{var::kArgA, 0.0}, {var::kArgC, 0.0}}, ""});
+    return out;
   }
 
   std::vector<PlanChange> candidates() const override {

@@ -10,7 +10,13 @@
 #include <cstdio>
 #include <limits>
 
+#include "trueaxis/hal/clock.hpp"
+#include "trueaxis/hal/ram_nv_storage.hpp"
+#include "trueaxis/macros/module.hpp"
+#include "trueaxis/macros/platform_map.hpp"
+#include "trueaxis/macros/records.hpp"
 #include "trueaxis/sim/sim_math.hpp"
+#include "trueaxis/sim/tools/calibrate.hpp"
 
 namespace trueaxis::sim {
 
@@ -57,7 +63,73 @@ double length_q95(const std::vector<double>& cov, std::size_t n, const std::vect
   return std::sqrt(r2[at]);
 }
 
+// The module's clock in this process: a millisecond a call, so that no
+// interface hold or unlock runs out between the plan's macros.
+class StepClock final : public hal::Clock {
+  std::uint64_t us_ = 0;
+  std::uint64_t do_now_us() override { return us_ += 1000; }
+};
+
 }  // namespace
+
+std::string module_refusal(const PlanModel& model) {
+  namespace var = macros::var;
+  // One draw of the instrument's noise on every reading (contract 6).
+  const std::vector<PlanReading>& readings = model.readings();
+  std::vector<core::Vec3> values(readings.size());
+  SimRng rng(0x7A5E5EEDull);
+  for (std::size_t i = 0; i < readings.size(); ++i) {
+    const core::Vec3 z(rng.normal(), rng.normal(), rng.normal());
+    values[i] = readings[i].value + readings[i].noise_factor * z;
+  }
+  std::vector<std::uint8_t> bytes(macros::kRequiredStorageBytes, 0);
+  hal::RamNvStorage storage(bytes.data(), bytes.size());
+  StepClock clock;
+  const auto module = std::make_unique<macros::Module>(storage, clock);
+  if (module->start() != core::Status::kOk) return "the planner's module did not start";
+  const auto write = [&module](std::uint16_t number, double value) { return module->write(number, 1, &value); };
+  const auto refused_write = [](std::uint16_t number, double value, macros::AccessFault f) {
+    std::string text = "the module refuses #" + std::to_string(number) + plan_text(" = %.9g", value);
+    for (const macros::AccessFaultInfo& info : macros::kAccessFaultTable) {
+      if (info.fault == f) text += std::string(": ") + info.name + ": " + info.message;
+    }
+    return text;
+  };
+  const auto configuration = model.module_configuration();
+  if (!configuration.empty()) {
+    if (write(var::kUnlock, macros::kUnlockCode) != macros::AccessFault::kNone) return "the planner's module did not unlock";
+    for (const auto& [number, value] : configuration) {
+      const macros::AccessFault f = write(number, value);
+      if (f != macros::AccessFault::kNone) return "the plan's configuration: " + refused_write(number, value, f);
+    }
+    static_cast<void>(write(var::kUnlock, 0.0));
+  }
+  for (const PlanMacro& m : model.module_macros(values)) {
+    const std::string what = m.what.empty() ? "" : m.what + ": ";
+    for (const auto& [number, value] : m.arguments) {
+      const macros::AccessFault f = write(number, value);
+      if (f != macros::AccessFault::kNone) return what + refused_write(number, value, f);
+    }
+    if (write(var::kCmd, m.macro) != macros::AccessFault::kNone) return what + "macro " + std::to_string(m.macro) + " not started";
+    for (long steps = 0; module->busy(); ++steps) {
+      if (steps > 100000000L) return what + "macro " + std::to_string(m.macro) + " did not finish";
+      module->step();
+    }
+    if (module->value(var::kStatus) == 3.0) {
+      const double item = module->value(var::kGateItem);
+      const double value = module->value(var::kGateValue);
+      const double limit = module->value(var::kGateLimit);
+      std::string gate;
+      if (item != 0.0 || value != 0.0 || limit != 0.0) {
+        gate = item != 0.0 ? plan_text("; item %g (#9012): %.6g (#9013) against the limit %.6g (#9014)", item, value, limit)
+                           : plan_text("; %.6g (#9013) against the limit %.6g (#9014)", value, limit);
+      }
+      return what + module_error_text(static_cast<int>(module->value(var::kError))) + " (macro " +
+             std::to_string(m.macro) + gate + ")";
+    }
+  }
+  return "";
+}
 
 std::string plan_text(const char* format, ...) {
   char buf[256];
@@ -79,6 +151,9 @@ PlanPrediction predict_plan(const PlanModel& model, const std::function<void(std
               "(repeated revolutions or passes average as 1/sqrt(n): predict a shorter plan and scale)";
     return p;
   }
+  // Contract 6: what the module would refuse is refused first, in its words.
+  p.error = module_refusal(model);
+  if (!p.error.empty()) return p;
   std::vector<core::Vec3> values(readings.size());
   for (std::size_t i = 0; i < readings.size(); ++i) values[i] = readings[i].value;
   if (!model.evaluate(values, p.value, p.error)) return p;

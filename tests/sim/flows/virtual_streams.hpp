@@ -68,8 +68,10 @@ inline void stream_rigidity(ModuleRig& rig, const sim::CradleMachine& machine, s
 
 // 9820, every sample into 9821, then each sub-machine's 9822 (its swing and
 // nominal tool direction in the tracker frame): the session of one measurement.
+// With `drawing` (a nominal origin's error, mm, global frame), each 9822 also
+// gives the nominal origin the machine's drawing would: the truth plus it.
 inline void stream_gantry(ModuleRig& rig, const sim::GantryMachine& machine, const sim::LaserTracker& tracker,
-                          const std::vector<sim::TrackerSample>& samples) {
+                          const std::vector<sim::TrackerSample>& samples, const core::Vec3* drawing = nullptr) {
   namespace v = trueaxis::macros::var;
   REQUIRE(rig.run(9820) == 2.0);
   for (const sim::TrackerSample& s : samples) {
@@ -87,6 +89,10 @@ inline void stream_gantry(ModuleRig& rig, const sim::GantryMachine& machine, con
     rig.set(v::kArgT, c.id);
     rig.set(v::kArgD, c.swing_mm);
     rig.set3(v::kArgI, tracker.tracker_T_machine().rotation * c.tool_nominal);
+    if (drawing != nullptr) {
+      rig.set(v::kArgQ, 1.0);
+      rig.set3(v::kArgX, machine.truth(i).origin_global_mm + *drawing);
+    }
     REQUIRE(rig.run(9822) == 2.0);
   }
 }

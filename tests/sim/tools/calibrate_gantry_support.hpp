@@ -25,6 +25,7 @@ namespace trueaxis::test {
 // The virtual gantry measured by the virtual tracker: the three files' texts.
 struct Measured {
   std::string samples, machine, truth;
+  std::string machine_nominal;  // MACHINE with the nominal origins a drawing gives (to 0.1 mm)
 };
 
 inline Measured measure(const sim::GantryPlan& plan, std::uint64_t seed) {
@@ -32,7 +33,8 @@ inline Measured measure(const sim::GantryPlan& plan, std::uint64_t seed) {
   const sim::LaserTracker tracker = sim::place_tracker(machine, sim::TrackerPlacement{});
   sim::SimRng rng(seed);
   return {sim::samples_csv_text(sim::measure_gantry(machine, tracker, plan, rng), {"measured"}),
-          sim::machine_csv_text(machine, tracker), sim::truth_json_text(machine, tracker, plan)};
+          sim::machine_csv_text(machine, tracker), sim::truth_json_text(machine, tracker, plan),
+          sim::machine_csv_text(machine, tracker, true)};
 }
 
 // A plan of fewer points: the bad inputs need a whole stream, not its precision.
@@ -120,13 +122,14 @@ inline std::vector<std::vector<double>> conversions(sim::VariableClient& client)
 }
 
 // The command's flow as calibrate_main.cpp runs it, without the files: the
-// flow, then (on success, with store) the store.
+// flow, then (on success, with store) the store; `sub_machines` is --sub-machines.
 inline sim::FlowResult flow(sim::VariableClient& client, const std::string& in, const std::string& machine,
-                            bool store) {
+                            bool store, const std::vector<int>& sub_machines = {}) {
   sim::CalibrateOptions o;
   o.method = "gantry";
   o.in_path = in;
   o.machine_path = machine;
+  o.sub_machines = sub_machines;
   o.json_path = "unused.json";
   o.store = store;
   sim::FlowResult r = sim::calibrate_gantry(client, o);

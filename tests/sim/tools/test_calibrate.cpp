@@ -260,7 +260,7 @@ TEST_CASE("calibrate rigidity: OUT.json holds exactly what the module computed, 
   REQUIRE(r.exit_code == 0);
   CHECK(r.err.empty());
   CHECK(r.out == summary_line(json, "; wrote " + w.file("stored.json") + ", report " + w.file("report") +
-                                        "/index.html; stored (record 3 rigidity_table)"));
+                                        "/index.html; stored (record 3 rigidity_table), the first this controller stores"));
   CHECK(read_var(client, v::kUnlock) == 0.0);  // locked again
   CHECK(slurp(w.file("stored.json")) == built);
   for (int q = 1; q <= 7; ++q) {

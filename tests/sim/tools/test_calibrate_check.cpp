@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -18,7 +19,9 @@
 #include "sim_fixture.hpp"
 #include "trueaxis/macros/check.hpp"
 #include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/macros/record_file.hpp"
 #include "trueaxis/macros/rigidity/rigidity_map.hpp"
+#include "trueaxis/sim/tools/sha256.hpp"
 
 namespace {
 
@@ -101,9 +104,16 @@ TEST_CASE("calibrate rigidity --check: refused without a stored table, passes un
     CHECK(both.exit_code == 1);
     CHECK(both.err.find("not with --store") != std::string::npos);
   }
-  const Run stored = calibrate({"rigidity", "--in", w.file("first.csv"), "--json", w.file("first.json"), "--store"},
+  const Run stored = calibrate({"rigidity", "--in", w.file("first.csv"), "--json", w.file("first.json"), "--store",
+                                "--time", "2027-01-15T08:00:00Z"},
                                sim.port(), w);
   REQUIRE(stored.exit_code == 0);
+  // The stored record as the module exports it (9837), for its hash.
+  const Run exported = calibrate({"linuxcnc-kins", "rigidity", "--out", w.file("table.kins")}, sim.port(), w);
+  REQUIRE(exported.exit_code == 0);
+  const std::string kins = slurp(w.file("table.kins"));
+  REQUIRE(kins.size() > trueaxis::macros::kRecordFileOverhead);
+  const std::string record_sha = trueaxis::sim::sha256_hex(kins.substr(16, kins.size() - 20));
   const std::vector<double> before = stored_rotvec(sim.client());
 
   measure("again.csv");
@@ -121,9 +131,37 @@ TEST_CASE("calibrate rigidity --check: refused without a stored table, passes un
   const std::string page = slurp(w.file("report/index.html"));
   CHECK(page.find("Verdict: pass") != std::string::npos);
   CHECK(page.find("Ann &quot;A&quot; O&#x27;Neil") != std::string::npos);
-  CHECK(page.find("rotation_change_7") != std::string::npos);
+  CHECK(page.find("rotation_change_a90") != std::string::npos);
+  // Every figure named by its pose's A (issue 32): item q is OUT.json's pose q, in A order.
+  for (const Json& f : doc["check"]["figures"].items) {
+    INFO(f["name"].text);
+    const auto q = static_cast<std::size_t>(f["item"].number);
+    REQUIRE(q >= 1);
+    REQUIRE(q <= doc["poses"].items.size());
+    const double a = doc["poses"].items[q - 1]["a_deg"].number;
+    CHECK(f["a_deg"].number == a);
+    char suffix[32];
+    std::snprintf(suffix, sizeof suffix, "_a%g", a);
+    CHECK(f["name"].text == f["kind"].text + suffix);
+  }
+  CHECK(doc["check"]["figures"].items[0]["name"].text == "rotation_change_a-90");
+  CHECK(doc["check"]["figures"].items[1]["name"].text == "a_positioning_error_change_a-90");
   CHECK(page.find("SHA-256") != std::string::npos);
   CHECK(stored_rotvec(sim.client()) == before);
+  // The stored calibration the check judged (issue 32): its table sequence, the
+  // date of its store, the SHA-256 of its record as 9837 exports it, on the page too.
+  const Json& judged = doc["check"]["stored_calibration"];
+  CHECK(judged["table_sequence"].number == 1.0);
+  CHECK(judged["stored_time_s"].number == 1800000000.0);
+  CHECK(judged["stored_time_utc"].text == "2027-01-15 08:00:00");
+  CHECK(judged["record"].text == "record 3 rigidity_table");
+  CHECK(judged["record_bytes"].number == static_cast<double>(kins.size() - 20));
+  CHECK(judged["record_sha256"].text == record_sha);
+  CHECK(judged["note"].kind == Json::kNull);
+  CHECK(page.find("Stored calibration judged") != std::string::npos);
+  CHECK(page.find("table sequence 1; stored 2027-01-15 08:00:00 UTC; record 3 rigidity_table (" +
+                  std::to_string(kins.size() - 20) + " bytes as the module exports it) SHA-256 " + record_sha) !=
+        std::string::npos);
 
   // Tolerances set to the largest |deviation| + sigma of that check: no figure
   // beyond them, the worst's guard band over them: warn, and warn exits 0.
@@ -175,6 +213,13 @@ TEST_CASE("calibrate spindle and gantry --check: a second measurement of the unc
   check_object(s["check"], "pass");
   CHECK(s["check"]["figures"].items.size() == 6);
   CHECK(s["check"]["figures"].items[0]["name"].text == "a_x");
+  // M4's stored model named by the hash of its record as 9847 exports it.
+  REQUIRE(calibrate({"linuxcnc-kins", "spindle", "--out", w.file("model.kins")}, sim.port(), w).exit_code == 0);
+  const std::string model = slurp(w.file("model.kins"));
+  CHECK(s["check"]["stored_calibration"]["record_sha256"].text ==
+        trueaxis::sim::sha256_hex(model.substr(16, model.size() - 20)));
+  CHECK(s["check"]["stored_calibration"]["record"].text == "record 5 spindle_model");
+  CHECK(s["check"]["stored_calibration"]["table_sequence"].number >= 1.0);
 
   const trueaxis::test::Measured m = trueaxis::test::measure(trueaxis::sim::GantryPlan{}, 5);
   w.write("g.csv", m.samples);
@@ -193,5 +238,15 @@ TEST_CASE("calibrate spindle and gantry --check: a second measurement of the unc
   const Json g2 = parse(slurp(w.file("g.json")));
   check_object(g2["check"], "pass");
   CHECK(g2["check"]["figures"].items.size() == 8);
-  CHECK(g2["check"]["figures"].items[0]["name"].text == "origin_change_1");
+  CHECK(g2["check"]["figures"].items[0]["name"].text == "origin_change_sp1");
+  // M2 has no exact export of its stored frames: no hash, and the note says so.
+  const Json& frames = g2["check"]["stored_calibration"];
+  CHECK(frames["record_sha256"].kind == Json::kNull);
+  CHECK(frames["table_sequence"].number >= 1.0);
+  CHECK(frames["stored_time_s"].kind == Json::kNumber);
+  CHECK(frames["note"].text.find("gantry has no exact export of its stored record") != std::string::npos);
+  for (const Json& figure : g2["check"]["figures"].items) {
+    CHECK(figure["sub_machine"].number == figure["item"].number);
+    CHECK(figure["name"].text == figure["kind"].text + "_sp" + std::to_string(static_cast<int>(figure["item"].number)));
+  }
 }

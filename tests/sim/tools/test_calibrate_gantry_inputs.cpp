@@ -38,8 +38,10 @@ TEST_CASE("calibrate gantry: every bad input has its own error and stores nothin
   struct Case {
     std::string name, samples, machine, error;  // error: the whole line, or its start
     bool whole;
+    std::vector<int> sub_machines = {};  // --sub-machines
   };
   std::vector<Case> cases;
+  std::vector<std::string> nominal_texts;  // the MACHINE files of the nominal-origin cases
   // Lines 1 comment, 2 header, then good[k] on line 3 + k.
   const auto with = [&](const std::vector<Row>& rows) { return "# bad\n" + text_of(rows); };
   const auto line_of = [](std::size_t k) { return std::to_string(3 + k); };
@@ -223,13 +225,96 @@ TEST_CASE("calibrate gantry: every bad input has its own error and stores nothin
     cases.push_back({"a zero tool direction", with(good), zero,
                      zero + ":3: " + module_error(Status::kArgumentOutOfRange), false});
     cases.push_back({"no MACHINE file", with(good), "", "gantry needs --machine MACHINE.csv", false});
+    // A MACHINE row (sub-machine 3, line 5) whose sub-machine has no points: forgotten, or its groups misnamed.
+    std::vector<Row> no_sp3;
+    for (const Row& r : good) {
+      if (r.group.rfind("sp3_", 0) != 0) no_sp3.push_back(r);
+    }
+    cases.push_back({"a MACHINE row without points", with(no_sp3), machine,
+                     machine + ":5: sub-machine 3 has no points in " + bad + " (no group sp3_...): not measured, or "
+                     "its groups misnamed? (to calibrate some sub-machines only, name them: --sub-machines 1,2,4)",
+                     true});
+    // The same with --sub-machines naming it, and a point of one it leaves out (sp2's first, in file order).
+    cases.push_back({"--sub-machines names one without points", with(no_sp3), machine,
+                     machine + ":5: sub-machine 3 has no points in " + bad + " (no group sp3_...), though "
+                     "--sub-machines names it",
+                     true, {1, 2, 3, 4}});
+    std::size_t first_sp2 = 0;
+    while (good[first_sp2].group.rfind("sp2_", 0) != 0) ++first_sp2;
+    cases.push_back({"a point of a sub-machine --sub-machines leaves out", with(good), machine,
+                     at(first_sp2, "group '" + good[first_sp2].group + "': sub-machine 2 is not among --sub-machines"),
+                     true, {1, 3, 4}});
+    cases.push_back({"--sub-machines names one neither file has", with(no_sp3), no3,
+                     "--sub-machines names sub-machine 3, which neither " + bad + " measures nor " + no3 + " gives",
+                     true, {1, 2, 3, 4}});
+  }
+  {
+    // Nominals typed wrong (issue "Nothing wrong reaches the machine", item 1):
+    // each MACHINE line as machine_csv_text writes it, line 3 sub-machine 1.
+    const auto lines_of = [](const std::string& text) {
+      std::vector<std::string> out;
+      std::istringstream in(text);
+      for (std::string line; std::getline(in, line);) out.push_back(line);
+      return out;
+    };
+    const auto joined = [](const std::vector<std::string>& lines) {
+      std::string text;
+      for (const std::string& l : lines) text += l + "\n";
+      return text;
+    };
+    const auto field = [](const std::string& line, std::size_t k) {
+      std::istringstream in(line);
+      std::string f;
+      for (std::size_t i = 0; i <= k; ++i) std::getline(in, f, ',');
+      return f;
+    };
+    const auto with_field = [&](const std::string& line, std::size_t k, const std::string& value) {
+      std::istringstream in(line);
+      std::string f, out;
+      for (std::size_t i = 0; std::getline(in, f, ','); ++i) out += (i > 0 ? "," : "") + (i == k ? value : f);
+      return out;
+    };
+    // MACHINE in metres: every swing length 1000 times short (the directions are unit vectors either way).
+    std::vector<std::string> metres = lines_of(m.machine);
+    for (std::size_t n = 2; n < metres.size(); ++n) {
+      metres[n] = with_field(metres[n], 1, std::to_string(std::stod(field(metres[n], 1)) / 1000.0));
+    }
+    const std::string in_metres = w.write("metres.csv", joined(metres));
+    cases.push_back({"MACHINE in metres", with(good), in_metres,
+                     module_error(trueaxis::macros::gantry::kSwingImplausible) + " (macro 9823; gate swing (each sub-machine's swing "
+                     "length (MACHINE in metres?)) at sub-machine 1: 0.3 mm against the limit 10 mm (#709 "
+                     "gantry_min_swing)) -- " + in_metres + ":3: sub-machine 1's swing_mm 0.3 is shorter than 10 "
+                     "mm: MACHINE.csv in metres? trueaxis takes mm", true});
+    // With nominal origins: a swing length typed 2500 for 250 (sub-machine 2, line 4) and a tool direction
+    // the wrong way round (sub-machine 1, line 3) are held to them.
+    std::vector<std::string> typed = lines_of(m.machine_nominal);
+    REQUIRE(field(typed[3], 1) == "250.000000000");
+    typed[3] = with_field(typed[3], 1, "2500");
+    const std::string typed_file = w.write("typed.csv", joined(typed));
+    cases.push_back({"a swing length typed 2500 for 250", with(good), typed_file,
+                     module_error(trueaxis::macros::gantry::kOriginOffNominal), false});
+    std::vector<std::string> flipped = lines_of(m.machine_nominal);
+    for (std::size_t k = 2; k <= 4; ++k) {
+      const std::string f = field(flipped[2], k);
+      flipped[2] = with_field(flipped[2], k, f[0] == '-' ? f.substr(1) : "-" + f);
+    }
+    const std::string flipped_file = w.write("flipped.csv", joined(flipped));
+    cases.push_back({"a tool direction with its sign flipped", with(good), flipped_file,
+                     module_error(trueaxis::macros::gantry::kOriginOffNominal), false});
+    std::vector<std::string> partial = lines_of(m.machine_nominal);
+    partial[2] = with_field(partial[2], 7, "");
+    const std::string partial_file = w.write("partial.csv", joined(partial));
+    cases.push_back({"a nominal origin without its z", with(good), partial_file,
+                     partial_file + ":3: a nominal origin needs origin_x_mm, origin_y_mm and origin_z_mm, all three, "
+                     "or none", true});
+    nominal_texts = {typed_file, flipped_file};
   }
 
   const auto check_refusals = [&](const std::vector<std::vector<double>>& before) {
     for (const Case& c : cases) {
       CAPTURE(c.name);
       w.write("bad.csv", c.samples);
-      const sim::FlowResult r = flow(client, bad, c.machine, true);
+      const sim::FlowResult r = flow(client, bad, c.machine, true, c.sub_machines);
       CAPTURE(r.error);
       CHECK_FALSE(r.ok);
       CHECK(r.json.empty());
@@ -239,6 +324,14 @@ TEST_CASE("calibrate gantry: every bad input has its own error and stores nothin
         CHECK(r.error.compare(0, c.error.size(), c.error) == 0);
       }
       CHECK(r.error.find('\n') == std::string::npos);  // one line
+      if (c.name == "a swing length typed 2500 for 250") {
+        CHECK(r.error.find(" -- " + nominal_texts[0] + ":4: sub-machine 2's measured origin lies 22") != std::string::npos);
+        CHECK(r.error.find("is swing_mm 2500 typed wrong (a digit twice? metres?)") != std::string::npos);
+      }
+      if (c.name == "a tool direction with its sign flipped") {
+        CHECK(r.error.find(" -- " + nominal_texts[1] + ":3: sub-machine 1's measured origin lies 6") != std::string::npos);
+        CHECK(r.error.find("the wrong way round") != std::string::npos);
+      }
       CHECK(read_var(client, v::kUnlock) == 0.0);     // locked
       CHECK(conversions(client) == before);           // nothing stored
     }
@@ -257,4 +350,29 @@ TEST_CASE("calibrate gantry: every bad input has its own error and stores nothin
     for (const auto& c : stored) REQUIRE(c.size() == 3);
     check_refusals(stored);
   }
+}
+
+TEST_CASE("calibrate gantry: nominal origins hold the swing lengths and tool directions, without them they are taken "
+          "as given; a first store says so",
+          "[calibrate][gantry]") {
+  InProcessSim sim;
+  sim::VariableClient& client = sim.client();
+  Workspace w("trueaxis-calibrate-gantry-nominal");
+  const Measured m = measure(small_plan(), 5);
+  const std::string samples = w.write("samples.csv", m.samples);
+  // With nominal origins (a drawing's, to 0.1 mm): computed and stored, nothing taken as given.
+  sim::FlowResult r = flow(client, samples, w.write("nominal.csv", m.machine_nominal), true);
+  INFO(r.error);
+  REQUIRE(r.ok);
+  CHECK(r.as_given.empty());
+  CHECK(r.as_given_summary.empty());
+  // Without them: the same frames, and every measured sub-machine's swing length and tool direction named.
+  const std::string plain = w.write("plain.csv", m.machine);
+  r = flow(client, samples, plain, false);
+  REQUIRE(r.ok);
+  REQUIRE(r.as_given.size() == 4);
+  CHECK(r.as_given[0].rfind("sub-machine 1's swing_mm 300 and tool direction (", 0) == 0);
+  CHECK(r.as_given[0].find("(" + plain + ":3; no nominal origin to hold them to)") != std::string::npos);
+  CHECK(r.as_given_summary == "swing_mm and tool direction of sub-machines 1, 2, 3, 4 (" + plain +
+                                  " gives no nominal origin: origin_x_mm .. origin_z_mm)");
 }

@@ -114,9 +114,10 @@ TEST_CASE("calibrate rigidity: A or A and C in radians, ball positions in metres
     std::vector<std::string> words;
   };
   const std::vector<Case> cases = {
-      {"a_radians.csv", {"a_error_implausible", "radians", "item 1 (#9012)", "against the limit 1800 (#9014)"}},
+      {"a_radians.csv", {"a_error_implausible", "radians", "gate a_error (each pose's A positioning error) at pose 1 (A = -1.5708 deg)",
+        "against the limit 1800 arcsec (#602 rigidity_max_a_error)"}},
       {"ac_radians.csv", {"c_phase_inconsistent", "radians"}},
-      {"metres.csv", {"c_radius_implausible", "metres", "against the limit 5 (#9014)"}},
+      {"metres.csv", {"c_radius_implausible", "metres", "against the limit 5 mm (#603 rigidity_min_c_radius)"}},
   };
   for (const Case& c : cases) {
     INFO(c.file);
@@ -145,7 +146,8 @@ TEST_CASE("calibrate rigidity: a table far from the stored one is refused by the
   REQUIRE(sim.client().give_back_interface());
   measure("ideal.csv");
   const Run refused = calibrate("rigidity", sim.port(), w, w.file("ideal.csv"));
-  check_refused(refused, w, {"change_beyond_limit", "against the limit 30 (#9014)", "--accept-change"});
+  check_refused(refused, w, {"change_beyond_limit", "at pose 1 (A = -90 deg)", "against the limit 30 arcsec (#604 rigidity_max_change)",
+                                 "--accept-change"});
   int code = 0;
   REQUIRE(rigidity_query(sim.client(), code) == 2);  // the realistic table is still the live one
   double rotvec[4] = {0, 0, 0, 0};
@@ -207,7 +209,7 @@ TEST_CASE("calibrate gantry: points in metres are refused by the bed-span gate, 
   w.write("points.csv", measured.samples);
   w.write("points_m.csv", rewrite(measured.samples, {"x_mm", "y_mm", "z_mm"}, [](double mm) { return mm / 1000.0; }));
   check_refused(calibrate("gantry", sim.port(), w, w.file("points_m.csv"), w.file("machine.csv")), w,
-                {"bed_span_implausible", "metres", "against the limit 100 (#9014)"});
+                {"bed_span_implausible", "metres", "against the limit 100 mm (#703 gantry_min_bed_span)"});
   // Nothing stored: 9825 has no frames to convert with.
   REQUIRE(sim.client().write_one(v::kArgT, 1.0));
   const trueaxis::sim::MacroOutcome o = sim.client().run_macro(9825);

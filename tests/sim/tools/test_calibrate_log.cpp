@@ -292,6 +292,7 @@ TEST_CASE("trueaxis-calibrate log: 100 scratch runs and failed stores after a st
   CHECK(lines[3].find("2027-01-17") != std::string::npos);  // then the newest 30 scratch runs
   CHECK(lines[32].find("2027-01-17") != std::string::npos);
   CHECK(lines[33].empty());
+}
 
 TEST_CASE("fit_drift calls a trend significant beyond 2 sigma of its slope, not 1: the exact boundary", "[log][drift]") {
   using trueaxis::sim::fit_drift;

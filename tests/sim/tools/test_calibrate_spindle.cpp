@@ -278,7 +278,9 @@ TEST_CASE("calibrate spindle: the command with --store and --report, the page dr
                 (*worst)["theta_e_sigma_arcsec"].number, (*worst)["phi_deg"].number,
                 1000.0 * out["d_e_max_mm"].number);
   CHECK(r.out == summary + ("; wrote " + w.file("out.json") + ", report " + w.file("report") +
-                            "/index.html; stored (record 5 spindle_model)\n"));
+                            "/index.html; stored (record 5 spindle_model), the first this controller stores; taken as "
+                            "given (no data tests them): gauge_from_upper_bearing_mm 350, tool_length_mm 250, "
+                            "bearing_spacing_mm 300\n"));
 
   const std::string page = slurp(w.file("report/index.html"));
   CHECK(page.find("<html") != std::string::npos);

@@ -164,6 +164,16 @@ TEST_CASE("calibrate spindle: every bad input has its own error and stores nothi
     }
     // The spacing gate refuses it before the fit (ball_spacing_implausible), the command names the files' units.
     cases.push_back({"MACHINE in metres", samples, text_of(metres), "module error 1300 ball_spacing_implausible", false});
+    // Both files in metres: the spacings agree, 1000 times short; the ball-distance gate names both files.
+    std::vector<std::string> lines(good.begin(), good.begin() + 3);
+    for (std::size_t n = 3; n < good.size(); ++n) {
+      const std::vector<std::string> x = fields_of(good[n]);
+      char row[160];
+      std::snprintf(row, sizeof row, "%s,%s,%.17g,%.17g,%.17g", x[0].c_str(), x[1].c_str(), std::stod(x[2]) / 1000.0,
+                    std::stod(x[3]) / 1000.0, std::stod(x[4]) / 1000.0);
+      lines.push_back(row);
+    }
+    cases.push_back({"both files in metres", text_of(lines), text_of(metres), "module error 1301 balls_too_close", false});
   }
   cases.push_back({"a negative tool length", samples, machine_with(7, "tool_length_mm,-1"),
                    bad_machine + ":7: " + module_error(Status::kArgumentOutOfRange) + " (macro 9844)", true});
@@ -189,6 +199,10 @@ TEST_CASE("calibrate spindle: every bad input has its own error and stores nothi
       CHECK(r.error.find('\n') == std::string::npos);  // one line
       CHECK(r.error.find("not_finite") == std::string::npos);  // the CSV says 'not a finite number' for nan, inf
       if (c.name == "MACHINE in metres") CHECK(r.error.find("in metres") != std::string::npos);
+      if (c.name == "both files in metres") {
+        CHECK(r.error.find(bad_machine + ":6 and :5: ball_2_mm 0.15 - ball_1_mm 0.05 = 0.1 mm") != std::string::npos);
+        CHECK(r.error.find("both files in metres? trueaxis takes mm") != std::string::npos);
+      }
       CHECK(read_var(client, v::kUnlock) == 0.0);      // locked
       CHECK(corrections(client, tool) == before);      // nothing stored
     }
@@ -207,4 +221,27 @@ TEST_CASE("calibrate spindle: every bad input has its own error and stores nothi
     for (const auto& c : stored) REQUIRE(c.size() == 5);
     check_refusals(stored);
   }
+}
+
+TEST_CASE("calibrate spindle: the lengths no data tests are taken as given, named with their values and lines",
+          "[calibrate][spindle]") {
+  InProcessSim sim;
+  Workspace w("trueaxis-calibrate-spindle-given");
+  const SpindleFiles f = measure_spindle(w, "good", 3, 1);
+  // gauge_from_upper_bearing_mm 3500 for 350 (a digit typed twice): no data of the analyser's can test it.
+  std::string machine = slurp(f.machine);
+  const std::size_t at = machine.find("gauge_from_upper_bearing_mm,");
+  REQUIRE(at != std::string::npos);
+  const std::size_t end = machine.find('\n', at);
+  machine.replace(at, end - at, "gauge_from_upper_bearing_mm,3500");
+  const std::string typed = w.write("typed_machine.csv", machine);
+  const sim::FlowResult r = spindle_flow(sim.client(), f.samples, typed, false);
+  INFO(r.error);
+  REQUIRE(r.ok);
+  REQUIRE(r.as_given.size() == 3);
+  CHECK(r.as_given[0] == "gauge_from_upper_bearing_mm 3500 (" + typed + ":4; places O1, the ideal axis' point, on the "
+                         "measured axis)");
+  CHECK(r.as_given[1].rfind("tool_length_mm ", 0) == 0);
+  CHECK(r.as_given[2].rfind("bearing_spacing_mm ", 0) == 0);
+  CHECK(r.as_given_summary.rfind("gauge_from_upper_bearing_mm 3500, tool_length_mm ", 0) == 0);
 }

@@ -100,3 +100,27 @@ TEST_CASE("CsvReader gives read_csv's rows one at a time, and its errors", "[csv
   CHECK(reader.size_bytes() == text.size());
   std::remove(path);
 }
+
+TEST_CASE("quoted fields (RFC 4180): a quoted header, quoted numbers and text read; a bad quote is named", "[csv]") {
+  // R's write.csv quotes the header and the text; a spreadsheet's "quote all" every field.
+  const auto r = parse_csv("q.csv", "\"x_mm\",\"extra\",\"c_deg\",\"a_deg\"\n\"1.5\", \"a, \"\"b\"\"\" ,2,\"-3e1\"\n",
+                           kCols);
+  INFO(r.error);
+  REQUIRE(r.ok);
+  CHECK(r.rows[0].numbers == std::vector<double>{-30.0, 2.0, 1.5});
+  const auto text = parse_csv("m.csv", "\"name\",\"value\"\n\"ball_1_mm\",50\n", {{"name", false}, {"value"}});
+  REQUIRE(text.ok);
+  CHECK(text.rows[0].texts[0] == "ball_1_mm");
+  const auto spaced = parse_csv("m.csv", "name,value\n  \"a,b\"  ,  2 \n", {{"name", false}, {"value"}});
+  REQUIRE(spaced.ok);
+  CHECK(spaced.rows[0].texts[0] == "a,b");
+  CHECK(spaced.rows[0].numbers[1] == 2.0);
+  // A quoted number with a decimal comma is one field, and not a number.
+  CHECK(parse_csv("q.csv", "a_deg,c_deg,x_mm\n0,\"1,5\",2\n", kCols).error ==
+        "q.csv:2: 'c_deg' is not a finite number: '1,5' (a decimal comma? trueaxis reads '.')");
+  CHECK(parse_csv("q.csv", "a_deg,c_deg,x_mm\n0,\"1.5,2\n", kCols).error ==
+        "q.csv:2: field 2: the quote at column 3 is not closed");
+  CHECK(parse_csv("q.csv", "\"a_deg\"x,c_deg,x_mm\n", kCols).error == "q.csv:1: field 1: text after its closing quote");
+  // An empty quoted field is an empty field.
+  CHECK(parse_csv("q.csv", "a_deg,c_deg,x_mm\n0,\"\",2\n", kCols).error == "q.csv:2: 'c_deg' is not a finite number: ''");
+}

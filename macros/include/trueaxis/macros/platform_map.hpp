@@ -186,7 +186,7 @@ inline constexpr VarInfo kPlatformRows[] = {
 
   {var::kGateConfidence, 1, Access::kConfig, ValueKind::kReal, 0.999, 0.999999999, kDefaultGateConfidence, "gate_confidence", "", "The fit-quality gate's confidence (every method that compares its residuals with its instrument's stated noise): a fit whose weighted sum of squared residuals exceeds the chi-square quantile at this confidence is refused (fit_beyond_noise). The default 0.999999 refuses pure noise once in a million computations."},
 
-  {var::kMachineId, 1, Access::kConfig, ValueKind::kInteger, 0.0, 999999999.0, 0.0, "machine_id", "", "The machine's identity (its serial number, set by the integrator): every calibration report shows it beside the operator and the date. 0: not set."},
+  {var::kMachineId, 1, Access::kConfig, ValueKind::kInteger, 0.0, 999999999.0, 0.0, "machine_id", "", "The machine's identity as a whole number (a variable holds numbers only: the serial's digits or an asset number), set by the integrator: every calibration report shows it beside the operator and the date. 0: not set."},
 
   {var::kInterfaceIdleLimit, 1, Access::kConfig, ValueKind::kInteger, kMinInterfaceIdleS, kMaxInterfaceIdleS, kDefaultInterfaceIdleS, "interface_idle_s", "s", "How long a client keeps the macro interface (#9009) after its last write that took it or its last macro's end, while it has a session open (after its clear macro, until its compute, 9815 or check macro succeeds) or has taken it with #9009 = 1: the LinuxCNC rigidity program probes for many seconds between two adds. A client without either keeps it 2 s. A hold already running keeps its length when this changes."},
 

@@ -227,11 +227,15 @@ core::Status PointSession::add(std::size_t group, const core::Vec3& p_mm) {
   return core::Status::kOk;
 }
 
-core::Status PointSession::set_parameters(double t, double swing_mm, const core::Vec3& tool) {
+core::Status PointSession::set_parameters(double t, double swing_mm, const core::Vec3& tool, double nominal_flag,
+                                          const core::Vec3& nominal_origin_mm) {
   if (!whole_in(t, 1.0, core::kMaxSubMachines)) return core::Status::kArgumentOutOfRange;
-  if (!std::isfinite(swing_mm) || !finite(tool)) return core::Status::kNotFinite;
+  if (!std::isfinite(swing_mm) || !finite(tool) || !finite(nominal_origin_mm)) return core::Status::kNotFinite;
   if (!(swing_mm >= 0.0 && swing_mm <= rows::kBig) || tool.norm() == 0.0) return core::Status::kArgumentOutOfRange;
-  parameters_[static_cast<std::size_t>(t) - 1] = {true, swing_mm, tool};
+  bool nominal = false;
+  if (!flag_of(nominal_flag, nominal)) return core::Status::kArgumentOutOfRange;
+  parameters_[static_cast<std::size_t>(t) - 1] = {true, swing_mm, tool, nominal,
+                                                 nominal ? nominal_origin_mm : core::Vec3::Zero()};
   return core::Status::kOk;
 }
 
@@ -281,7 +285,9 @@ MacroStep run_parameters(Context& ctx, State&) {
   const core::Vec3 tool(ctx.in<var::kArgI>(), ctx.in<var::kArgJ>(), ctx.in<var::kArgK>());
   PointSession* s = ctx.session();
   if (s == nullptr) return done(core::Status::kSessionClosed);
-  const core::Status status = s->set_parameters(ctx.in<var::kArgT>(), ctx.in<var::kArgD>(), tool);
+  const core::Vec3 nominal(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
+  const core::Status status =
+      s->set_parameters(ctx.in<var::kArgT>(), ctx.in<var::kArgD>(), tool, ctx.in<var::kArgQ>(), nominal);
   if (status != core::Status::kOk) return done(status);
   return report_session(ctx, *s);
 }
@@ -307,6 +313,12 @@ MacroStep run_build(Context& ctx, State& state) {
       if (!session->parameters(static_cast<std::size_t>(work.input.sub_machines[i].id)).given) {
         return done(core::Status::kMissingGroup);
       }
+    }
+    // The swing gate: a length in metres reads 1000 times short (gates.hpp).
+    const double min_swing = ctx.in<var::kGantryMinSwing>();
+    for (std::size_t i = 0; i < work.input.sub_machine_count; ++i) {
+      const core::SubMachineInput& sub = work.input.sub_machines[i];
+      if (sub.swing_mm < min_swing) return ctx.refuse(kSwingImplausible, sub.id, sub.swing_mm, min_swing);
     }
     core::GantryOptions options;
     options.min_arc_deg = ctx.in<var::kGantryMinArc>();
@@ -347,6 +359,16 @@ MacroStep run_build(Context& ctx, State& state) {
     consider_circle(fit, f.sub_machines[i].id, f.sub_machines[i].a_circle, in.a_circle, noise_a, noise_b);
   }
   if (fit.refused()) return ctx.refuse(core::Status::kFitBeyondNoise, static_cast<double>(fit.item()), fit.ratio(), 1.0);
+  // The nominal-origin gate: the measured origin where the drawing puts it (gates.hpp).
+  const PointSession* session = ctx.session();
+  const double max_offset = ctx.in<var::kGantryMaxNominalOffset>();
+  for (std::size_t i = 0; session != nullptr && i < f.sub_machine_count; ++i) {
+    const SubMachineParameters& p = session->parameters(static_cast<std::size_t>(f.sub_machines[i].id));
+    const double offset = (f.sub_machines[i].global_T_sub.t - p.nominal_origin_mm).norm();
+    if (p.nominal_given && !(offset <= max_offset)) {
+      return ctx.refuse(kOriginOffNominal, static_cast<double>(f.sub_machines[i].id), offset, max_offset);
+    }
+  }
   // The change gate against the stored frames (gates.hpp).
   const Change change = change_against(state, f);
   const double max_origin = ctx.in<var::kGantryMaxOriginChange>();

@@ -155,13 +155,17 @@ MacroStep run_build(Context& ctx, State& state) {
     if (!(g.gauge_mm > 0.0) || !(g.ball_mm[0] >= 0.0) || !(g.ball_mm[1] > g.ball_mm[0])) {
       return done(core::Status::kArgumentOutOfRange);
     }
-    // The spacing gate: before the fit, which on such data would only fail to converge.
+    // The spacing gate (one file in other units than the other), then the
+    // ball-distance gate (both in metres): before the fit, which on such data
+    // would only fail to converge.
     const double given = g.ball_mm[1] - g.ball_mm[0];
     const double spacing = (bins->sums(2).mean_mm() - bins->sums(1).mean_mm()).norm();
     const double max_error = ctx.in<var::kSpindleMaxSpacingError>();
     if (bins->samples(1) > 0 && bins->samples(2) > 0 && !(std::abs(spacing - given) <= max_error)) {
       return ctx.refuse(kBallSpacingImplausible, 0.0, spacing - given, max_error);
     }
+    const double min_distance = ctx.in<var::kSpindleMinBallSpacing>();
+    if (given < min_distance) return ctx.refuse(kBallsTooClose, 0.0, given, min_distance);
     state.built = false;
     Work& work = ctx.open_work();
     work.computed.geometry = g;

@@ -22,10 +22,16 @@
 //     memory (the gantry keeps its rows to sort them, at most the session's
 //     capacity: a longer file is refused at the first row beyond it). Work
 //     that takes more than 2 s reports its progress on stderr (Progress).
+//  5. A transport failure (the connection reset, a time-out) says what was
+//     under way (FlowResult::stage: which sample of which file, the build,
+//     the report query, the check, the store) and, through the command, what
+//     became of the store: nothing stored, not known (the connection failed
+//     after the store's macro was sent), or stored (a failure after it).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -33,6 +39,7 @@
 #include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/macros/records.hpp"
 #include "trueaxis/sim/tools/client.hpp"
+#include "trueaxis/sim/tools/log_reader.hpp"
 
 namespace trueaxis::sim {
 
@@ -44,9 +51,13 @@ struct CalibrateOptions {
   std::string report_dir;    // "" when absent
   std::string linuxcnc_comp_path;  // --linuxcnc-comp (rigidity): "" when absent
   std::string linuxcnc_kins_path;  // --linuxcnc-kins (rigidity, with --store): "" when absent
+  // --sub-machines (gantry): the sub-machines this session measures, each
+  // 1..8 once; empty: every sub-machine MACHINE gives (calibrate_gantry).
+  std::vector<int> sub_machines;
   bool store = false;
   bool check = false;          // --check: compare with the stored calibration (check.hpp), store nothing
   std::string operator_name;   // --operator NAME: who measured, for the report
+  std::string machine_name;    // --machine-name NAME: the machine's name with letters, for the report (#902 holds a number)
   bool accept_change = false;  // --accept-change: the store's M = 1 (gates.hpp, change)
   double unlock_code = macros::kUnlockCode;  // --unlock-code: the machine's own (#900)
   std::string host = "127.0.0.1";
@@ -79,6 +90,34 @@ struct FlowResult {
   bool accept_change = false;
   // The measuring log's time for the store and the check (CalibrateOptions::log_time).
   double log_time = 0.0;
+  // What was under way (contract 5), after "while": "streaming sample 12 of
+  // 252 of ball.csv:14", "running the build (macro 9832, R = 0), every sample
+  // sent", "storing (macro 9832, R = 1)"; a transport failure names it.
+  std::string stage;
+  bool transport_failed = false;  // the failure was the connection's (a reset, a time-out), not a refusal
+  bool macro_started = false;     // ... after the macro number was sent: whether it ran is not known
+  bool stored = false;            // the store's macro succeeded (a later failure leaves the table stored)
+  // What the check's items are (check.hpp figure item, the module's number):
+  // item -> the suffix of the figure's name ("a-90": the pose at A = -90 deg,
+  // "sp2": sub-machine 2) and the key OUT.json's figure adds ("a_deg": -90,
+  // "sub_machine": 2). An item not here is named by its number.
+  struct CheckItem {
+    std::string suffix;
+    std::string key;
+    double value = 0.0;
+  };
+  std::map<int, CheckItem> check_items;
+  // --check: the module's measuring log as check_built read it (for the
+  // stored calibration judged and the report's drift); log_read false when
+  // the module could not give it.
+  std::vector<LogRow> log_rows;
+  bool log_read = false;
+  // The MACHINE values no data of this run could test (issue "Nothing wrong
+  // reaches the machine", item 1): each with its value, its file and line and
+  // what it is used for, listed in the report as taken as given; the summary
+  // line names them in one clause, as_given_summary.
+  std::vector<std::string> as_given;
+  std::string as_given_summary;
 };
 
 // Hands the module the measuring log's time (#9015, Unix seconds) for the
@@ -112,8 +151,9 @@ class Progress {
 bool run_or_fail(VariableClient& client, std::uint16_t macro, const std::string& context, FlowResult& fail);
 
 // The refusal of a sample's write: "FILE:LINE: the module refused the sample:
-// WHY" when its values were refused (exception 02 or 03), else WHY alone.
-std::string refused_sample(VariableClient& client, const std::string& where);
+// WHY" when its values were refused (exception 02 or 03), else WHY alone,
+// with what was under way (fail.stage) when it is the transport's (contract 5).
+std::string refused_sample(VariableClient& client, const std::string& where, FlowResult& fail);
 
 // `ok` as it is; when false, fail.error names the transport problem ("Modbus: ...").
 bool transport(VariableClient& client, bool ok, FlowResult& fail);
@@ -153,7 +193,12 @@ bool spindle_kins_file(VariableClient& client, bool stored, std::string& file, F
 
 // Streams the tracker points (grouped by name, measuring order kept) and the
 // MACHINE rows, computes the frames WITHOUT storing them; reads back what the
-// module computed (9824, 9826).
+// module computed (9824, 9826). Every sub-machine SAMPLES measures needs its
+// MACHINE row, and every MACHINE row its points: a row whose sub-machine has
+// no points is refused at its line (a sub-machine forgotten, or its groups
+// misnamed), unless options.sub_machines names the ones measured (one
+// sub-machine measured again with the whole machine's MACHINE file); then
+// the others' rows are not read, and a point of another is refused.
 FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& options);
 
 // Stores the frames of the session already in the module (unlock, 9823 with
@@ -198,7 +243,16 @@ struct CalibrateMethod {
   // --linuxcnc-kins: the table built last (false) or stored (true) as the file
   // the LinuxCNC kinematics load (record_file.hpp); nullptr when they take none.
   bool (*kins_file)(VariableClient&, bool stored, std::string& file, FlowResult& fail);
+  // A query of the stored table (R = 1, Q = stored_query_q): no_table when the
+  // controller holds none, so that a store can say it is the first.
+  std::uint16_t stored_query;
+  double stored_query_q;
 };
+
+// Whether the controller holds a stored table of `method`: every answer of
+// its stored_query but no_table says so (a damaged table too); false with
+// `fail` set when the query got no answer.
+bool has_stored_table(VariableClient& client, const CalibrateMethod& method, bool& has, FlowResult& fail);
 
 // The check (check.hpp) of method `name` of the module's method list (its
 // descriptor's kCheck): macro 0 when it has none or is not built.
@@ -207,7 +261,10 @@ macros::CheckInfo check_of(const char* name);
 // --check (check.hpp): runs the method's check macro on the result the flow
 // has just built (R = 0) against the stored calibration, adds OUT.json's
 // "check" object (docs/INTERFACE.md "Check mode and the log") to r.json and
-// the verdict to r.summary; verdict is set to the check's. False with
+// the verdict to r.summary; verdict is set to the check's. The figures are
+// named by r.check_items; "stored_calibration" names the calibration judged
+// (its table sequence and store time from the measuring log, kept in
+// r.log_rows, and the SHA-256 of the record the module exports). False with
 // r.error set when the module refused (no stored calibration among others).
 bool check_built(VariableClient& client, const CalibrateMethod& method, FlowResult& r, macros::Verdict& verdict);
 

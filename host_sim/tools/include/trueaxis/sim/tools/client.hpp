@@ -23,9 +23,11 @@
 //     macro running, a wrong unlock code, the back-off with its seconds, a
 //     locked controller; a transport failure by libmodbus's text.
 //  6. take_interface() takes the module's macro interface (#9009 = 1,
-//     module.hpp contract 8). While another client holds it, it calls
-//     `waiting` once, then tries again every 200 ms for at most `wait_ms`;
-//     false when it could not, failure_text() then saying why.
+//     module.hpp contract 8). While another client holds it (or a macro
+//     runs: any refusal 06, since the holder may let it go between the refusal
+//     and the look at #9009), it calls `waiting` once, then tries again every
+//     200 ms for at most `wait_ms`; false when it could not, failure_text()
+//     then saying why.
 //     give_back_interface() writes #9009 = 0 (closing the connection gives it
 //     back too).
 #pragma once
@@ -41,6 +43,9 @@ namespace trueaxis::sim {
 struct MacroOutcome {
   int status = -1;  // #9001 after the macro: 2 done, 3 error; -1 not finished / transport failure
   int error = 0;    // #9002
+  // The write of the macro number to #9000 was attempted: past this point a
+  // transport failure leaves it unknown whether the macro ran.
+  bool started = false;
 };
 
 class VariableClient {

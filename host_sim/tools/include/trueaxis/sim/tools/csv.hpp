@@ -11,14 +11,21 @@
 //     memory whatever the file's length (the samples files).
 //  2. Blank lines (only spaces, tabs, CR) are skipped like comments; a UTF-8
 //     byte-order mark at the start of the file is skipped.
-//  3. A field is a number when strtod consumes all of it but surrounding spaces
-//     and the value is finite; "nan", "inf", "", "1.5x" are errors.
+//  3. Fields are separated by commas and trimmed of spaces and tabs; a field
+//     enclosed in double quotes (RFC 4180: R's write.csv quotes the header and
+//     the text, a spreadsheet's "quote all" every field) is read without its
+//     quotes, "" inside it stands for one ", and a comma inside it belongs to
+//     it. A field is a number when strtod consumes all of it but surrounding
+//     spaces and the value is finite; "nan", "inf", "", "1.5x" and "1,5" (a
+//     decimal comma, named as such) are errors, quoted or not.
 //  4. Errors are one line, "FILE:LINE: what", ready for stderr (a file that
 //     cannot be read has no line: "FILE: cannot be read"): no header, a
 //     required column absent (named at the header's line; a header split by
 //     ';' or tabs is named as such: "the file uses ';' as separator; trueaxis
 //     reads ','"; a UTF-16 file likewise), a row with too few fields, a bad
-//     number (with the column's name).
+//     number (with the column's name), a quote not closed or followed by text.
+//  5. An optional column may be absent from the header, and its field empty in
+//     a row: its number is then NaN (not given) and its text "".
 #pragma once
 
 #include <cstdint>
@@ -31,6 +38,8 @@ namespace trueaxis::sim {
 struct CsvColumn {
   std::string name;
   bool numeric = true;
+  // Contract 5: a column the header may leave out, a field a row may leave empty.
+  bool optional = false;
 };
 
 struct CsvRow {

@@ -67,7 +67,9 @@ std::vector<TrackerSample> measure_gantry(const GantryMachine& machine, const La
 
 // The file texts. `comment` lines (without '#') head the samples file.
 std::string samples_csv_text(const std::vector<TrackerSample>& samples, const std::vector<std::string>& comment);
-std::string machine_csv_text(const GantryMachine& machine, const LaserTracker& tracker);
+// With nominal_origins, each row also gives the sub-machine's origin in the
+// global frame, rounded to 0.1 mm as a drawing would give it (origin_x_mm ..).
+std::string machine_csv_text(const GantryMachine& machine, const LaserTracker& tracker, bool nominal_origins = false);
 std::string truth_json_text(const GantryMachine& machine, const LaserTracker& tracker, const GantryPlan& plan);
 
 }  // namespace trueaxis::sim

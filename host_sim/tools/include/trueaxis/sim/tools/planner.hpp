@@ -41,9 +41,24 @@
 //     probe point, a wider arc or one more pass, one more revolution); the
 //     best change by the resulting valuation, then the best second change
 //     after it (greedy).
+//  6. The module's judgement first: a plan is refused as the module would
+//     refuse its measurement, with the module's own sentence. The plan's
+//     readings with one draw of the instrument's noise (a fixed seed: what a
+//     measurement of the plan looks like; noise-free repeats would be refused
+//     as duplicates) are streamed into a module built in this process, the
+//     method's macros as trueaxis-calibrate runs them (clear, add every
+//     reading, the MACHINE data, compute with R = 0), with the configuration
+//     at its defaults but the instrument's stated noise, which the plan gives.
+//     So every limit and gate the module applies to such data applies to the
+//     plan (its capacities, argument ranges, the plausibility and fit gates);
+//     the change gate needs a stored table and never trips. A refusal reads
+//     "[WHAT: ]module error CODE NAME: MESSAGE (macro N[; item I (#9012): V
+//     (#9013) against the limit L (#9014)])", WHAT the reading a sample
+//     macro refused.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -75,6 +90,13 @@ struct PlanOutput {
 
 class PlanModel;
 
+// Contract 6: one macro of the plan's measurement as the module is given it.
+struct PlanMacro {
+  std::uint16_t macro = 0;
+  std::vector<std::pair<std::uint16_t, double>> arguments;  // #N = value, written before it
+  std::string what;  // the reading it carries ("reading 12 (A = 30, C = 40 deg)"), "" for none
+};
+
 // A change to a plan (contract 5) and the plan it makes.
 struct PlanChange {
   std::string what;  // "add the A pose 45 deg (36 C positions)"
@@ -94,7 +116,16 @@ class PlanModel {
   // code; false with `error` the module's refusal ("module error 210 ...").
   virtual bool evaluate(const std::vector<core::Vec3>& values, std::vector<double>& out, std::string& error) const = 0;
   virtual std::vector<PlanChange> candidates() const = 0;
+  // Contract 6: the configuration rows the plan states (#N = value: the
+  // instrument's noise), and the macros of its measurement with `values`
+  // (one per reading, in order) as their samples.
+  virtual std::vector<std::pair<std::uint16_t, double>> module_configuration() const = 0;
+  virtual std::vector<PlanMacro> module_macros(const std::vector<core::Vec3>& values) const = 0;
 };
+
+// Contract 6: "" when the module takes the plan's measurement, else its
+// refusal in one line.
+std::string module_refusal(const PlanModel& model);
 
 // A pair of outputs the plan cannot separate (contract 4).
 struct PlanInseparable {

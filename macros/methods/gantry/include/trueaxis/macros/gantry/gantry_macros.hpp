@@ -24,8 +24,11 @@
 //  capacity: kMaxPlanePoints, kMaxPassPoints, kMaxCirclePoints), kSessionFull.
 // Macro 9822: sub-machine T = #20 (1..8): swing length D = #7 (mm, >= 0) and the
 //  nominal tool direction I, J, K = #4..#6 (tracker frame, only its sense is
-//  used). Given again, it replaces. Out: #100..#102. kArgumentOutOfRange for a
-//  T, a negative or huge D, or a zero direction; kNotFinite.
+//  used); with Q = #17 = 1, X, Y, Z = #24..#26 its nominal origin (the tool tip
+//  at home, mm, global frame: from the machine's drawing), which 9823 holds
+//  the measured origin to within #708. Given again, it replaces. Out:
+//  #100..#102. kArgumentOutOfRange for a T, a negative or huge D, a zero
+//  direction, or a Q other than 0 and 1; kNotFinite.
 // Macro 9823: compute the frames of every sub-machine in the session (any
 //  point or 9822), in id order (core::GantryBuilder, one fit per step), with the
 //  arc limit #700 and each fit's own residuals as its noise (docs/INTERFACE.md:
@@ -39,7 +42,10 @@
 //  #100..#103 (kBuildOutputs). Status: those of core::compute_gantry_frames
 //  (gantry_frames.hpp, gantry_fits.hpp); a sub-machine with points but no 9822,
 //  or with a 9822 but no points, is kMissingGroup (give 9822 only for the
-//  sub-machines measured). The session is kept either way.
+//  sub-machines measured). Gates (gates.hpp), in this order: the bed's span
+//  (#703), each swing length (#709), the circles' fit (#901), each measured
+//  origin against its nominal one (#708), then with R = 1 the change against
+//  the stored frames (#704, #705). The session is kept either way.
 // Macro 9824: the global frame and the set of sub-machines: R = #18 0 of the
 //  last computation since start, 1 of the stored frames. Out: #100..#125
 //  (#120..#125 the noise floors and form errors: -1 from a table stored before
@@ -86,6 +92,8 @@ struct SubMachineParameters {
   bool given = false;
   double swing_mm = 0.0;
   core::Vec3 tool_direction = core::Vec3::Zero();
+  bool nominal_given = false;                 // Q = 1 in its 9822
+  core::Vec3 nominal_origin_mm = core::Vec3::Zero();  // global frame
 };
 
 // The tracker points, group by group (gantry_macros.hpp 9821), and the
@@ -97,7 +105,8 @@ class PointSession {
   // The group index of (T, Q, D), or kArgumentOutOfRange.
   static core::Result<std::size_t> group_of(double t, double q, double d);
   [[nodiscard]] core::Status add(std::size_t group, const core::Vec3& p_mm);
-  [[nodiscard]] core::Status set_parameters(double t, double swing_mm, const core::Vec3& tool);
+  [[nodiscard]] core::Status set_parameters(double t, double swing_mm, const core::Vec3& tool, double nominal_flag,
+                                           const core::Vec3& nominal_origin_mm);
 
   std::size_t size() const { return count_; }
   std::size_t groups() const;
@@ -171,7 +180,9 @@ inline constexpr InputRef kAddInputs[] = {
 inline constexpr InputRef kParameterInputs[] = {
   {var::kArgI, 3, "Nominal tool direction I, J, K (tracker frame)."},
   {var::kArgD, 1, "Swing length L, wrist centre to tool tip (mm)."},
+  {var::kArgQ, 1, "1: X, Y, Z hold the nominal origin; 0: none given."},
   {var::kArgT, 1, "Sub-machine N, 1..8."},
+  {var::kArgX, 3, "Nominal origin X, Y, Z (the tool tip at home, mm, global frame), with Q = 1."},
 };
 inline constexpr InputRef kBuildInputs[] = {
   {var::kArgM, 1, "1 confirms a store whose change against the stored frames exceeds #704 or #705."},
@@ -179,6 +190,7 @@ inline constexpr InputRef kBuildInputs[] = {
   {var::kGantryMinArc, 1, "Shortest arc a C or A circle may span."},
   {var::kGantryTrackerNoise, 2, "The tracker's stated noise: constant part and part per metre (1 sigma per axis)."},
   {var::kGantryMinBedSpan, 3, "The gates: the bed's span, the largest origin move and axes' turn a store takes without M = 1."},
+  {var::kGantryMaxNominalOffset, 2, "The gates: a measured origin's largest distance from its nominal one, the shortest swing length."},
   {var::kGateConfidence, 1, "The fit gate's confidence."},
 };
 inline constexpr InputRef kGlobalInputs[] = {

@@ -35,6 +35,8 @@ inline constexpr std::uint16_t kGantryMaxOriginChange = 704;
 inline constexpr std::uint16_t kGantryMaxAngleChange = 705;
 inline constexpr std::uint16_t kGantryCheckOrigin = 706;
 inline constexpr std::uint16_t kGantryCheckAngle = 707;
+inline constexpr std::uint16_t kGantryMaxNominalOffset = 708;
+inline constexpr std::uint16_t kGantryMinSwing = 709;
 
 // 9820, 9821, 9822
 inline constexpr std::uint16_t kGantrySessionCount = 100;
@@ -126,6 +128,8 @@ inline constexpr double kDefaultTrackerNoisePerMMm = 0.003;
 // by their noise (origin sigma ~20 um, angles ~10"), far less than these.
 inline constexpr double kDefaultMinBedSpanMm = 100.0;
 inline constexpr double kDefaultMaxOriginChangeMm = 0.25;
+inline constexpr double kDefaultMaxNominalOffsetMm = 10.0;
+inline constexpr double kDefaultMinSwingMm = 10.0;
 inline constexpr double kDefaultMaxAngleChangeArcsec = 120.0;
 // The check's tolerances' defaults (check.hpp): a sub-machine's origin and
 // its axes against the stored frame.
@@ -141,6 +145,8 @@ inline constexpr std::uint16_t kLogGantryForm = 2;
 
 // Its status codes (block 1200..1299).
 inline constexpr core::Status kBedSpanImplausible = static_cast<core::Status>(1200);
+inline constexpr core::Status kSwingImplausible = static_cast<core::Status>(1201);
+inline constexpr core::Status kOriginOffNominal = static_cast<core::Status>(1202);
 
 // clang-format off
 inline constexpr VarInfo kRows[] = {
@@ -160,6 +166,10 @@ inline constexpr VarInfo kRows[] = {
                "Gantry check (9827): the tolerance of a sub-machine's origin (global frame) against the stored frame's: the length of the difference."),
   rows::config(var::kGantryCheckAngle, 1e-3, 1e6, kDefaultCheckAngleArcsec, "gantry_check_angle_tolerance", "arcsec",
                "Gantry check (9827): the tolerance of a sub-machine's axes against the stored frame's: the angle they turned."),
+  rows::config(var::kGantryMaxNominalOffset, 0.0, 1e5, kDefaultMaxNominalOffsetMm, "gantry_max_nominal_offset", "mm",
+               "Gantry: a computation whose sub-machine origin lies farther than this from the nominal origin its 9822 gave (MACHINE's origin_x_mm .. origin_z_mm, global frame) is refused (origin_off_nominal: a swing length or tool direction typed wrong?); sub-machines without a nominal origin are taken as given."),
+  rows::config(var::kGantryMinSwing, 0.0, 1e5, kDefaultMinSwingMm, "gantry_min_swing", "mm",
+               "Gantry: a computation with a sub-machine's swing length below this is refused (swing_implausible: MACHINE in metres?); 0 switches the gate off."),
 };
 
 inline constexpr CheckFigureInfo kLogFigureKinds[] = {
@@ -270,6 +280,8 @@ inline constexpr core::StatusInfo kStatuses[] = {
   {core::Status::kPassesDisagree, "passes_disagree", "The passes of one axis run in opposite directions: every pass must be measured moving the axis in its positive direction."},
   {core::Status::kToolDirectionAmbiguous, "tool_direction_ambiguous", "The nominal tool direction is perpendicular to the measured C axis: it cannot say which way the C axis points towards the tool tip."},
   {kBedSpanImplausible, "bed_span_implausible", "The bed points span less than #703 (#9013 their span in mm): were the points given in metres instead of millimetres? Nothing was published or stored."},
+  {kSwingImplausible, "swing_implausible", "A sub-machine's swing length (9822's D, MACHINE's swing_mm) is shorter than #709 (#9012 the sub-machine, #9013 the length in mm): was MACHINE given in metres instead of millimetres? Nothing was published or stored."},
+  {kOriginOffNominal, "origin_off_nominal", "A sub-machine's measured origin lies farther than #708 from the nominal origin its 9822 gave (#9012 the sub-machine, #9013 the distance in mm): a swing length typed wrong (a digit twice, metres), a tool direction with its sign flipped, or a nominal origin in another frame? Nothing was published or stored."},
   {core::Status::kBedNotLevel, "bed_not_level", "The bed plane's normal is far from the measurement's +Z: the tracker data must be levelled (+Z up)."},
 };
 // clang-format on

@@ -27,6 +27,9 @@ struct Method : Shape {
                                         9820, 9821, 9823, list_of(kLimits)};
   static constexpr GateInfo kGateTable[] = {
       {"bed_span", kBedSpanImplausible, {var::kGantryMinBedSpan, 0, 0}, "the bed points' span (points in metres?)"},
+      {"swing", kSwingImplausible, {var::kGantryMinSwing, 0, 0}, "each sub-machine's swing length (MACHINE in metres?)"},
+      {"nominal_origin", kOriginOffNominal, {var::kGantryMaxNominalOffset, 0, 0},
+       "each sub-machine's measured origin against the nominal origin its 9822 gave (a swing length or tool direction typed wrong?)"},
       {"fit", core::Status::kFitBeyondNoise, {var::kGantryTrackerNoise, var::kGantryTrackerNoisePerM, var::kGateConfidence},
        "each sub-machine's C and A circle residuals (2 n - 6 degrees of freedom) against the tracker's noise a + b r"},
       {"change", core::Status::kChangeBeyondLimit, {var::kGantryMaxOriginChange, var::kGantryMaxAngleChange, 0},

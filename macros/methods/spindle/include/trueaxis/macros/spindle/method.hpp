@@ -21,6 +21,8 @@ struct Method : Shape {
   static constexpr GateInfo kGateTable[] = {
       {"spacing", kBallSpacingImplausible, {var::kSpindleMaxSpacingError, 0, 0},
        "the distance between the balls' mean centres against V - U"},
+      {"ball_distance", kBallsTooClose, {var::kSpindleMinBallSpacing, 0, 0},
+       "the balls' distance along the tool, V - U (both files in metres?)"},
       {"fit", core::Status::kFitBeyondNoise, {var::kSpindleProbeNoise, var::kSpindleFormAllowance, var::kGateConfidence},
        "each ball's residuals (3 n - 4 degrees of freedom) against the probe noise and the form allowance"},
       {"change", core::Status::kChangeBeyondLimit, {var::kSpindleMaxChange, 0, 0},

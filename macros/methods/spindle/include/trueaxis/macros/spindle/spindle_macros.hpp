@@ -137,6 +137,7 @@ inline constexpr InputRef kBuildInputs[] = {
   {var::kSpindleProbeNoise, 2, "The fit gate's noise and form allowance."},
   {var::kSpindleMaxSpacingError, 1, "The ball-spacing gate."},
   {var::kSpindleMaxChange, 1, "The change gate's limit."},
+  {var::kSpindleMinBallSpacing, 1, "The ball-distance gate."},
   {var::kGateConfidence, 1, "The fit gate's confidence."},
 };
 inline constexpr InputRef kCorrectionInputs[] = {

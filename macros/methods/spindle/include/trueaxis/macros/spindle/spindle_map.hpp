@@ -33,6 +33,7 @@ inline constexpr std::uint16_t kSpindleMaxSpacingError = 803;
 inline constexpr std::uint16_t kSpindleMaxChange = 804;
 inline constexpr std::uint16_t kSpindleCheckTilt = 805;
 inline constexpr std::uint16_t kSpindleCheckOffset = 806;
+inline constexpr std::uint16_t kSpindleMinBallSpacing = 807;
 
 // 9840, 9841
 inline constexpr std::uint16_t kSpindleSessionSamples = 100;
@@ -90,6 +91,7 @@ inline constexpr MethodBlock kBlock{"spindle", 800, 899, 4000, 4999};
 inline constexpr double kDefaultProbeNoiseMm = 0.000015;
 inline constexpr double kDefaultFormAllowanceMm = 0.0002;
 inline constexpr double kDefaultMaxSpacingErrorMm = 1.0;
+inline constexpr double kDefaultMinBallSpacingMm = 5.0;
 inline constexpr double kDefaultMaxChangeMm = 0.005;
 // The check's tolerances' defaults (check.hpp): the axis' and the tool's
 // tilts, the tool line's offset at the gauge plane.
@@ -108,6 +110,7 @@ inline constexpr int kChangeAngles = 36;
 
 // Its status codes (block 1300..1399).
 inline constexpr core::Status kBallSpacingImplausible = static_cast<core::Status>(1300);
+inline constexpr core::Status kBallsTooClose = static_cast<core::Status>(1301);
 
 // Convention 3.
 inline constexpr const char* kParameterNames[core::kSpindleParams] = {
@@ -129,6 +132,8 @@ inline constexpr VarInfo kRows[] = {
                "Spindle check (9846): the tolerance of the axis' tilt (a_x, a_y) and the tool's tilt against it (w_x, w_y) against the stored model's."),
   rows::config(var::kSpindleCheckOffset, 1e-7, 1e3, kDefaultCheckOffsetMm, "spindle_check_offset_tolerance", "mm",
                "Spindle check (9846): the tolerance of the tool line's offset at the gauge plane (e_x, e_y) against the stored model's."),
+  rows::config(var::kSpindleMinBallSpacing, 0.0, 1e5, kDefaultMinBallSpacingMm, "spindle_min_ball_spacing", "mm",
+               "Spindle: an identification whose balls lie closer than this along the tool (V - U, MACHINE's ball_2_mm - ball_1_mm) is refused (balls_too_close: both files in metres? the spacing gate #803 cannot see them, as they agree); 0 switches the gate off."),
 };
 
 inline constexpr CheckFigureInfo kCheckFigureKinds[] = {
@@ -312,6 +317,7 @@ inline constexpr OutputInfo kModelOutputs[] = {
 inline constexpr core::StatusInfo kStatuses[] = {
   {core::Status::kNotIdentifiable, "not_identifiable", "The data do not determine every parameter of the model: a combination of them leaves the measurements unchanged. Measure more (for the spindle: the ball at two heights, over a whole revolution)."},
   {kBallSpacingImplausible, "ball_spacing_implausible", "The balls' mean centres are not V - U apart within #803 (#9013 the measured spacing minus V - U, mm): were the samples given in metres instead of millimetres (the spacing reads 1000 times short), or a ball distance (U, V) typed wrong? Nothing was published or stored."},
+  {kBallsTooClose, "balls_too_close", "The balls are closer than #807 along the tool (V - U, MACHINE's ball_2_mm - ball_1_mm; #9013 it in mm): were both the samples and MACHINE given in metres (the spacings then agree, 1000 times short)? Nothing was published or stored."},
   {core::Status::kRevolutionIncomplete, "revolution_incomplete", "The spindle angles of a ball leave a gap wider than #800 (45 degrees by default): measure the ball over a whole revolution. Were the angles given in radians? A revolution in radians spans only 6.3 degrees."},
 };
 // clang-format on
