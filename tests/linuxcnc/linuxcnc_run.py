@@ -3,6 +3,9 @@ scenario tests and the demo: trueaxis-sim on 127.0.0.1 port 0, LinuxCNC with
 tests/linuxcnc/scenario_display.py as its display, as a non-root user.
 
 Machine(bin_dir, errors, folder).run(commands) -> the display's result dict.
+The simulator and LinuxCNC run in the real-time class SCHED_RR where the
+caller may give it (root), so that a build beside them cannot stall them
+(_real_time_class).
 LinuxCNC refuses to run as root: as root the run is `runuser -u trueaxis-ci`
 (the user toolchain/setup.sh creates), otherwise as the calling user. What
 LinuxCNC reads is copied into `folder` in the repository's layout (so the
@@ -74,6 +77,22 @@ def host_lock(what="LinuxCNC"):
             os.close(fd)  # releases the flock
 
 
+def _real_time_class():
+    """In the child, before it runs LinuxCNC or trueaxis-sim: the simulated
+    machine in the round-robin real-time class, ahead of every ordinary
+    process. LinuxCNC's own real time (rtapi_app's SCHED_FIFO) needs root that
+    may raise RLIMIT_RTPRIO (CAP_SYS_RESOURCE, which a virtual machine's or a
+    container's root may lack: "Note: Using POSIX non-realtime" in its log);
+    without it its task is an ordinary process that a parallel build on two
+    cores stalls for over a second, past its 1 s wait for the motion
+    controller ([EMCMOT] COMM_TIMEOUT), and the task aborts the program
+    (tests/linuxcnc/README.md). Without the right (not root) nothing changes."""
+    try:
+        os.sched_setscheduler(0, os.SCHED_RR, os.sched_param(1))
+    except OSError:
+        pass
+
+
 def _kill_run(plan):
     """Kills every process of the LinuxCNC run whose plan is `plan`: those
     that inherited TRUEAXIS_SCENARIO=plan (rtapi_app too, which starts a
@@ -97,7 +116,8 @@ class Machine:
                 "--errors", errors]
         if face_tilt is not None:
             argv += ["--face-tilt", str(face_tilt)]
-        self.sim = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.sim = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                    preexec_fn=_real_time_class)
         line = self.sim.stdout.readline()
         found = re.search(r"listening on [0-9.]+:(\d+)", line)
         if not found:
@@ -170,7 +190,7 @@ class Machine:
         with host_lock(f"linuxcnc_run {name} in {self.folder}"):
             started = time.monotonic()
             run = subprocess.Popen(argv, cwd=self.machine_dir, env=env, stdout=subprocess.PIPE,
-                                   stderr=subprocess.STDOUT, text=True)
+                                   stderr=subprocess.STDOUT, text=True, preexec_fn=_real_time_class)
             try:
                 log, _ = run.communicate(timeout=timeout_s + 60)
             except subprocess.TimeoutExpired:
