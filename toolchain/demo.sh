@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The operator demo: builds the host tree if needed, starts trueaxis-sim on a free
+# The operator demo: builds the host programs if needed (every trueaxis-*, so that
+# the README's commands work after it), starts trueaxis-sim on a free
 # port with a temporary NV file, runs trueaxis-level (probe, level, verify), stops
 # the sim and exits with the client's code (0 when the true residual tilt after
 # leveling is within 3 sigma of the module's uncertainty).
@@ -22,7 +23,7 @@ done
 if [ -z "$bin_dir" ]; then
   bash "$root/toolchain/setup.sh"
   cmake -S "$root" -B "$root/build/host" -G Ninja >/dev/null
-  cmake --build "$root/build/host" --target trueaxis-sim trueaxis-level
+  cmake --build "$root/build/host" --target trueaxis-programs
   bin_dir="$root/build/host/bin"
 fi
 

@@ -28,7 +28,7 @@ set -euo pipefail
 
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$root/toolchain/sim_session.sh"
-demo_start trueaxis-measure-gantry "$@"
+demo_start "$@"
 
 echo
 echo "== 1. measure the virtual gantry with the laser tracker"

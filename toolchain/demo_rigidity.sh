@@ -31,7 +31,7 @@ done
 if [ -z "$bin_dir" ]; then
   bash "$root/toolchain/setup.sh"
   cmake -S "$root" -B "$root/build/host" -G Ninja >/dev/null
-  cmake --build "$root/build/host" --target trueaxis-sim trueaxis-level trueaxis-measure-ball trueaxis-calibrate
+  cmake --build "$root/build/host" --target trueaxis-programs
   bin_dir="$root/build/host/bin"
 fi
 

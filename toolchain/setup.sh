@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
-# Installs every Debian package trueaxis needs; does nothing when they are present.
-# Safe to run again. Needs root (or sudo) only when something is missing.
+# Installs every Debian package trueaxis needs, creates the user LinuxCNC's tests
+# run as and links the kinematics module's place in LinuxCNC's module folder
+# (below); says each thing it changes on one line, and changes and says nothing
+# when all of it is there. Safe to run again. Needs root (or sudo) only when
+# something is missing.
 set -euo pipefail
 
 packages=(
@@ -28,12 +31,18 @@ done
 
 make_ci_user() {
   if ! id -u "$ci_user" >/dev/null 2>&1; then
-    if [ "$(id -u)" -eq 0 ]; then
-      useradd --create-home --shell /usr/sbin/nologin "$ci_user"
-    elif command -v sudo >/dev/null; then
-      sudo useradd --create-home --shell /usr/sbin/nologin "$ci_user"
+    local as_root=()
+    if [ "$(id -u)" -ne 0 ]; then
+      if ! command -v sudo >/dev/null; then
+        echo "setup: cannot create the user $ci_user (needs root): the LinuxCNC tests will fail" >&2
+        return 0
+      fi
+      as_root=(sudo)
+    fi
+    if "${as_root[@]}" useradd --create-home --shell /usr/sbin/nologin "$ci_user"; then
+      echo "setup: created the user $ci_user (no password, no login shell: LinuxCNC's tests run as it)"
     else
-      echo "setup: cannot create the user $ci_user (needs root): the LinuxCNC tests will fail" >&2
+      echo "setup: creating the user $ci_user failed: the LinuxCNC tests will fail" >&2
     fi
   fi
 }
@@ -64,9 +73,12 @@ link_kins_module() {
     fi
     as_root=(sudo -n)
   fi
-  "${as_root[@]}" mkdir -p "$kins_dir" && "${as_root[@]}" chown "$owner" "$kins_dir" &&
-    "${as_root[@]}" ln -sfn "$kins_dir/trueaxis_kins.so" "$kins_link" ||
+  if "${as_root[@]}" mkdir -p "$kins_dir" && "${as_root[@]}" chown "$owner" "$kins_dir" &&
+    "${as_root[@]}" ln -sfn "$kins_dir/trueaxis_kins.so" "$kins_link"; then
+    echo "setup: linked $kins_link to $kins_dir/trueaxis_kins.so ($kins_dir belongs to $owner: the LinuxCNC tests put their module there)"
+  else
     echo "setup: linking $kins_link failed: the LinuxCNC kinematics tests will fail" >&2
+  fi
 }
 
 if [ "${#missing[@]}" -eq 0 ]; then
@@ -81,5 +93,6 @@ if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -q
 "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
+echo "setup: installed ${missing[*]}"
 make_ci_user
 link_kins_module

@@ -36,14 +36,12 @@ start_sim() {
 }
 
 # The start of a calibration demo (demo_gantry.sh, demo_spindle.sh):
-#   demo_start MEASURE_TOOL "$@"
+#   demo_start "$@"
 # reads --bin-dir DIR, --keep DIR and --seed N (default 1) into $bin_dir, $keep
-# and $seed; without --bin-dir installs what is missing and builds trueaxis-sim,
-# MEASURE_TOOL and trueaxis-calibrate into build/host; starts the sim and makes
-# $out_dir ($keep, or the work directory). Needs $root.
+# and $seed; without --bin-dir installs what is missing and builds every
+# trueaxis-* program into build/host/bin (target trueaxis-programs); starts the
+# sim and makes $out_dir ($keep, or the work directory). Needs $root.
 demo_start() {
-  local tool="$1"
-  shift
   bin_dir=""
   keep=""
   seed=1
@@ -58,7 +56,7 @@ demo_start() {
   if [ -z "$bin_dir" ]; then
     bash "$root/toolchain/setup.sh"
     cmake -S "$root" -B "$root/build/host" -G Ninja >/dev/null
-    cmake --build "$root/build/host" --target trueaxis-sim "$tool" trueaxis-calibrate
+    cmake --build "$root/build/host" --target trueaxis-programs
     bin_dir="$root/build/host/bin"
   fi
   start_sim "$bin_dir"

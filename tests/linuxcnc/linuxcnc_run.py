@@ -3,17 +3,30 @@ scenario tests and the demo: trueaxis-sim on 127.0.0.1 port 0, LinuxCNC with
 tests/linuxcnc/scenario_display.py as its display, as a non-root user.
 
 Machine(bin_dir, errors, folder).run(commands) -> the display's result dict.
+The simulator and LinuxCNC run in the real-time class SCHED_RR where the
+caller may give it (root), so that a build beside them cannot stall them
+(_real_time_class).
 LinuxCNC refuses to run as root: as root the run is `runuser -u trueaxis-ci`
 (the user toolchain/setup.sh creates), otherwise as the calling user. What
 LinuxCNC reads is copied into `folder` in the repository's layout (so the
 machine ini's relative paths hold and the user can read it wherever the clone
 is) and handed to that user.
+
+One LinuxCNC on a host at a time: two share its shared-memory keys, and its
+start and stop kill the other's processes by name. Machine.run holds the
+host-wide lock host_lock() (an flock on LOCK_FILE) for the whole run, so two
+test runs, or a demo beside a test, wait for each other rather than collide;
+test_scenarios.py holds it for a whole scenario. By hand, anything else that
+starts LinuxCNC takes the same lock: `flock /tmp/trueaxis-linuxcnc.lock CMD`.
 """
+import contextlib
+import fcntl
 import json
 import os
 import pwd
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -21,6 +34,77 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 CI_USER = "trueaxis-ci"
+LOCK_FILE = "/tmp/trueaxis-linuxcnc.lock"
+_lock = {"depth": 0, "fd": None}
+
+
+@contextlib.contextmanager
+def host_lock(what="LinuxCNC"):
+    """Holds LOCK_FILE's exclusive flock for the block (re-entrant within the
+    process), waiting for it with one line on stderr when another process
+    holds it, and one when it is ours."""
+    if _lock["depth"] == 0:
+        try:
+            fd = os.open(LOCK_FILE, os.O_RDWR | os.O_CREAT, 0o666)
+        except PermissionError:  # another user's file: a read-only descriptor locks as well
+            fd = os.open(LOCK_FILE, os.O_RDONLY)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            try:
+                holder = os.pread(fd, 200, 0).decode("utf-8", "replace").strip() or "a process that names none"
+            except OSError:
+                holder = "a process that names none"
+            print(f"linuxcnc_run: waiting for {LOCK_FILE}: another LinuxCNC run on this host holds it ({holder}); "
+                  f"{what} starts when it ends", file=sys.stderr, flush=True)
+            started = time.monotonic()
+            fcntl.flock(fd, fcntl.LOCK_EX)
+            print(f"linuxcnc_run: {LOCK_FILE} is ours after {time.monotonic() - started:.0f} s", file=sys.stderr,
+                  flush=True)
+        try:
+            os.ftruncate(fd, 0)
+            os.pwrite(fd, f"pid {os.getpid()}: {what}\n".encode(), 0)
+        except OSError:
+            pass  # read-only: the lock holds all the same
+        _lock["fd"] = fd
+    _lock["depth"] += 1
+    try:
+        yield
+    finally:
+        _lock["depth"] -= 1
+        if _lock["depth"] == 0:
+            fd, _lock["fd"] = _lock["fd"], None
+            os.close(fd)  # releases the flock
+
+
+def _real_time_class():
+    """In the child, before it runs LinuxCNC or trueaxis-sim: the simulated
+    machine in the round-robin real-time class, ahead of every ordinary
+    process. LinuxCNC's own real time (rtapi_app's SCHED_FIFO) needs root that
+    may raise RLIMIT_RTPRIO (CAP_SYS_RESOURCE, which a virtual machine's or a
+    container's root may lack: "Note: Using POSIX non-realtime" in its log);
+    without it its task is an ordinary process that a parallel build on two
+    cores stalls for over a second, past its 1 s wait for the motion
+    controller ([EMCMOT] COMM_TIMEOUT), and the task aborts the program
+    (tests/linuxcnc/README.md). Without the right (not root) nothing changes."""
+    try:
+        os.sched_setscheduler(0, os.SCHED_RR, os.sched_param(1))
+    except OSError:
+        pass
+
+
+def _kill_run(plan):
+    """Kills every process of the LinuxCNC run whose plan is `plan`: those
+    that inherited TRUEAXIS_SCENARIO=plan (rtapi_app too, which starts a
+    session of its own), and nothing else (another user's LinuxCNC)."""
+    mark = f"TRUEAXIS_SCENARIO={plan}".encode()
+    for pid in filter(str.isdigit, os.listdir("/proc")):
+        try:
+            with open(f"/proc/{pid}/environ", "rb") as f:
+                if mark in f.read().split(b"\0"):
+                    os.kill(int(pid), signal.SIGKILL)
+        except OSError:
+            continue
 
 
 class Machine:
@@ -32,7 +116,8 @@ class Machine:
                 "--errors", errors]
         if face_tilt is not None:
             argv += ["--face-tilt", str(face_tilt)]
-        self.sim = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.sim = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                    preexec_fn=_real_time_class)
         line = self.sim.stdout.readline()
         found = re.search(r"listening on [0-9.]+:(\d+)", line)
         if not found:
@@ -102,14 +187,19 @@ class Machine:
             env = None
         else:
             env = dict(os.environ, **env)
-        started = time.monotonic()
-        try:
-            done = subprocess.run(argv, cwd=self.machine_dir, env=env, capture_output=True, text=True,
-                                  timeout=timeout_s + 60)
-            log = done.stdout + done.stderr
-        except subprocess.TimeoutExpired as e:
-            log = f"linuxcnc timed out after {timeout_s + 60} s\n{e.stdout or ''}{e.stderr or ''}"
-            subprocess.run(["pkill", "-9", "-u", CI_USER], check=False)
+        with host_lock(f"linuxcnc_run {name} in {self.folder}"):
+            started = time.monotonic()
+            run = subprocess.Popen(argv, cwd=self.machine_dir, env=env, stdout=subprocess.PIPE,
+                                   stderr=subprocess.STDOUT, text=True, preexec_fn=_real_time_class)
+            try:
+                log, _ = run.communicate(timeout=timeout_s + 60)
+            except subprocess.TimeoutExpired:
+                _kill_run(plan)
+                try:
+                    log, _ = run.communicate(timeout=30)
+                except subprocess.TimeoutExpired:
+                    log = ""
+                log = f"linuxcnc timed out after {timeout_s + 60} s\n{log or ''}"
         result = {"steps": [], "homed": False, "error": "the display wrote nothing"}
         if os.path.exists(out):
             result = json.load(open(out, encoding="utf-8"))

@@ -12,6 +12,13 @@ step's "stdout"). The result file: {"steps": [{"command", "ok", "errors":
 [texts], "seconds", "position": [x, y, z, a, c]}], "homed": bool, "error":
 text of a failure outside the steps or null}. Stops at the first command that
 fails (unless it may).
+
+A command has ended when LinuxCNC's task answers it done (wait_complete) and
+the interpreter is idle with nothing queued. It has failed when the task
+reports an error message, or answers it with RCS_ERROR without one: the task
+then aborted it (a program stopped half-way looks idle too), as it does when
+it gives up waiting for the motion controller ("USRMOT: ERROR: command
+timeout" in LinuxCNC's log, [EMCMOT] COMM_TIMEOUT).
 """
 import json
 import os
@@ -74,12 +81,17 @@ def main():
             command = item["mdi"] if isinstance(item, dict) else item
             may_fail = isinstance(item, dict) and item.get("may_fail", False)
             c.mdi(command)
-            c.wait_complete(plan.get("timeout", 300))
+            answer = c.wait_complete(plan.get("timeout", 300))
             wait_for(lambda st: st.interp_state == linuxcnc.INTERP_IDLE and st.queue == 0 and not getattr(st, "queued_mdi_commands", 0),
                      s, plan.get("timeout", 300), f"'{command}'")
             time.sleep(0.1)
             drained = drain(errors)
             texts = [t for error, t in drained if error]
+            if answer == linuxcnc.RCS_ERROR and not texts:
+                texts.append("LinuxCNC's task aborted the command without a message (RCS_ERROR): its log says why, "
+                             "e.g. 'USRMOT: ERROR: command timeout'")
+            elif answer == -1 and not texts:
+                texts.append(f"LinuxCNC's task did not answer the command within {plan.get('timeout', 300)} s")
             s.poll()
             step = {"command": command, "ok": not texts, "errors": texts,
                     "messages": [t for error, t in drained if not error],

@@ -64,7 +64,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from linuxcnc_run import Machine  # noqa: E402
+from linuxcnc_run import Machine, host_lock  # noqa: E402
 
 ARCSEC = 3600.0
 
@@ -489,18 +489,21 @@ def main(argv):
         return 1
     checks = Checks()
     folder = tempfile.mkdtemp(prefix=f"trueaxis-{argv[2]}-")
-    if argv[2] in ("leveling", "tip"):
-        machine = Machine(argv[1], folder, errors="ideal")
-    else:
-        machine = Machine(argv[1], folder, errors="realistic", face_tilt=40)
-    try:
-        SCENARIOS[argv[2]](checks, machine)
-    finally:
-        machine.stop()
-        if "--keep" in argv:
-            print(f"kept: {folder}")
+    # The host's one LinuxCNC for the whole scenario: its runs, and the
+    # kinematics module it puts in LinuxCNC's folder between them.
+    with host_lock(f"test_scenarios.py {argv[2]}"):
+        if argv[2] in ("leveling", "tip"):
+            machine = Machine(argv[1], folder, errors="ideal")
         else:
-            shutil.rmtree(folder, ignore_errors=True)
+            machine = Machine(argv[1], folder, errors="realistic", face_tilt=40)
+        try:
+            SCENARIOS[argv[2]](checks, machine)
+        finally:
+            machine.stop()
+            if "--keep" in argv:
+                print(f"kept: {folder}")
+            else:
+                shutil.rmtree(folder, ignore_errors=True)
     print(f"test_scenarios {argv[2]}: {checks.failures} failure(s)")
     return 1 if checks.failures else 0
 
