@@ -201,8 +201,8 @@ ClientId Module::holder() const {
 void Module::extend_hold() { hold_until_us_ = clock_.now_us() + hold_us(); }
 
 // Contract 8: the arguments and data blocks a client wrote are its own; they
-// go when the interface changes hands (never under a running macro, whose
-// end clears them anyway).
+// go when another client takes over its hold that ran out (never under a
+// running macro, whose end clears them anyway).
 void Module::clear_inputs() {
   if (busy()) return;
   for (const SlotRun& run : kReadWriteRuns) {
@@ -211,20 +211,22 @@ void Module::clear_inputs() {
   show_log_entry(0.0, false);
 }
 
-// Contract 8: `client` takes the interface from no one (free, or its hold over).
+// Contract 8: `client` takes the interface from no one (free, or its hold
+// over); the inputs of another holder whose hold ran out are not its own.
 void Module::hand_over(ClientId client) {
   if (unlocked_ && unlocked_by_ != client) unlocked_ = false;  // another's unlock closes for good
-  if (holder_ != client) clear_inputs();
+  if (holder_ != kNoClient && holder_ != client) clear_inputs();
   holder_ = client;
   hold_taken_ = false;
 }
 
 // Contract 8: the interface and the client's claim on its sessions, at once.
+// The inputs stay: a client that writes one variable a connection (mbpoll)
+// hands its arguments on to its own next connection.
 void Module::give_back(ClientId client) {
   if (holder_ == client) {
     holder_ = kNoClient;
     hold_taken_ = false;
-    clear_inputs();
   }
   for (ClientId& c : session_of_) c = c == client ? kNoClient : c;
 }

@@ -187,7 +187,7 @@ TA_TEST("a holder's plain writes never keep the interface: work offsets every 1.
   TA_CHECK_EQ(rig.put_as(kB, v::kArgX, 1.0), F::kNone);
 }
 
-TA_TEST("the interface changing hands clears the arguments and data blocks the last holder left") {
+TA_TEST("taking over a hold that ran out clears the arguments and data blocks its holder left; giving back does not") {
   const std::uint16_t data = first_data_block();
   Rig rig;
   TA_REQUIRE(rig.put_as(kA, v::kArgZ, 5.0) == F::kNone);  // A writes, runs no macro
@@ -201,8 +201,17 @@ TA_TEST("the interface changing hands clears the arguments and data blocks the l
   TA_CHECK_EQ(rig.get(v::kArgY), 0.0);
   TA_CHECK_EQ(rig.get(v::kArgZ), 0.0);
   if (data != 0) TA_CHECK_EQ(rig.get(data), 0.0);
-  TA_REQUIRE(rig.put_as(kB, v::kInterface, 0.0) == F::kNone);  // given back: B's go too
+  TA_REQUIRE(rig.put_as(kB, v::kInterface, 0.0) == F::kNone);  // given back: B's stay, for its next connection
+  TA_CHECK_EQ(rig.get(v::kArgX), 2.0);
+  rig.module().disconnected(kB);
+  TA_REQUIRE(rig.put_as(kA, v::kArgY, 4.0) == F::kNone);  // one variable a connection, as mbpoll writes
+  TA_CHECK_EQ(rig.get(v::kArgX), 2.0);
+  TA_CHECK_EQ(rig.get(v::kArgY), 4.0);
+  TA_REQUIRE(rig.put_as(kA, v::kInterface, 0.0) == F::kNone);
+  rig.step_until_idle();
+  TA_REQUIRE(rig.run_as(kB, t::kPrefillMacro) == t::kDone);  // any macro's end clears them
   TA_CHECK_EQ(rig.get(v::kArgX), 0.0);
+  TA_REQUIRE(rig.put_as(kB, v::kInterface, 0.0) == F::kNone);
   // A running macro keeps its inputs when its runner gives the interface back.
   TA_REQUIRE(rig.put_as(kA, v::kArgX, 3.0) == F::kNone);
   TA_REQUIRE(rig.put_as(kA, v::kCmd, 9903.0) == F::kNone);

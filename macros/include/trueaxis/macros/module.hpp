@@ -67,9 +67,11 @@
 //       compute keeps the session for a retry), another client clears it, a
 //       clear of another method whose session shares the session arena
 //       replaces it, or the client gives the interface back or disconnects.
-//     - Changing hands: when a client takes the interface from another (its
-//       hold over or given back), the arguments and data blocks the other
-//       left are cleared, unless a macro runs (its end clears them).
+//     - Changing hands: when a client takes over another's hold that ran out,
+//       the arguments and data blocks the other left are cleared, unless a
+//       macro runs (its end clears them). A client that gave the interface
+//       back or disconnected leaves them (a client that writes one variable a
+//       connection, as mbpoll does, hands them to its own next connection).
 //     - Giving it back: #9009 = 0, or the transport calls disconnected(): at
 //       once, with the client's claim on its sessions (their data stay).
 //     - Another client's write meanwhile, of any kind but the lock alone, is
