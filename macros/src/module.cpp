@@ -483,7 +483,7 @@ void Module::refuse(core::Status status) {
   LogEntry e;
   e.type = LogType::kRefusal;
   const Refusal& why = call_.refusal;
-  e.add(kRefusalFigure, why.item > 0.0 ? static_cast<std::size_t>(why.item) : 0, why.value,
+  e.add(kRefusalFigure, why.log_item, why.value,
         static_cast<double>(static_cast<int>(status)), why.limit);
   for (std::size_t k = 0; call_.log_staged && k < call_.log.figure_count; ++k) {
     const LogFigure& f = call_.log.figures[k];

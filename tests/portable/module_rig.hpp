@@ -232,13 +232,16 @@ class ModuleRig {
   // The newest entry of the measuring log is a refusal with `code` and the
   // gate's #9012 .. #9014 (measuring_log.hpp convention 1), the window shown
   // through #9018; true in a module without a log.
+  // The log keeps the item in a byte: #9012 when it is a whole number 0 .. 255;
+  // M4's change gate, whose #9012 is an angle, its step 1 .. 36 (spindle_macros.cpp).
   bool logged_refusal(core::Status code) {
     namespace v = macros::var;
     if (!macros::kHasLog) return true;
-    const double item = get(v::kGateItem);
+    double item = get(v::kGateItem);
     const double value = get(v::kGateValue);
     const double limit = get(v::kGateLimit);
     if (put(v::kLogSelect, get(v::kLogNewest)) != macros::AccessFault::kNone) return false;
+    if (code == core::Status::kChangeBeyondLimit && get(v::kLogMacro) == 9842.0) item = item / 10.0 + 1.0;
     const auto f32 = [](double x) { return static_cast<double>(static_cast<float>(x)); };
     return get(v::kLogType) == static_cast<double>(macros::LogType::kRefusal) && get(v::kLogStored) == 0.0 &&
            get(v::kLogFigureCount) >= 1.0 && get(v::kLogFigureFirst) == macros::kRefusalFigure &&

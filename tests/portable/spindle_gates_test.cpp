@@ -36,11 +36,12 @@ struct Stream {
   double noise_mm = 0.0;
   double scale = 1.0;
   Vec3 e_extra = Vec3::Zero();  // added to the tool line's offset e: another spindle
+  Vec3 o_extra = Vec3::Zero();  // the axis moved, turning with nothing
   int revolutions = 1;          // each a new draw of the noise at the same angles (phi + 360 k)
 };
 Vec3 sample(const Stream& s, int k, double phi, t::SplitMix64& noise) {
   const double b = sf::kBallMm[k - 1];
-  const Vec3 exact = sf::kO1 + (sf::kGaugeMm + b) * Vec3(0.0, 0.0, -1.0) + sf::turn(phi, sf::kE + s.e_extra + b * sf::kW);
+  const Vec3 exact = sf::kO1 + s.o_extra + (sf::kGaugeMm + b) * Vec3(0.0, 0.0, -1.0) + sf::turn(phi, sf::kE + s.e_extra + b * sf::kW);
   const Vec3 moved(noise.uniform(-s.noise_mm, s.noise_mm), noise.uniform(-s.noise_mm, s.noise_mm),
                    noise.uniform(-s.noise_mm, s.noise_mm));
   return s.scale * (exact + (k == 2 ? s.shift_mm : 0.0) * Vec3(0.0, 0.0, -1.0) + moved);
@@ -203,6 +204,28 @@ TA_TEST("the change gate: a store whose tool tip at V moves beyond #804 needs M 
   TA_CHECK_EQ(build(rig, true, 1.0), kDone);  // M = 1 confirms it
   TA_REQUIRE(sf::correction(rig, 0.0, sf::kBallMm[1]) == kDone);
   TA_CHECK((rig.get3(v::kSpindleTipX) - sf::tip_error_mm(0.0, sf::kBallMm[1])).norm() < 1e-9);
+}
+
+TA_TEST("the change gate's angle in #9012 and its step in the measuring log, past 255 deg too") {
+  ModuleRig rig;
+  stream(rig, Stream{});
+  TA_REQUIRE(build(rig, true) == kDone);
+  // The tool line 8 um off and the axis 4 um off in a direction of its own: the
+  // two add up at one angle, which moves round with that direction.
+  int past_a_byte = 0;
+  for (const double direction : {0.0, 90.0, 180.0, 270.0, 300.0, 330.0}) {
+    Stream other;
+    other.e_extra = Vec3(0.0, 0.008, 0.0);
+    other.o_extra = sf::turn(direction, Vec3(0.0, 0.004, 0.0));
+    stream(rig, other);
+    const t::Refused r = refused_build(rig, true);
+    TA_CHECK_EQ(r.code, Status::kChangeBeyondLimit);
+    TA_CHECK(r.item >= 0.0 && r.item <= 350.0 && std::fmod(r.item, 10.0) == 0.0);
+    TA_REQUIRE(rig.put(v::kLogSelect, rig.get(v::kLogNewest)) == trueaxis::macros::AccessFault::kNone);
+    TA_CHECK_EQ(rig.get(v::kLogFigureFirst + 1), r.item / 10.0 + 1.0);
+    if (r.item > 255.0) ++past_a_byte;
+  }
+  TA_CHECK(past_a_byte >= 2);
 }
 
 TA_TEST("9842 refuses both files in metres with balls_too_close (the spacings agree), at #807's exact boundary") {

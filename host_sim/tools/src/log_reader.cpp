@@ -9,6 +9,7 @@
 #include "trueaxis/macros/measuring_log.hpp"
 #include "trueaxis/macros/method_list.hpp"
 #include "trueaxis/macros/register_map.hpp"
+#include "trueaxis/macros/spindle/spindle_map.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
 
 namespace trueaxis::sim {
@@ -28,7 +29,13 @@ void name_entry(LogRow& row) {
     const macros::List<macros::CheckFigureInfo> kinds = check ? Built::kChecks[i].figures : Built::kLogFigures[i];
     for (LogFigureRow& f : row.figures) {
       if (row.refusal && f.kind == macros::kRefusalFigure) {
-        f.name = macros::status_name(static_cast<core::Status>(static_cast<int>(f.sigma)));
+        const auto status = static_cast<core::Status>(static_cast<int>(f.sigma));
+        f.name = macros::status_name(status);
+        // M4's change gate logs the angle's step (spindle_macros.cpp): 1 .. 36, angle 10 (step - 1) deg.
+        const bool angle = row.method == "spindle" && status == core::Status::kChangeBeyondLimit && f.item > 0;
+        f.item_text = angle ? "at " + std::to_string(360 / macros::spindle::kChangeAngles * (f.item - 1)) + " deg"
+                      : f.item > 0 ? "at item " + std::to_string(f.item)
+                                   : "";
         continue;
       }
       const bool known = f.kind >= 1 && static_cast<std::size_t>(f.kind) <= kinds.size;
@@ -252,7 +259,7 @@ std::string log_table(const std::vector<LogRow>& rows, const std::vector<Drift>&
     for (std::size_t k = 0; k < r.figures.size(); ++k) {
       const LogFigureRow& f = r.figures[k];
       if (r.refusal && f.kind == macros::kRefusalFigure) {  // the refusal: what and against which limit
-        out += (k > 0 ? "; " : "") + f.name + (f.item > 0 ? " at item " + std::to_string(f.item) : "") +
+        out += (k > 0 ? "; " : "") + f.name + (f.item_text.empty() ? "" : " " + f.item_text) +
                (f.value != 0.0 || f.tolerance != 0.0 ? ": " + general(f.value) + " against " + general(f.tolerance) : "");
         continue;
       }

@@ -20,8 +20,10 @@
 //     largest (|deviation| + 2 sigma) / tolerance). A refusal (a method's
 //     compute macro that a gate refused, or whose store was refused as
 //     table_locked) has as its first figure kind 0, the refusal: item, value
-//     and limit as #9012..#9014 give them, and the status code in place of
-//     the sigma; the figures the macro had logged follow it.
+//     and limit as #9012..#9014 give them (the item a byte: where #9012 is
+//     not a whole number 0..255, the method's own, Refusal::log_item; M4's
+//     change gate logs its angle's step, angle / 10 + 1), and the status code
+//     in place of the sigma; the figures the macro had logged follow it.
 //  2. A store, a check or a refusal that follows its own method's
 //     calibration, with no other entry between, replaces that calibration's
 //     entry (the same serial): "measured, then stored", "measured, then

@@ -69,10 +69,14 @@ struct NoSession {};
 struct NoWork {};
 
 // What a gate refused (contract 8): #9012 .. #9014.
+// The measuring log keeps the item in a byte (measuring_log.hpp convention 1):
+// log_item, which is the item itself when it is a whole number 0 .. 255 and
+// otherwise what the method says (M4's change gate: the angle's step).
 struct Refusal {
   double item = 0.0;
   double value = 0.0;
   double limit = 0.0;
+  std::uint8_t log_item = 0;
 };
 
 // A record a macro staged, waiting for the macro to succeed; the bytes are the
@@ -240,7 +244,12 @@ class MethodContext {
 
   // Contract 8.
   MacroStep refuse(core::Status status, double item, double value, double limit) {
-    call_.refusal = {item, value, limit};
+    const bool whole = item >= 0.0 && item <= 255.0 && item == static_cast<double>(static_cast<int>(item));
+    return refuse(status, item, value, limit, whole ? static_cast<std::uint8_t>(item) : 0);
+  }
+  // The same, naming the item the measuring log keeps when #9012's does not fit its byte.
+  MacroStep refuse(core::Status status, double item, double value, double limit, std::uint8_t log_item) {
+    call_.refusal = {item, value, limit, log_item};
     return done(status);
   }
 

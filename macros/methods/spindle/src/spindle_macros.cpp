@@ -43,11 +43,14 @@ MacroStep with_model(Context& ctx, const State& state, bool stored, Report repor
 }
 
 // The change gate's figure: the largest |tip_new - tip_stored| at V over the
-// angles 0, 10, .. 350 deg; pose 0 (no angle) without a stored model.
+// angles 0, 10, .. 350 deg; pose 0 (no angle) without a stored model. The
+// measuring log keeps the angle's step, 1 .. 36 (angle 10 (step - 1) deg): a
+// byte does not hold 350 (measuring_log.hpp convention 1).
 struct Change {
   double mm = 0.0;
   double angle_deg = 0.0;
   bool stored = false;
+  std::uint8_t step = 0;
 };
 Change change_against(const State& state, const core::SpindleModel& m) {
   Change c;
@@ -60,7 +63,7 @@ Change change_against(const State& state, const core::SpindleModel& m) {
         core::spindle_correction(m.axes, m.geometry.gauge_mm, tool, core::deg_to_rad(phi_deg));
     if (!now.ok()) return {};
     const double d = (now.value().tip_error_mm - stored.value().tip_error_mm).norm();
-    if (!c.stored || d > c.mm) c = {d, phi_deg, true};
+    if (!c.stored || d > c.mm) c = {d, phi_deg, true, static_cast<std::uint8_t>(k + 1)};
   }
   return c;
 }
@@ -86,7 +89,7 @@ MacroStep finish_build(Context& ctx, State& state, Work& work, const core::Spind
   const Change change = change_against(state, work.computed);
   const double max_change = ctx.in<var::kSpindleMaxChange>();
   if (store && change.stored && change.mm > max_change && !confirmed) {
-    return ctx.refuse(core::Status::kChangeBeyondLimit, change.angle_deg, change.mm, max_change);
+    return ctx.refuse(core::Status::kChangeBeyondLimit, change.angle_deg, change.mm, max_change, change.step);
   }
 
   const core::SpindleFit& f = work.computed.fit;

@@ -39,6 +39,7 @@ struct LogFigureRow {
   std::string name;  // the kind's name from the method's map entry ("figure_K" when unknown); a
                      // refusal's own figure (kind 0): the status's name, its code in `sigma`
   std::string unit;
+  std::string item_text;  // a refusal's item as the reader says it: "item 3", "270 deg" (M4's change: its step)
 };
 
 struct LogRow {
