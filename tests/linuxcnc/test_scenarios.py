@@ -60,6 +60,7 @@ import math
 import os
 import re
 import shutil
+import subprocess
 import sys
 import tempfile
 
@@ -252,22 +253,66 @@ KINS_LINK = "/usr/lib/linuxcnc/modules/trueaxis_kins.so"
 
 
 def install_kins_module(bin_dir):
-    """The built trueaxis_kins.so into LinuxCNC's module folder, through the
-    link toolchain/setup.sh made (its target belongs to the user who ran it;
-    root may write it anyway). None, or why it could not."""
+    """The built trueaxis_kins.so into LinuxCNC's module folder as a root-owned
+    file, as a controller installs it (integrations/linuxcnc/kins/install.sh,
+    as root; through sudo -n otherwise). None, or why it could not."""
     built = os.path.join(bin_dir, "..", "linuxcnc", "trueaxis_kins.so")
     if not os.path.exists(built):
         return f"{built} was not built (linuxcnc-uspace-dev's headers missing?)"
-    if not os.path.islink(KINS_LINK):
-        return f"{KINS_LINK} is not the link bash toolchain/setup.sh makes: run it (a module installed there is left alone)"
-    target = os.path.realpath(KINS_LINK)
-    try:
-        shutil.copyfile(built, target + ".new")
-        os.chmod(target + ".new", 0o644)
-        os.replace(target + ".new", target)
-    except OSError as e:
-        return f"cannot write {target}: {e}"
-    return None
+    argv = ["bash", os.path.join(ROOT, "integrations", "linuxcnc", "kins", "install.sh"), os.path.abspath(built)]
+    if os.getuid() != 0:
+        argv = ["sudo", "-n"] + argv
+    done = subprocess.run(argv, capture_output=True, text=True)
+    if done.returncode != 0:
+        return f"installing it failed (run the tests as root, or with sudo): {done.stderr.strip() or done.stdout.strip()}"
+    return root_only(KINS_LINK)
+
+
+def root_only(path):
+    """None when `path` is a file root owns, not a link, and it and every
+    folder above it are writable by root alone (no user can change what
+    rtapi_app, setuid root, loads from it); else the first that is not."""
+    if os.path.islink(path):
+        return f"{path} is a link (to {os.readlink(path)})"
+    at = os.path.abspath(path)
+    while True:
+        st = os.stat(at)
+        if st.st_uid != 0 or st.st_mode & 0o022:
+            return f"{at} is writable by a user other than root (uid {st.st_uid}, mode {oct(st.st_mode & 0o777)})"
+        if at == "/":
+            return None
+        at = os.path.dirname(at)
+
+
+class LoadedFiles:
+    """The files rtapi_app has mapped while LinuxCNC runs (/proc/PID/maps,
+    read as root every 0.2 s from the first rtapi_app until the run ends)."""
+
+    def __init__(self):
+        import threading
+        self.files, self.seen = set(), False
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self._watch, daemon=True)
+        self.thread.start()
+
+    def _watch(self):
+        while not self.stop.is_set():
+            for pid in subprocess.run(["pgrep", "-x", "rtapi_app"], capture_output=True, text=True).stdout.split():
+                try:
+                    with open(f"/proc/{pid}/maps", encoding="utf-8", errors="replace") as f:
+                        for line in f:
+                            parts = line.split()
+                            if len(parts) >= 6 and parts[5].startswith("/"):
+                                self.files.add(parts[5])
+                    self.seen = True
+                except OSError:
+                    pass
+            self.stop.wait(0.2)
+
+    def finish(self):
+        self.stop.set()
+        self.thread.join()
+        return self.files
 
 
 def kins_program(folder, poses, ball, face_points):
@@ -308,7 +353,8 @@ def scenario_kins(checks, machine):
     thread: the ball and the face probed in table coordinates at four A."""
     import subprocess
     why = install_kins_module(machine.bin_dir)
-    checks.check(why is None, "kins: trueaxis_kins.so in LinuxCNC's module folder", why or "")
+    checks.check(why is None, "kins: trueaxis_kins.so installed in LinuxCNC's module folder as a file root alone may "
+                 "write (integrations/linuxcnc/kins/install.sh)", why or "")
     if why is not None:
         return
     # M3 through the operator's program: the ball at A -60..60 every 30 and 4
@@ -356,7 +402,16 @@ def scenario_kins(checks, machine):
     errors = {}
     for label, value in (("calibrated", f"trueaxis_kins table={table}"), ("ideal", "trueaxis_kins")):
         with_kinematics(value)
+        # No file a user may write is loaded by rtapi_app (setuid root): every
+        # file it maps, the kinematics module among them (read as root).
+        watch = LoadedFiles() if label == "calibrated" and os.getuid() == 0 else None
         result = machine.run(["G21 G90 G54", "o<trueaxis_kins_probe> call"], timeout_s=400, name=f"kins_{label}")
+        if watch is not None:
+            files = watch.finish()
+            writable = [why for why in (root_only(f) for f in sorted(files) if os.path.exists(f)) if why]
+            checks.check(watch.seen and os.path.realpath(KINS_LINK) in files and not writable,
+                         f"kins: rtapi_app maps {len(files)} files, trueaxis_kins.so among them, each writable by root "
+                         "alone", f"seen {watch.seen}; {writable[:3]}; {sorted(files)[:8]}")
         if not steps_ok(checks, result, f"kins: probing in table coordinates, {label} kinematics"):
             return
         log = kins_log(machine)
