@@ -65,7 +65,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from linuxcnc_run import Machine, host_lock  # noqa: E402
+from linuxcnc_run import PROBE_LENGTH_MM, Machine, host_lock  # noqa: E402
 
 ARCSEC = 3600.0
 
@@ -348,6 +348,15 @@ def kins_log(machine):
     return found
 
 
+def use_kinematics(machine, value):
+    """The machine's ini with KINEMATICS = value, trueaxis_kins' pin taking the tool offset."""
+    text = open(machine.ini, encoding="utf-8").read()
+    text = re.sub(r"(?m)^KINEMATICS = .*$", f"KINEMATICS = {value}", text)
+    text = re.sub(r"(?m)^TOOL_OFFSET_PIN = .*$", "TOOL_OFFSET_PIN = trueaxis_kins.tool-offset", text)
+    with open(machine.ini, "w", encoding="utf-8") as f:
+        f.write(text)
+
+
 def scenario_kins(checks, machine):
     """(issue 21) The cradle kinematics on the M3 table in LinuxCNC's servo
     thread: the ball and the face probed in table coordinates at four A."""
@@ -392,12 +401,8 @@ def scenario_kins(checks, machine):
         face_points.append((x, y, (offset - normal[0] * x - normal[1] * y) / normal[2]))
     poses = [(-60, 95), (-30, 200), (30, 15), (60, 300)]
     kins_program(machine.folder, poses, (200.0, 0.0, 50.0), face_points)
-    kinematics_line = re.compile(r"(?m)^KINEMATICS = .*$")
-
     def with_kinematics(value):
-        text = open(machine.ini, encoding="utf-8").read()
-        with open(machine.ini, "w", encoding="utf-8") as f:
-            f.write(kinematics_line.sub(f"KINEMATICS = {value}", text))
+        use_kinematics(machine, value)
 
     errors = {}
     for label, value in (("calibrated", f"trueaxis_kins table={table}"), ("ideal", "trueaxis_kins")):
@@ -467,7 +472,7 @@ def scenario_tip(checks, machine):
     checks.check(why is None, "tip: trueaxis_kins.so in LinuxCNC's module folder", why or "")
     if why is not None:
         return
-    tool = 100.0
+    tool = PROBE_LENGTH_MM  # the probe is the tool: its length offset (G43) is the kinematics' tool length
     # The simulator's spindle errors on the probe's tip (its realistic
     # spindle, the one trueaxis-measure-spindle measures), at this tool length.
     machine.set("12057=1", f"12059={tool!r}")
@@ -483,11 +488,8 @@ def scenario_tip(checks, machine):
                  "tip: trueaxis-calibrate spindle --store --linuxcnc-kins", done.stderr)
     if done.returncode != 0:
         return
-    text = open(machine.ini, encoding="utf-8").read()
-    with open(machine.ini, "w", encoding="utf-8") as f:
-        f.write(re.sub(r"(?m)^KINEMATICS = .*$", f"KINEMATICS = trueaxis_kins spindle={model}", text))
+    use_kinematics(machine, f"trueaxis_kins spindle={model}")
     machine.add_ini_lines("HAL", ["HALCMD = net spindle-angle => trueaxis_kins.spindle-angle",
-                                  f"HALCMD = setp trueaxis_kins.tool-length {tool:g}",
                                   "HALCMD = net tip-enable motion.digital-out-02 => trueaxis_kins.tip-enable"])
     angles = (0.0, 90.0, 200.0, 315.0)
     lines = ["o<trueaxis_tip_probe> sub", "  (LOGOPEN,trueaxis_tip.log)", "  G21 G90", "  G53 G0 Z250", "  M65 P0",
