@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
-# Installs every Debian package trueaxis needs, creates the user LinuxCNC's tests
-# run as and links the kinematics module's place in LinuxCNC's module folder
-# (below); says each thing it changes on one line, and changes and says nothing
-# when all of it is there. Safe to run again. Needs root (or sudo) only when
-# something is missing.
+# Installs every Debian package trueaxis needs and creates the user LinuxCNC's
+# tests run as (and removes the link to a user-owned kinematics module an
+# earlier setup made, below); says each thing it changes on one line, and
+# changes and says nothing when all of it is there. Safe to run again. Needs
+# root (or sudo) only when something is missing.
 set -euo pipefail
 
 packages=(
@@ -47,43 +47,35 @@ make_ci_user() {
   fi
 }
 
-# LinuxCNC's rtapi_app loads real-time modules only from its own folder: the
-# project's kinematics module (integrations/linuxcnc/kins, trueaxis_kins.so) is
-# linked there to a file in a folder that belongs to the user who ran this
-# script, so that the LinuxCNC tests can put the module they built in place
-# without root (tests/linuxcnc/test_scenarios.py). A controller installs its
-# module with root instead (integrations/linuxcnc/kins/README.md); a module
-# installed there as a file is left alone. The user who owns the folder can run
-# code as root through rtapi_app (setuid root): a development machine's setup.
+# LinuxCNC's rtapi_app (setuid root) loads real-time modules only from its own
+# folder. An earlier setup linked the project's kinematics module there to a
+# file in a folder of the calling user's, through which that user could run
+# code as root: the link is removed. The tests (tests/linuxcnc/test_scenarios.py)
+# and a controller install the module as a root-owned file instead
+# (integrations/linuxcnc/kins/install.sh, as root).
 kins_link=/usr/lib/linuxcnc/modules/trueaxis_kins.so
-kins_dir=/var/lib/trueaxis
-link_kins_module() {
-  [ -d "$(dirname "$kins_link")" ] || return 0
-  [ -L "$kins_link" ] && [ -d "$kins_dir" ] && return 0
-  if [ -e "$kins_link" ] && [ ! -L "$kins_link" ]; then
-    echo "setup: $kins_link is an installed module: left alone (the LinuxCNC kinematics tests need the link)" >&2
-    return 0
-  fi
-  local owner="${SUDO_USER:-$(id -un)}"
+old_kins_dir=/var/lib/trueaxis
+unlink_kins_module() {
+  [ -L "$kins_link" ] || return 0
   local as_root=()
   if [ "$(id -u)" -ne 0 ]; then
     if ! command -v sudo >/dev/null || ! sudo -n true 2>/dev/null; then
-      echo "setup: cannot link $kins_link (needs root: sudo bash toolchain/setup.sh): the LinuxCNC kinematics tests will fail" >&2
+      echo "setup: $kins_link is a link to $(readlink "$kins_link"), through which its owner can run code as root: remove it as root (sudo rm $kins_link)" >&2
       return 0
     fi
     as_root=(sudo -n)
   fi
-  if "${as_root[@]}" mkdir -p "$kins_dir" && "${as_root[@]}" chown "$owner" "$kins_dir" &&
-    "${as_root[@]}" ln -sfn "$kins_dir/trueaxis_kins.so" "$kins_link"; then
-    echo "setup: linked $kins_link to $kins_dir/trueaxis_kins.so ($kins_dir belongs to $owner: the LinuxCNC tests put their module there)"
-  else
-    echo "setup: linking $kins_link failed: the LinuxCNC kinematics tests will fail" >&2
+  if "${as_root[@]}" rm -f "$kins_link"; then
+    echo "setup: removed the link $kins_link (its target's owner could run code as root through rtapi_app); the tests install the module as root (integrations/linuxcnc/kins/install.sh)"
+  fi
+  if [ -d "$old_kins_dir" ] && "${as_root[@]}" rm -rf "$old_kins_dir"; then
+    echo "setup: removed $old_kins_dir, the old link's folder"
   fi
 }
 
 if [ "${#missing[@]}" -eq 0 ]; then
   make_ci_user
-  link_kins_module
+  unlink_kins_module
   exit 0
 fi
 
@@ -95,4 +87,4 @@ export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"
 echo "setup: installed ${missing[*]}"
 make_ci_user
-link_kins_module
+unlink_kins_module

@@ -107,6 +107,13 @@ def _kill_run(plan):
             continue
 
 
+# The simulated machine's probe (integrations/linuxcnc/sim: trueaxis_sim.tbl's
+# T1 and [TRUEAXIS_SIM] PROBE_LENGTH): its tip this far below the gauge line,
+# and what every run does after homing.
+PROBE_LENGTH_MM = 100.0
+PROBE_SETUP = ("T1 M6", "G43")
+
+
 class Machine:
     def __init__(self, bin_dir, folder, errors="ideal", face_tilt=None):
         self.bin_dir = bin_dir = os.path.abspath(bin_dir)
@@ -170,13 +177,15 @@ class Machine:
         with open(self.ini, "w", encoding="utf-8") as f:
             f.write(text)
 
-    def run(self, commands, timeout_s=300, name="run", show=None):
+    def run(self, commands, timeout_s=300, name="run", show=None, setup=PROBE_SETUP):
         """Starts LinuxCNC, runs the MDI commands, stops it: the display's result,
-        with "log" (LinuxCNC's output) and "seconds" added."""
+        with "log" (LinuxCNC's output) and "seconds" added. `setup` runs first,
+        after homing: the probe (T1, PROBE_LENGTH_MM long) in the spindle with
+        its length offset on, as an operator probes."""
         plan = os.path.join(self.folder, f"{name}.plan.json")
         out = os.path.join(self.folder, f"{name}.out.json")
         with open(plan, "w", encoding="utf-8") as f:
-            json.dump({"commands": commands, "timeout": timeout_s, "out": out, "show": show}, f)
+            json.dump({"commands": commands, "setup": list(setup), "timeout": timeout_s, "out": out, "show": show}, f)
         argv = ["linuxcnc", "-r", self.ini]
         env = {"TRUEAXIS_SCENARIO": plan, "PATH": "/usr/bin:/bin:/usr/sbin:/sbin", "PYTHONDONTWRITEBYTECODE": "1"}
         if os.getuid() == 0:

@@ -5,7 +5,9 @@ ends LinuxCNC.
 
 usage (by linuxcnc): scenario_display.py -ini INI
 Environment: TRUEAXIS_SCENARIO, a JSON file {"commands": [MDI lines...],
-"timeout": seconds each, "out": result file}. A command is an MDI line, or
+"setup": [MDI lines run after homing, before the commands, not steps: the
+probe's tool loaded and its length offset on], "timeout": seconds each, "out":
+result file}. A command is an MDI line, or
 {"mdi": line, "may_fail": true} (a step whose error does not stop the run),
 or {"run": [argv]} (a program run while LinuxCNC is up, its output in the
 step's "stdout"). The result file: {"steps": [{"command", "ok", "errors":
@@ -69,6 +71,13 @@ def main():
         c.mode(linuxcnc.MODE_MDI)
         c.wait_complete()
         drain(errors)
+        for command in plan.get("setup", []):
+            c.mdi(command)
+            answer = c.wait_complete(60)
+            wait_for(lambda st: st.interp_state == linuxcnc.INTERP_IDLE and st.queue == 0, s, 60, f"'{command}'")
+            texts = [t for error, t in drain(errors) if error]
+            if texts or answer in (-1, linuxcnc.RCS_ERROR):
+                raise RuntimeError(f"the setup command '{command}' failed: {texts or answer}")
         for item in plan["commands"]:
             started = time.monotonic()
             if isinstance(item, dict) and "run" in item:

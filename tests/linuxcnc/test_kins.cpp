@@ -236,6 +236,74 @@ TEST_CASE("kins: the ideal cradle is Rx(A) Rz(C); the calibrated one puts the ba
   }
 }
 
+// LinuxCNC's own xyzac-trt-kins (trtfuncs.c of 2.9, its xyzac inverse and
+// forward) with its rot-point, y-offset, z-offset and tool-offset pins, written
+// here from its equations: the machine trueaxis_kins must agree with where the
+// geometry is the same.
+struct Trt {
+  Vec3 rot_point = Vec3::Zero();
+  double dy = 0.0, dz = 0.0, tool = 0.0;
+  Vec3 inverse(const Vec3& w, double a_deg, double c_deg) const {
+    const double a = a_deg * M_PI / 180.0, c = c_deg * M_PI / 180.0;
+    const double z_off = dz + tool;
+    const Vec3 p = w - rot_point;
+    return Vec3(std::cos(c) * p.x() - std::sin(c) * p.y() + rot_point.x(),
+                std::sin(c) * std::cos(a) * p.x() + std::cos(c) * std::cos(a) * p.y() - std::sin(a) * p.z() -
+                    std::cos(a) * dy + std::sin(a) * z_off + dy + rot_point.y(),
+                std::sin(c) * std::sin(a) * p.x() + std::cos(c) * std::sin(a) * p.y() + std::cos(a) * p.z() -
+                    std::sin(a) * dy - std::cos(a) * z_off + z_off + rot_point.z());
+  }
+};
+
+TEST_CASE("kins: the tool offset (motion.tooloffset.z, G43) along the tool at every A, C, as xyzac-trt-kins' "
+          "tool-offset; G49 the gauge line; identity LinuxCNC's own",
+          "[kins]") {
+  trueaxis::linuxcnc::CradleKinematics ideal;
+  sim::SimRng rng(23);
+  for (int i = 0; i < 200; ++i) {
+    const double a = -120.0 + 240.0 * rng.uniform01();
+    const double c = -400.0 + 800.0 * rng.uniform01();
+    const double tool = i % 4 == 0 ? 0.0 : 250.0 * rng.uniform01();
+    const Vec3 world(300.0 * rng.uniform01() - 150.0, 200.0 * rng.uniform01() - 100.0, 100.0 * rng.uniform01());
+    INFO("A " << a << " C " << c << " tool " << tool);
+    Vec3 joint, back;
+    REQUIRE(ideal.to_joints(true, world, a, c, tool, false, 0.0, joint));
+    Trt trt;
+    trt.tool = tool;
+    CHECK((joint - trt.inverse(world, a, c)).norm() < 1e-9);
+    // The tip, tool below the gauge line the joints hold, is the table's point
+    // world - tool z turned with the table: G43 puts the tip where the program says.
+    const core::Mat3 r = (Eigen::AngleAxisd(a * M_PI / 180.0, Vec3::UnitX()) *
+                          Eigen::AngleAxisd(c * M_PI / 180.0, Vec3::UnitZ()))
+                             .toRotationMatrix();
+    CHECK(((joint - tool * Vec3::UnitZ()) - r * (world - tool * Vec3::UnitZ())).norm() < 1e-9);
+    REQUIRE(ideal.to_world(true, joint, a, c, tool, false, 0.0, back));
+    CHECK((back - world).norm() < 1e-9);
+    // The identity leaves LinuxCNC's world as it is, the offset in it already.
+    REQUIRE(ideal.to_joints(false, world, a, c, tool, false, 0.0, joint));
+    CHECK(joint == world);
+    REQUIRE(ideal.to_world(false, world, a, c, tool, false, 0.0, back));
+    CHECK(back == world);
+  }
+  // G49: no offset, the gauge line is the controlled point: the cradle alone.
+  Vec3 j0, j1;
+  REQUIRE(ideal.to_joints(true, Vec3(10.0, 20.0, 30.0), 30.0, 40.0, 0.0, false, 0.0, j0));
+  REQUIRE(ideal.inverse(Vec3(10.0, 20.0, 30.0), 30.0, 40.0, j1));
+  CHECK(j0 == j1);
+  // A 100 mm tool whose tip is at the pivot (world Z 100 with G43): its gauge line
+  // straight above it at any A, where the kinematics without the offset turned the
+  // point to 100 (0, -sin 30, cos 30): the tip 51.8 mm off, into the table.
+  REQUIRE(ideal.to_joints(true, Vec3(0.0, 0.0, 100.0), 30.0, 0.0, 100.0, false, 0.0, j0));
+  CHECK((j0 - Vec3(0.0, 0.0, 100.0)).norm() < 1e-12);
+  REQUIRE(ideal.to_joints(true, Vec3(0.0, 0.0, 0.0), 30.0, 0.0, 0.0, false, 0.0, j1));
+  CHECK((j1 - Vec3::Zero()).norm() < 1e-12);
+  // Not finite: refused, untouched.
+  Vec3 kept(1.0, 2.0, 3.0);
+  CHECK_FALSE(ideal.to_joints(true, Vec3(0.0, 0.0, 0.0), 30.0, 0.0, NAN, false, 0.0, kept));
+  CHECK_FALSE(ideal.to_world(true, Vec3(0.0, 0.0, 0.0), 30.0, 0.0, INFINITY, false, 0.0, kept));
+  CHECK(kept == Vec3(1.0, 2.0, 3.0));
+}
+
 TEST_CASE("kins: a damaged, truncated, foreign or missing table file is refused with its reason; nothing changes",
           "[kins]") {
   t::InProcessSim sim;
@@ -346,8 +414,8 @@ TEST_CASE("kins: the tool tip (M4): the stored model's file, its error 9843's bi
   {
     const double at[3] = {1.0, 2.0, 3.0};
     double out[3] = {9.0, 9.0, 9.0};
-    CHECK(trueaxis_kins_to_joints(0, at, 0.0, 0.0, 1, 0.0, 100.0, out) == -1);
-    CHECK(trueaxis_kins_to_world(0, at, 0.0, 0.0, 1, 0.0, 100.0, out) == -1);
+    CHECK(trueaxis_kins_to_joints(0, at, 0.0, 0.0, 100.0, 1, 0.0, out) == -1);
+    CHECK(trueaxis_kins_to_world(0, at, 0.0, 0.0, 100.0, 1, 0.0, out) == -1);
     CHECK(out[0] == 9.0);
   }
   const char* why = "";
@@ -373,19 +441,19 @@ TEST_CASE("kins: the tool tip (M4): the stored model's file, its error 9843's bi
     const double phi = 360.0 * rng.uniform01();
     const double world[3] = {200.0 * rng.uniform01(), -100.0 * rng.uniform01(), 50.0 * rng.uniform01()};
     double plain[3], corrected[3], back[3];
-    REQUIRE(trueaxis_kins_to_joints(type, world, a, c, 0, phi, 120.0, plain) == 0);
-    REQUIRE(trueaxis_kins_to_joints(type, world, a, c, 1, phi, 120.0, corrected) == 0);
+    REQUIRE(trueaxis_kins_to_joints(type, world, a, c, 120.0, 0, phi, plain) == 0);
+    REQUIRE(trueaxis_kins_to_joints(type, world, a, c, 120.0, 1, phi, corrected) == 0);
     REQUIRE(trueaxis_kins_tip_error(phi, 120.0, e) == 0);
     for (int k = 0; k < 3; ++k) CHECK(corrected[k] == plain[k] - e[k]);
-    REQUIRE(trueaxis_kins_to_world(type, corrected, a, c, 1, phi, 120.0, back) == 0);
+    REQUIRE(trueaxis_kins_to_world(type, corrected, a, c, 120.0, 1, phi, back) == 0);
     CHECK(std::hypot(std::hypot(back[0] - world[0], back[1] - world[1]), back[2] - world[2]) < 1e-9);
     if (type == 0) CHECK((plain[0] == world[0] && plain[1] == world[1] && plain[2] == world[2]));
   }
   const double world[3] = {10.0, 20.0, 30.0};
   double joints[3] = {7.0, 7.0, 7.0};
-  CHECK(trueaxis_kins_to_joints(1, world, 30.0, 0.0, 1, 10.0, -5.0, joints) == -1);
-  CHECK(trueaxis_kins_to_world(1, world, 30.0, 0.0, 1, 10.0, -5.0, joints) == -1);
+  CHECK(trueaxis_kins_to_joints(1, world, 30.0, 0.0, -5.0, 1, 10.0, joints) == -1);
+  CHECK(trueaxis_kins_to_world(1, world, 30.0, 0.0, -5.0, 1, 10.0, joints) == -1);
   CHECK((joints[0] == 7.0 && joints[1] == 7.0 && joints[2] == 7.0));
   const double bad[3] = {NAN, 0.0, 0.0};
-  CHECK(trueaxis_kins_to_joints(0, bad, 0.0, 0.0, 0, 0.0, 0.0, joints) == -1);
+  CHECK(trueaxis_kins_to_joints(0, bad, 0.0, 0.0, 0.0, 0, 0.0, joints) == -1);
 }

@@ -60,11 +60,12 @@ import math
 import os
 import re
 import shutil
+import subprocess
 import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from linuxcnc_run import Machine, host_lock  # noqa: E402
+from linuxcnc_run import PROBE_LENGTH_MM, Machine, host_lock  # noqa: E402
 
 ARCSEC = 3600.0
 
@@ -252,22 +253,66 @@ KINS_LINK = "/usr/lib/linuxcnc/modules/trueaxis_kins.so"
 
 
 def install_kins_module(bin_dir):
-    """The built trueaxis_kins.so into LinuxCNC's module folder, through the
-    link toolchain/setup.sh made (its target belongs to the user who ran it;
-    root may write it anyway). None, or why it could not."""
+    """The built trueaxis_kins.so into LinuxCNC's module folder as a root-owned
+    file, as a controller installs it (integrations/linuxcnc/kins/install.sh,
+    as root; through sudo -n otherwise). None, or why it could not."""
     built = os.path.join(bin_dir, "..", "linuxcnc", "trueaxis_kins.so")
     if not os.path.exists(built):
         return f"{built} was not built (linuxcnc-uspace-dev's headers missing?)"
-    if not os.path.islink(KINS_LINK):
-        return f"{KINS_LINK} is not the link bash toolchain/setup.sh makes: run it (a module installed there is left alone)"
-    target = os.path.realpath(KINS_LINK)
-    try:
-        shutil.copyfile(built, target + ".new")
-        os.chmod(target + ".new", 0o644)
-        os.replace(target + ".new", target)
-    except OSError as e:
-        return f"cannot write {target}: {e}"
-    return None
+    argv = ["bash", os.path.join(ROOT, "integrations", "linuxcnc", "kins", "install.sh"), os.path.abspath(built)]
+    if os.getuid() != 0:
+        argv = ["sudo", "-n"] + argv
+    done = subprocess.run(argv, capture_output=True, text=True)
+    if done.returncode != 0:
+        return f"installing it failed (run the tests as root, or with sudo): {done.stderr.strip() or done.stdout.strip()}"
+    return root_only(KINS_LINK)
+
+
+def root_only(path):
+    """None when `path` is a file root owns, not a link, and it and every
+    folder above it are writable by root alone (no user can change what
+    rtapi_app, setuid root, loads from it); else the first that is not."""
+    if os.path.islink(path):
+        return f"{path} is a link (to {os.readlink(path)})"
+    at = os.path.abspath(path)
+    while True:
+        st = os.stat(at)
+        if st.st_uid != 0 or st.st_mode & 0o022:
+            return f"{at} is writable by a user other than root (uid {st.st_uid}, mode {oct(st.st_mode & 0o777)})"
+        if at == "/":
+            return None
+        at = os.path.dirname(at)
+
+
+class LoadedFiles:
+    """The files rtapi_app has mapped while LinuxCNC runs (/proc/PID/maps,
+    read as root every 0.2 s from the first rtapi_app until the run ends)."""
+
+    def __init__(self):
+        import threading
+        self.files, self.seen = set(), False
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self._watch, daemon=True)
+        self.thread.start()
+
+    def _watch(self):
+        while not self.stop.is_set():
+            for pid in subprocess.run(["pgrep", "-x", "rtapi_app"], capture_output=True, text=True).stdout.split():
+                try:
+                    with open(f"/proc/{pid}/maps", encoding="utf-8", errors="replace") as f:
+                        for line in f:
+                            parts = line.split()
+                            if len(parts) >= 6 and parts[5].startswith("/"):
+                                self.files.add(parts[5])
+                    self.seen = True
+                except OSError:
+                    pass
+            self.stop.wait(0.2)
+
+    def finish(self):
+        self.stop.set()
+        self.thread.join()
+        return self.files
 
 
 def kins_program(folder, poses, ball, face_points):
@@ -303,12 +348,22 @@ def kins_log(machine):
     return found
 
 
+def use_kinematics(machine, value):
+    """The machine's ini with KINEMATICS = value, trueaxis_kins' pin taking the tool offset."""
+    text = open(machine.ini, encoding="utf-8").read()
+    text = re.sub(r"(?m)^KINEMATICS = .*$", f"KINEMATICS = {value}", text)
+    text = re.sub(r"(?m)^TOOL_OFFSET_PIN = .*$", "TOOL_OFFSET_PIN = trueaxis_kins.tool-offset", text)
+    with open(machine.ini, "w", encoding="utf-8") as f:
+        f.write(text)
+
+
 def scenario_kins(checks, machine):
     """(issue 21) The cradle kinematics on the M3 table in LinuxCNC's servo
     thread: the ball and the face probed in table coordinates at four A."""
     import subprocess
     why = install_kins_module(machine.bin_dir)
-    checks.check(why is None, "kins: trueaxis_kins.so in LinuxCNC's module folder", why or "")
+    checks.check(why is None, "kins: trueaxis_kins.so installed in LinuxCNC's module folder as a file root alone may "
+                 "write (integrations/linuxcnc/kins/install.sh)", why or "")
     if why is not None:
         return
     # M3 through the operator's program: the ball at A -60..60 every 30 and 4
@@ -346,17 +401,22 @@ def scenario_kins(checks, machine):
         face_points.append((x, y, (offset - normal[0] * x - normal[1] * y) / normal[2]))
     poses = [(-60, 95), (-30, 200), (30, 15), (60, 300)]
     kins_program(machine.folder, poses, (200.0, 0.0, 50.0), face_points)
-    kinematics_line = re.compile(r"(?m)^KINEMATICS = .*$")
-
     def with_kinematics(value):
-        text = open(machine.ini, encoding="utf-8").read()
-        with open(machine.ini, "w", encoding="utf-8") as f:
-            f.write(kinematics_line.sub(f"KINEMATICS = {value}", text))
+        use_kinematics(machine, value)
 
     errors = {}
     for label, value in (("calibrated", f"trueaxis_kins table={table}"), ("ideal", "trueaxis_kins")):
         with_kinematics(value)
+        # No file a user may write is loaded by rtapi_app (setuid root): every
+        # file it maps, the kinematics module among them (read as root).
+        watch = LoadedFiles() if label == "calibrated" and os.getuid() == 0 else None
         result = machine.run(["G21 G90 G54", "o<trueaxis_kins_probe> call"], timeout_s=400, name=f"kins_{label}")
+        if watch is not None:
+            files = watch.finish()
+            writable = [why for why in (root_only(f) for f in sorted(files) if os.path.exists(f)) if why]
+            checks.check(watch.seen and os.path.realpath(KINS_LINK) in files and not writable,
+                         f"kins: rtapi_app maps {len(files)} files, trueaxis_kins.so among them, each writable by root "
+                         "alone", f"seen {watch.seen}; {writable[:3]}; {sorted(files)[:8]}")
         if not steps_ok(checks, result, f"kins: probing in table coordinates, {label} kinematics"):
             return
         log = kins_log(machine)
@@ -412,7 +472,7 @@ def scenario_tip(checks, machine):
     checks.check(why is None, "tip: trueaxis_kins.so in LinuxCNC's module folder", why or "")
     if why is not None:
         return
-    tool = 100.0
+    tool = PROBE_LENGTH_MM  # the probe is the tool: its length offset (G43) is the kinematics' tool length
     # The simulator's spindle errors on the probe's tip (its realistic
     # spindle, the one trueaxis-measure-spindle measures), at this tool length.
     machine.set("12057=1", f"12059={tool!r}")
@@ -428,11 +488,8 @@ def scenario_tip(checks, machine):
                  "tip: trueaxis-calibrate spindle --store --linuxcnc-kins", done.stderr)
     if done.returncode != 0:
         return
-    text = open(machine.ini, encoding="utf-8").read()
-    with open(machine.ini, "w", encoding="utf-8") as f:
-        f.write(re.sub(r"(?m)^KINEMATICS = .*$", f"KINEMATICS = trueaxis_kins spindle={model}", text))
+    use_kinematics(machine, f"trueaxis_kins spindle={model}")
     machine.add_ini_lines("HAL", ["HALCMD = net spindle-angle => trueaxis_kins.spindle-angle",
-                                  f"HALCMD = setp trueaxis_kins.tool-length {tool:g}",
                                   "HALCMD = net tip-enable motion.digital-out-02 => trueaxis_kins.tip-enable"])
     angles = (0.0, 90.0, 200.0, 315.0)
     lines = ["o<trueaxis_tip_probe> sub", "  (LOGOPEN,trueaxis_tip.log)", "  G21 G90", "  G53 G0 Z250", "  M65 P0",

@@ -111,4 +111,36 @@ bool CradleKinematics::forward(const core::Vec3& joint_mm, double a_deg, double 
   return true;
 }
 
+bool CradleKinematics::to_joints(bool cradle, const core::Vec3& world_mm, double a_deg, double c_deg, double tool_mm,
+                                 bool tip, double phi_deg, core::Vec3& joint_mm) const {
+  if (!finite(world_mm, a_deg, c_deg) || !std::isfinite(tool_mm)) return false;
+  const core::Vec3 along = tool_mm * core::Vec3::UnitZ();  // the gauge line above the tip
+  core::Vec3 e = core::Vec3::Zero();
+  if (tip && !tip_error(phi_deg, tool_mm, e)) return false;  // never an uncorrected move
+  if (!cradle) {  // the identity: the tool offset is LinuxCNC's own, in the world's Z already
+    joint_mm = world_mm - e;
+    return true;
+  }
+  core::Vec3 tip_at;
+  if (!inverse(world_mm - along, a_deg, c_deg, tip_at)) return false;
+  joint_mm = tip_at + along - e;
+  return true;
+}
+
+bool CradleKinematics::to_world(bool cradle, const core::Vec3& joint_mm, double a_deg, double c_deg, double tool_mm,
+                                bool tip, double phi_deg, core::Vec3& world_mm) const {
+  if (!finite(joint_mm, a_deg, c_deg) || !std::isfinite(tool_mm)) return false;
+  const core::Vec3 along = tool_mm * core::Vec3::UnitZ();
+  core::Vec3 e = core::Vec3::Zero();
+  if (tip && !tip_error(phi_deg, tool_mm, e)) return false;
+  if (!cradle) {
+    world_mm = joint_mm + e;
+    return true;
+  }
+  core::Vec3 w;
+  if (!forward(joint_mm + e - along, a_deg, c_deg, w)) return false;  // the real tip, machine frame
+  world_mm = w + along;
+  return true;
+}
+
 }  // namespace trueaxis::linuxcnc

@@ -31,6 +31,19 @@
 //     9843 answers (core::spindle_phi_rad, core::spindle_correction). The
 //     module subtracts it from the joints' X, Y, Z (the real tip lands where
 //     the program says) and adds it back in the forward kinematics.
+//  6. The tool length (as xyzac-trt-kins' tool-offset): t is the active tool's
+//     length offset, LinuxCNC's motion.tooloffset.z (G43 H.. from the tool
+//     table; 0 under G49), measured from the gauge line down the tool, which
+//     points along the machine's -Z at every A and C (the spindle does not
+//     tilt on a cradle machine). LinuxCNC adds t to the world's Z, the
+//     table's, where the tool's direction is the table's turn of the
+//     machine's Z, not Z itself; so the tip is W - t z in world coordinates
+//     and the joints hold the gauge line t above where the tip must be:
+//         joints = map(W - t z, A, C) + t z - tip_error(phi, t)
+//     (map the identity or conventions 2, 3; tip_error 0 with the correction
+//     off), and forward the same backwards. With G43 the controlled point is
+//     the tool's tip, with G49 (t = 0) the gauge line; type 0 leaves W as it
+//     is but for M4's tip error, as LinuxCNC does with its own offset.
 #pragma once
 
 #include <cstddef>
@@ -79,6 +92,17 @@ class CradleKinematics {
   // a model, for a non-finite input, or a tool length 9843 refuses (below 0 or
   // beyond 1e5 mm).
   bool tip_error(double phi_deg, double tool_mm, core::Vec3& error_mm) const;
+
+  // The whole of LinuxCNC's inverse and forward (conventions 4-6): `cradle`
+  // false the identity, true the cradle; tool_mm the tool offset t; with
+  // `tip` the M4 tip error at phi_deg and t taken off the joints (added back
+  // going forward). False (output untouched) for a non-finite input, the tip
+  // asked for without a model or at a length it refuses (t below 0: a tool
+  // offset measured upwards).
+  bool to_joints(bool cradle, const core::Vec3& world_mm, double a_deg, double c_deg, double tool_mm, bool tip,
+                 double phi_deg, core::Vec3& joint_mm) const;
+  bool to_world(bool cradle, const core::Vec3& joint_mm, double a_deg, double c_deg, double tool_mm, bool tip,
+                double phi_deg, core::Vec3& world_mm) const;
 
   // Convention 3's theory point p of a world point (the ideal machine's where
   // no table is loaded): the point 9835 converts into the joints.

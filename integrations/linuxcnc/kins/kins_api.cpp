@@ -77,16 +77,12 @@ extern "C" size_t trueaxis_kins_poses(void) { return g_kins.poses(); }
 extern "C" double trueaxis_kins_a_min_deg(void) { return g_kins.a_min_deg(); }
 extern "C" double trueaxis_kins_a_max_deg(void) { return g_kins.a_max_deg(); }
 
-extern "C" int trueaxis_kins_to_joints(int type, const double world_mm[3], double a_deg, double c_deg, int tip,
-                                       double phi_deg, double tool_mm, double joint_mm[3]) {
-  const Vec3 w(world_mm[0], world_mm[1], world_mm[2]);
-  Vec3 j = w;
-  if (type == 1 && !g_kins.inverse(w, a_deg, c_deg, j)) return -1;
-  if (type != 1 && !w.allFinite()) return -1;
-  if (tip != 0) {  // on without a model, or with pins it refuses: an error, never an uncorrected move
-    Vec3 e;
-    if (!g_kins.tip_error(phi_deg, tool_mm, e)) return -1;
-    j -= e;  // the real tip is the joints' point plus e: it lands on the target
+extern "C" int trueaxis_kins_to_joints(int type, const double world_mm[3], double a_deg, double c_deg, double tool_mm,
+                                       int tip, double phi_deg, double joint_mm[3]) {
+  Vec3 j;
+  if (!g_kins.to_joints(type == 1, Vec3(world_mm[0], world_mm[1], world_mm[2]), a_deg, c_deg, tool_mm, tip != 0,
+                        phi_deg, j)) {
+    return -1;
   }
   joint_mm[0] = j.x();
   joint_mm[1] = j.y();
@@ -94,17 +90,13 @@ extern "C" int trueaxis_kins_to_joints(int type, const double world_mm[3], doubl
   return 0;
 }
 
-extern "C" int trueaxis_kins_to_world(int type, const double joint_mm[3], double a_deg, double c_deg, int tip,
-                                      double phi_deg, double tool_mm, double world_mm[3]) {
-  Vec3 at(joint_mm[0], joint_mm[1], joint_mm[2]);
-  if (tip != 0) {
-    Vec3 e;
-    if (!g_kins.tip_error(phi_deg, tool_mm, e)) return -1;
-    at += e;
+extern "C" int trueaxis_kins_to_world(int type, const double joint_mm[3], double a_deg, double c_deg, double tool_mm,
+                                      int tip, double phi_deg, double world_mm[3]) {
+  Vec3 w;
+  if (!g_kins.to_world(type == 1, Vec3(joint_mm[0], joint_mm[1], joint_mm[2]), a_deg, c_deg, tool_mm, tip != 0,
+                       phi_deg, w)) {
+    return -1;
   }
-  Vec3 w = at;
-  if (type == 1 && !g_kins.forward(at, a_deg, c_deg, w)) return -1;
-  if (type != 1 && !w.allFinite()) return -1;
   world_mm[0] = w.x();
   world_mm[1] = w.y();
   world_mm[2] = w.z();

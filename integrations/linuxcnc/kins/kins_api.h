@@ -34,17 +34,18 @@ int trueaxis_kins_spindle_loaded(void);
    9843's answer); 0, or -1 without a model or for an input 9843 refuses. */
 int trueaxis_kins_tip_error(double phi_deg, double tool_mm, double error_mm[3]);
 
-/* LinuxCNC's kinematics, whole: world (table) coordinates to the joints' X,
-   Y, Z at commanded A, C and back, `type` 0 the identity or 1 the cradle
-   (cradle_kinematics.hpp conventions 1-4), and, when `tip` is not 0, the
-   tool tip's error at phi_deg and tool_mm taken off the joints (added back
-   going forward; convention 5). 0 on success, -1 for a non-finite input, a
-   tip asked for without a spindle model, or pins the model refuses (the
-   output untouched). */
-int trueaxis_kins_to_joints(int type, const double world_mm[3], double a_deg, double c_deg, int tip, double phi_deg,
-                            double tool_mm, double joint_mm[3]);
-int trueaxis_kins_to_world(int type, const double joint_mm[3], double a_deg, double c_deg, int tip, double phi_deg,
-                           double tool_mm, double world_mm[3]);
+/* LinuxCNC's kinematics, whole (cradle_kinematics.hpp conventions 1-6):
+   world (table) coordinates to the joints' X, Y, Z at commanded A, C and
+   back, `type` 0 the identity or 1 the cradle; tool_mm the active tool
+   offset (motion.tooloffset.z: the tip is tool_mm below the gauge line, along
+   the machine's -Z); when `tip` is not 0, the tool tip's error at phi_deg and
+   tool_mm taken off the joints (added back going forward). 0 on success, -1
+   for a non-finite input, a tip asked for without a spindle model, or a
+   tool offset the model refuses (the output untouched). */
+int trueaxis_kins_to_joints(int type, const double world_mm[3], double a_deg, double c_deg, double tool_mm, int tip,
+                            double phi_deg, double joint_mm[3]);
+int trueaxis_kins_to_world(int type, const double joint_mm[3], double a_deg, double c_deg, double tool_mm, int tip,
+                           double phi_deg, double world_mm[3]);
 
 #ifdef __cplusplus
 }

@@ -10,15 +10,20 @@
    cradle; a `table` that cannot be read or does not check stops LinuxCNC's
    start with one line naming the file and why: a machine never runs on ideal
    axes in place of a calibration it was given. `spindle=FILE` likewise loads
-   the stored M4 model (`trueaxis-calibrate spindle --store --linuxcnc-kins`):
-   while the pin trueaxis_kins.tip-enable is true, the tool tip's error at
-   trueaxis_kins.spindle-angle (deg, the oriented spindle's, M19) and
-   trueaxis_kins.tool-length (mm below the gauge line) is taken off the
-   joints' X, Y, Z, so that the tip lands where the program says; the
-   correction on without a model, or a tool length the model refuses, is a
-   kinematics error, not an uncorrected move. The pins act at once: change
-   them only while the machine stands still (an oriented spindle does), as the
-   joints move by the tip's error (tens of um) in one servo period.
+   the stored M4 model (`trueaxis-calibrate spindle --store --linuxcnc-kins`).
+   The pin trueaxis_kins.tool-offset is the active tool's length offset:
+   net motion.tooloffset.z to it. LinuxCNC adds that offset to the world's Z
+   (the table's), where on a tilted table the tool does not point; the module
+   takes it back off and applies it along the tool, the machine's Z, at the
+   commanded A and C (as xyzac-trt-kins' tool-offset pin): with G43 the tool's
+   tip is the controlled point, with G49 the gauge line. While the pin
+   trueaxis_kins.tip-enable is true, the tool tip's error at
+   trueaxis_kins.spindle-angle (deg, the oriented spindle's, M19) and that
+   tool length is taken off the joints' X, Y, Z, so that the tip lands where
+   the program says; the correction on without a model, or a tool length the
+   model refuses (below 0), is a kinematics error, not an uncorrected move.
+   The pins act at once: change them only while the machine stands still (an
+   oriented spindle does; a tool offset changes with a tool change).
    Switchable (motion.switchkins-type): 0 identity (machine coordinates, for
    probing programs; the start), 1 the cradle's table coordinates. */
 #include "kins_api.h"
@@ -41,18 +46,18 @@ RTAPI_MP_STRING(spindle, "the M4 model file (trueaxis-calibrate spindle --store 
 static int comp_id = -1;
 static int kins_type = 0; /* switchkins type: 0 identity, 1 the cradle */
 
-/* The tool tip's correction: its pins (convention 5 of cradle_kinematics.hpp). */
+/* The tool's pins (conventions 5, 6 of cradle_kinematics.hpp). */
 struct tip_pins {
   hal_bit_t* enable;
   hal_float_t* angle_deg;
-  hal_float_t* tool_mm;
+  hal_float_t* tool_offset_mm;
 };
 static struct tip_pins* tip = 0;
 
-/* The correction's pin values: on, angle, length (0, 0, 0 before the pins exist). */
+/* The pins' values: the tip correction on, its angle, the tool offset (0, 0, 0 before the pins exist). */
 static int tip_on(void) { return tip != 0 && *tip->enable; }
 static double tip_angle(void) { return tip != 0 ? *tip->angle_deg : 0.0; }
-static double tip_tool(void) { return tip != 0 ? *tip->tool_mm : 0.0; }
+static double tool_offset(void) { return tip != 0 ? *tip->tool_offset_mm : 0.0; }
 
 int rtapi_app_main(void) {
   comp_id = hal_init("trueaxis_kins");
@@ -88,7 +93,7 @@ int rtapi_app_main(void) {
     struct tip_pins* pins = hal_malloc(sizeof *pins);
     if (pins == 0 || hal_pin_bit_new("trueaxis_kins.tip-enable", HAL_IN, &pins->enable, comp_id) != 0 ||
         hal_pin_float_new("trueaxis_kins.spindle-angle", HAL_IN, &pins->angle_deg, comp_id) != 0 ||
-        hal_pin_float_new("trueaxis_kins.tool-length", HAL_IN, &pins->tool_mm, comp_id) != 0) {
+        hal_pin_float_new("trueaxis_kins.tool-offset", HAL_IN, &pins->tool_offset_mm, comp_id) != 0) {
       rtapi_print_msg(RTAPI_MSG_ERR, "trueaxis_kins: its pins could not be made\n");
       hal_exit(comp_id);
       return -ENOMEM;
@@ -116,7 +121,7 @@ int kinematicsForward(const double* joint, EmcPose* world, const KINEMATICS_FORW
   double w[3];
   (void)fflags;
   (void)iflags;
-  if (trueaxis_kins_to_world(kins_type, joint, joint[3], joint[4], tip_on(), tip_angle(), tip_tool(), w) != 0) {
+  if (trueaxis_kins_to_world(kins_type, joint, joint[3], joint[4], tool_offset(), tip_on(), tip_angle(), w) != 0) {
     return -1;
   }
   world->tran.x = w[0];
@@ -137,7 +142,7 @@ int kinematicsInverse(const EmcPose* world, double* joint, const KINEMATICS_INVE
   double j[3];
   (void)iflags;
   (void)fflags;
-  if (trueaxis_kins_to_joints(kins_type, w, world->a, world->c, tip_on(), tip_angle(), tip_tool(), j) != 0) {
+  if (trueaxis_kins_to_joints(kins_type, w, world->a, world->c, tool_offset(), tip_on(), tip_angle(), j) != 0) {
     return -1;
   }
   joint[0] = j[0];

@@ -4,7 +4,7 @@ places the virtual probe's face and ball (trueaxis_sim.hal) where trueaxis-sim's
 own cradle model puts them, with its true geometric errors (one model of the
 machine: no second copy of its geometry here).
 
-usage: trueaxis_sim_bridge.py HOST PORT BALL_RADIUS_MM
+usage: trueaxis_sim_bridge.py HOST PORT BALL_RADIUS_MM [PROBE_LENGTH_MM]
 
 Pins (component trueaxis-sim-bridge):
   a, c (float in)                  the table's commanded A and C, deg (joints 3, 4)
@@ -17,6 +17,9 @@ Pins (component trueaxis-sim-bridge):
                                    and the square of BALL_RADIUS_MM (the ball's
                                    plus the stylus tip's radius)
   pose-a, pose-c (float out)       the pose the outputs are for
+  The probe's tip is PROBE_LENGTH_MM (default 0) below the joints' X, Y, Z
+  (the gauge line): the face and the ball are given shifted up by it, where
+  the joints meet them.
   spindle-angle (float in)         the spindle's angle (deg; the HAL file nets
                                    it to M68 E2): the probe's tip is the joints'
                                    X, Y, Z plus the spindle's tool tip error
@@ -47,6 +50,7 @@ NEVER = -1.0e9
 
 def main(argv):
     host, port, radius = argv[1], int(argv[2]), float(argv[3])
+    length = float(argv[4]) if len(argv) > 4 else 0.0
     client = ModbusTcpClient(host, port=port, timeout=2)
     if not client.connect():
         sys.exit(f"trueaxis_sim_bridge: no trueaxis-sim at {host}:{port}")
@@ -84,6 +88,7 @@ def main(argv):
                 write(12058, [math.fmod(now[4], 360.0) if math.isfinite(now[4]) else 0.0])  # within the map's range
                 nx, ny, nz, d, bx, by, bz = read(12048, 7)
                 ex, ey, ez = read(12060, 3)
+                ez -= length  # the tip below the joints: they meet the face and the ball that much higher
                 h["face-nx"], h["face-ny"], h["face-nz"] = nx, ny, nz
                 h["face-d"] = d - (nx * ex + ny * ey + nz * ez) if now[2] else NEVER
                 h["ball-x"], h["ball-y"], h["ball-z"] = bx - ex, by - ey, bz - ez
