@@ -65,7 +65,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from linuxcnc_run import PROBE_LENGTH_MM, Machine, host_lock  # noqa: E402
+from linuxcnc_run import PROBE_LENGTH_MM, ROOT, Machine, host_lock  # noqa: E402
 
 ARCSEC = 3600.0
 
@@ -108,7 +108,7 @@ def scenario_leveling(checks, machine):
     interface = {"run": machine.var + ["get", "9009"]}
     offset = {"run": machine.var + ["set", "5281=0.25"]}
     later = {"run": ["/bin/sh", "-c", "sleep 2.5; exec \"$0\" \"$@\""] + machine.var + ["get", "9009"]}
-    commands = ["G21 G90 G54", "M64 P0", "G53 G0 Z100",
+    commands = ["G21 G90 G54", "M64 P0", "G53 G0 Z[100 + #5403]",
                 level_call([(-30, -30), (30, -30), (-30, 30)], 100, 60, 10, 100, 0.003, 3),
                 interface, "G65 P1", interface, offset, {"mdi": "G38.2 Z150 F3000", "may_fail": True}, interface,
                 offset, "G65 P9810 A0 C0", interface, later]
@@ -152,9 +152,9 @@ def scenario_leveling(checks, machine):
 
 
 def scenario_rigidity(checks, machine):
-    rigidity = ["G21 G90 G54", "M65 P0", "M64 P1", "G53 G0 Z250",
+    rigidity = ["G21 G90 G54", "M65 P0", "M64 P1", "G53 G0 Z[250 + #5403]",
                 "o<trueaxis_rigidity> call [200] [0] [50] [12.5] [2] [1] [100] [20] [3] [4] [250] [2718]"]
-    level = ["G21 G90 G54", "M65 P1", "M64 P0", "G53 G0 Z150", "G53 G0 A0 C0",
+    level = ["G21 G90 G54", "M65 P1", "M64 P0", "G53 G0 Z[150 + #5403]", "G53 G0 A0 C0",
              level_call([(-20, -20), (20, -20), (-20, 20)], 150, 90, -10, 100, 0.05, 2)]
     result = machine.run(rigidity + level, timeout_s=300, name="rigidity")
     if not steps_ok(checks, result, "rigidity and leveling on the ideal axes"):
@@ -319,17 +319,17 @@ def kins_program(folder, poses, ball, face_points):
     """o<trueaxis_kins_probe>: in table coordinates (switchkins type 1), at each
     (A, C) the ball with o<trueaxis_probe_ball> and the face straight down at
     each point, each result a line of trueaxis_kins.log."""
-    lines = ["o<trueaxis_kins_probe> sub", "  (LOGOPEN,trueaxis_kins.log)", "  G21 G90", "  G53 G0 Z250",
+    lines = ["o<trueaxis_kins_probe> sub", "  (LOGOPEN,trueaxis_kins.log)", "  G21 G90", "  G53 G0 Z[250 + #5403]",
              "  M68 E3 Q1", "  M66 E0 L0"]
     for a, c in poses:
-        lines += ["  M65 P0", "  M64 P1", "  G53 G0 Z125", f"  G53 G0 A{a:g} C{c:g}",
+        lines += ["  M65 P0", "  M64 P1", "  G53 G0 Z[125 + #5403]", f"  G53 G0 A{a:g} C{c:g}",
                   f"  o<trueaxis_probe_ball> call [{ball[0]:g}] [{ball[1]:g}] [{ball[2]:g}] [12.5] [2] [1] [100]",
-                  f"  (LOG,ball A{a:g} C{c:g} #100 #101 #102)", "  G53 G0 Z125", "  M65 P1", "  M64 P0"]
+                  f"  (LOG,ball A{a:g} C{c:g} #100 #101 #102)", "  G53 G0 Z[125 + #5403]", "  M65 P1", "  M64 P0"]
         for x, y, z in face_points:
-            lines += [f"  G53 G0 X{x:g} Y{y:g}", f"  G53 G0 Z{z + 15:g}",
+            lines += [f"  G53 G0 X{x:g} Y{y:g}", f"  G53 G0 Z[{z + 15:g} + #5403]",
                       f"  o<trueaxis_touch> call [{x:g}] [{y:g}] [{z - 15:g}] [50]",
                       f"  (LOG,face A{a:g} C{c:g} #<_trueaxis_touch_x> #<_trueaxis_touch_y> #<_trueaxis_touch_z>)",
-                      "  G53 G0 Z125"]
+                      "  G53 G0 Z[125 + #5403]"]
     lines += ["  M65 P0", "  (LOGCLOSE)", "  G53 G0 A0 C0", "  M68 E3 Q0", "  M66 E0 L0", "  G65 P0",
               "o<trueaxis_kins_probe> endsub", "M2"]
     path = os.path.join(folder, "integrations", "linuxcnc", "nc_subroutines", "trueaxis_kins_probe.ngc")
@@ -369,7 +369,7 @@ def scenario_kins(checks, machine):
     # M3 through the operator's program: the ball at A -60..60 every 30 and 4
     # C positions (five touches each, 9815), the table stored with the unlock
     # code; then the controller's stored table written as the kinematics' file.
-    rigidity = ["G21 G90 G54", "M65 P0", "M64 P1", "G53 G0 Z250",
+    rigidity = ["G21 G90 G54", "M65 P0", "M64 P1", "G53 G0 Z[250 + #5403]",
                 "o<trueaxis_rigidity> call [200] [0] [50] [12.5] [2] [1] [100] [30] [5] [4] [250] [2718] [-60]"]
     result = machine.run(rigidity, timeout_s=400, name="kins_rigidity")
     if not steps_ok(checks, result, "kins: o<trueaxis_rigidity> at A -60..60, the table stored"):
@@ -492,7 +492,7 @@ def scenario_tip(checks, machine):
     machine.add_ini_lines("HAL", ["HALCMD = net spindle-angle => trueaxis_kins.spindle-angle",
                                   "HALCMD = net tip-enable motion.digital-out-02 => trueaxis_kins.tip-enable"])
     angles = (0.0, 90.0, 200.0, 315.0)
-    lines = ["o<trueaxis_tip_probe> sub", "  (LOGOPEN,trueaxis_tip.log)", "  G21 G90", "  G53 G0 Z250", "  M65 P0",
+    lines = ["o<trueaxis_tip_probe> sub", "  (LOGOPEN,trueaxis_tip.log)", "  G21 G90", "  G53 G0 Z[250 + #5403]", "  M65 P0",
              "  M64 P1"]
     for phi in angles:
         for on in (0, 1):
