@@ -335,3 +335,36 @@ TA_TEST("a full log drops the oldest entry of the lowest rank: scratch, then his
   TA_CHECK_EQ(show(rig, 8.0).stored(), 1.0);  // the present table's own entry is never dropped
   TA_CHECK_EQ(rig.get(v::kLogCount), 32.0);
 }
+
+TA_TEST("the log names a check's pose by the stored table's number, the table its entry carries; the check's own by its") {
+  ModuleRig rig;
+  rf::stored(rig);  // A -60, -30, 0, 30, 60: poses 1 .. 5
+  // Measured again at A 0, 30, 60 only: the check's poses 1 .. 3, the stored table's 3 .. 5.
+  TA_REQUIRE(rig.done(9830));
+  for (int i = 2; i < rf::kPoses; ++i) {
+    for (int k = 0; k < rf::kCPositions; ++k) {
+      const double c = 360.0 / rf::kCPositions * k;
+      TA_REQUIRE(rf::add(rig, rf::pose_a_deg(i), c, rf::actual_ball(rf::pose_a_deg(i), c)) == kDone);
+    }
+  }
+  TA_REQUIRE(rf::build(rig, false) == kDone);
+  rig.set(v::kArgQ, 0.0);
+  TA_REQUIRE(rig.done(9836));
+  TA_CHECK_EQ(rig.get(v::kCheckFigures), 4.0);  // A 30 and 60, two figures each
+  // The check's figures name its own poses, 2 (A 30) and 3 (A 60); its log
+  // entry the stored table's, 4 and 5.
+  for (int q = 1; q <= 4; ++q) {
+    rig.set(v::kArgQ, q);
+    TA_REQUIRE(rig.done(9836));
+    TA_CHECK(rig.get(v::kCheckFigureItem) == 2.0 || rig.get(v::kCheckFigureItem) == 3.0);
+  }
+  const Shown check = show(rig, rig.get(v::kLogNewest));
+  TA_CHECK_EQ(check.type(), 1.0);
+  TA_CHECK_EQ(check.figures(), 2.0);
+  for (std::size_t k = 0; k < 2; ++k) TA_CHECK(check.figure(k, 1) == 4.0 || check.figure(k, 1) == 5.0);
+  // The stored table answers its pose 4 with A = 30 (what a reader names the figure by).
+  rig.set(v::kArgQ, 4.0);
+  rig.set(v::kArgR, 1.0);
+  TA_REQUIRE(rig.done(9834));
+  TA_CHECK_EQ(rig.get(v::kPoseA), 30.0);
+}

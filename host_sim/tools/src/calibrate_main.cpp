@@ -421,7 +421,9 @@ int run_log(int argc, char** argv) {
   if (!why.empty()) return fail(why);
   std::vector<trueaxis::sim::LogRow> rows;
   std::string error;
-  if (!trueaxis::sim::read_log(client, rows, error)) return fail(error);
+  if (!trueaxis::sim::read_log(client, rows, error) || !trueaxis::sim::name_poses(client, rows, error)) {
+    return fail(error);
+  }
   client.give_back_interface();
   client.close();
   if (!csv_path.empty()) {

@@ -31,11 +31,7 @@ void name_entry(LogRow& row) {
       if (row.refusal && f.kind == macros::kRefusalFigure) {
         const auto status = static_cast<core::Status>(static_cast<int>(f.sigma));
         f.name = macros::status_name(status);
-        // M4's change gate logs the angle's step (spindle_macros.cpp): 1 .. 36, angle 10 (step - 1) deg.
-        const bool angle = row.method == "spindle" && status == core::Status::kChangeBeyondLimit && f.item > 0;
-        f.item_text = angle ? "at " + std::to_string(360 / macros::spindle::kChangeAngles * (f.item - 1)) + " deg"
-                      : f.item > 0 ? "at item " + std::to_string(f.item)
-                                   : "";
+        f.item_text = refusal_item_text(row.method, status, f.item);
         continue;
       }
       const bool known = f.kind >= 1 && static_cast<std::size_t>(f.kind) <= kinds.size;
@@ -46,6 +42,48 @@ void name_entry(LogRow& row) {
   }
   for (LogFigureRow& f : row.figures) f.name = "figure_" + std::to_string(f.kind);
 }
+
+}  // namespace
+
+bool name_poses(VariableClient& client, std::vector<LogRow>& rows, std::string& error) {
+  std::uint32_t present = 0;  // the present M3 table's sequence: its newest store's
+  for (const LogRow& r : rows) {
+    if (r.method == "rigidity" && r.stored && !r.check && !r.refusal) present = r.table_sequence;
+  }
+  if (present == 0) return true;
+  std::map<int, std::string> names;
+  for (LogRow& r : rows) {
+    if (r.method != "rigidity" || r.table_sequence != present || r.refusal || !(r.stored || r.check)) continue;
+    for (LogFigureRow& f : r.figures) {
+      if (f.item <= 0) continue;
+      if (names.count(f.item) == 0) {
+        const double args[2] = {static_cast<double>(f.item), 1.0};  // Q = the pose, R = 1: the stored table
+        const MacroOutcome m = client.write(var::kArgQ, 2, args) ? client.run_macro(9834) : MacroOutcome{};
+        double a = 0.0;
+        if (m.status == -1 || (m.status == 2 && !client.read(100, 1, &a))) {
+          error = client.failure_text() + " (naming the log's poses, 9834)";
+          return false;
+        }
+        char name[32] = "";
+        if (m.status == 2) std::snprintf(name, sizeof name, "a%g", a);
+        names[f.item] = name;  // "" when the table answers no such pose: its number stays
+      }
+      f.item_name = names[f.item];
+    }
+  }
+  return true;
+}
+
+std::string refusal_item_text(const std::string& method, core::Status status, int item) {
+  if (item <= 0) return "";
+  // M4's change gate logs the angle's step (spindle_macros.cpp): 1 .. 36, angle 10 (step - 1) deg.
+  if (method == "spindle" && status == core::Status::kChangeBeyondLimit) {
+    return "at " + std::to_string(360 / macros::spindle::kChangeAngles * (item - 1)) + " deg";
+  }
+  return "at item " + std::to_string(item);
+}
+
+namespace {
 
 std::string fixed(double v, int digits) {
   char buf[64];
@@ -263,7 +301,8 @@ std::string log_table(const std::vector<LogRow>& rows, const std::vector<Drift>&
                (f.value != 0.0 || f.tolerance != 0.0 ? ": " + general(f.value) + " against " + general(f.tolerance) : "");
         continue;
       }
-      out += (k > 0 ? "; " : "") + f.name + (f.item > 0 ? "_" + std::to_string(f.item) : "") + " " +
+      const std::string item = f.item_name.empty() ? std::to_string(f.item) : f.item_name;
+      out += (k > 0 ? "; " : "") + f.name + (f.item > 0 ? "_" + item : "") + " " +
              general(f.value) + " +- " + general(f.sigma) + " " + f.unit +
              (f.tolerance > 0.0 ? " / " + general(f.tolerance) : "");
     }

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <ctime>
 #include <sstream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -292,6 +293,13 @@ TEST_CASE("trueaxis-calibrate log: 100 scratch runs and failed stores after a st
   CHECK(lines[3].find("2027-01-17") != std::string::npos);  // then the newest 30 scratch runs
   CHECK(lines[32].find("2027-01-17") != std::string::npos);
   CHECK(lines[33].empty());
+  // The present table's entries name their poses by A (name_poses); a scratch
+  // run's poses are its own, which the log does not keep: numbers.
+  const std::regex by_a("_a-?[0-9]+(\\.[0-9]+)? ");
+  CHECK(std::regex_search(lines[1], by_a));
+  CHECK(std::regex_search(lines[2], std::regex("rotation_change_a-?[0-9]+(\\.[0-9]+)? ")));
+  CHECK_FALSE(std::regex_search(lines[3], by_a));
+  CHECK(std::regex_search(lines[3], std::regex("_[0-9]+ ")));
 }
 
 TEST_CASE("fit_drift calls a trend significant beyond 2 sigma of its slope, not 1: the exact boundary", "[log][drift]") {
@@ -455,4 +463,15 @@ TEST_CASE("--time takes 2^32 - 1 s and refuses one more; a #9015 the module refu
   REQUIRE(client.give_back_interface());
   CHECK(sim.get(v::kLogNewest) == before);
   CHECK(newest_entry(v::kLogType) == 0.0);  // no check replaced or followed the calibration
+}
+
+TEST_CASE("log: a refusal's item as the log keeps it: M4's change gate's angle step read back as its angle",
+          "[log]") {
+  using trueaxis::core::Status;
+  CHECK(trueaxis::sim::refusal_item_text("spindle", Status::kChangeBeyondLimit, 1) == "at 0 deg");
+  CHECK(trueaxis::sim::refusal_item_text("spindle", Status::kChangeBeyondLimit, 28) == "at 270 deg");
+  CHECK(trueaxis::sim::refusal_item_text("spindle", Status::kChangeBeyondLimit, 36) == "at 350 deg");
+  CHECK(trueaxis::sim::refusal_item_text("spindle", Status::kFitBeyondNoise, 2) == "at item 2");  // a ball
+  CHECK(trueaxis::sim::refusal_item_text("rigidity", Status::kChangeBeyondLimit, 3) == "at item 3");  // a pose
+  CHECK(trueaxis::sim::refusal_item_text("spindle", Status::kChangeBeyondLimit, 0).empty());
 }

@@ -73,6 +73,7 @@ struct CheckInfo {
 struct CheckFigure {
   std::uint16_t kind = 0;
   std::uint16_t item = 0;
+  std::uint16_t log_item = 0;  // the item the measuring log keeps when not `item` (M3: the stored pose's); 0 `item`
   double stored = 0.0;
   double measured = 0.0;
   double deviation = 0.0;
@@ -178,7 +179,7 @@ MacroStep publish_check(Ctx& ctx, std::size_t count, FigureAt figure_at) {
     for (std::size_t i = 0; i < kLogFigures; ++i) {
       if (!seen[i]) continue;
       const CheckFigure f = figure_at(of_kind[i]);
-      entry.add(f.kind, f.item, f.deviation, f.sigma, f.tolerance);
+      entry.add(f.kind, f.log_item != 0 ? f.log_item : f.item, f.deviation, f.sigma, f.tolerance);
     }
     ctx.log(entry);
   }

@@ -15,7 +15,9 @@
 //     judged against; 0 none), and up to kLogFigures figures: kind (the
 //     method's kLogFigures for a calibration, its kCheck figures for a
 //     check, numbered from 1), item (pose, sub-machine, 1-based; 0 the
-//     whole), value (a check's deviation), its 1-sigma and the tolerance
+//     whole; a pose of the table the entry carries the sequence of: M3's
+//     check names the stored table's pose it judged against, CheckFigure::
+//     log_item, so a reader asks that table for its A), value (a check's deviation), its 1-sigma and the tolerance
 //     (0 for a calibration's). A check logs, per kind, its worst figure (the
 //     largest (|deviation| + 2 sigma) / tolerance). A refusal (a method's
 //     compute macro that a gate refused, or whose store was refused as

@@ -327,6 +327,9 @@ CheckFigure check_figure(const core::RigidityTable& built, const core::RigidityT
     const core::RigidityPose& s = *stored_at(stored, p.a_deg);
     CheckFigure f;
     f.item = static_cast<std::uint16_t>(i + 1);
+    // The log names the stored table's pose at that A: the table the entry
+    // carries the sequence of, whose poses a reader can ask for (9834, R = 1).
+    f.log_item = static_cast<std::uint16_t>(&s - &stored.poses[0] + 1);
     if (k % 2 == 0) {
       const core::Vec3 d = p.rotvec_rad - s.rotvec_rad;
       const core::Vec3 var = p.rotvec_sigma_rad.cwiseAbs2() + s.rotvec_sigma_rad.cwiseAbs2();

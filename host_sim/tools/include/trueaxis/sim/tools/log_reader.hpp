@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "trueaxis/core/status.hpp"
 #include "trueaxis/sim/tools/client.hpp"
 
 namespace trueaxis::sim {
@@ -40,6 +41,7 @@ struct LogFigureRow {
                      // refusal's own figure (kind 0): the status's name, its code in `sigma`
   std::string unit;
   std::string item_text;  // a refusal's item as the reader says it: "item 3", "270 deg" (M4's change: its step)
+  std::string item_name;  // the item by what it is, where known: M3's pose by its A ("a-90"; name_poses)
 };
 
 struct LogRow {
@@ -57,6 +59,14 @@ struct LogRow {
 
 // Contract 1; false with `error` set on a transport failure.
 bool read_log(VariableClient& client, std::vector<LogRow>& rows, std::string& error);
+
+// M3's figures named by their pose's A (item_name "a-90", as the check's
+// page names them): the log keeps a pose's number in the table its entry
+// carries the sequence of (a stored calibration's own, a check's stored
+// table's: measuring_log.hpp convention 1); the present table's poses are
+// asked for (9834, R = 1), so the entries of the present table are named,
+// older tables' keep their numbers. False with `error` on a transport failure.
+bool name_poses(VariableClient& client, std::vector<LogRow>& rows, std::string& error);
 
 struct Drift {
   std::string method;
@@ -81,6 +91,10 @@ struct Drift {
 std::vector<Drift> fit_drift(const std::vector<LogRow>& rows);
 
 // "2027-01-15 08:00:00" (UTC); "unknown" for 0.
+// A refusal's item as the reader says it (measuring_log.hpp convention 1):
+// "at item N", M4's change gate's logged angle step as "at A deg", "" for 0.
+std::string refusal_item_text(const std::string& method, core::Status status, int item);
+
 std::string utc_text(double unix_s);
 
 // The log as a table, newest last, then the drift lines.
