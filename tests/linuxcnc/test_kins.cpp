@@ -457,3 +457,47 @@ TEST_CASE("kins: the tool tip (M4): the stored model's file, its error 9843's bi
   const double bad[3] = {NAN, 0.0, 0.0};
   CHECK(trueaxis_kins_to_joints(0, bad, 0.0, 0.0, 0.0, 0, 0.0, joints) == -1);
 }
+
+TEST_CASE("kins: an inch machine (linear_units=inch): world, joints and tool offset converted, the table in mm; "
+          "anything but LinuxCNC's unit names refused",
+          "[kins]") {
+  // On whatever table the module holds (the ideal cradle, or an earlier case's).
+  const char* why = "";
+  sim::SimRng rng(5);
+  for (int i = 0; i < 50; ++i) {
+    const double a = -100.0 + 200.0 * rng.uniform01();
+    const double c = 720.0 * rng.uniform01();
+    const double tool_in = 8.0 * rng.uniform01();
+    const double world_in[3] = {8.0 * rng.uniform01(), -4.0 * rng.uniform01(), 3.0 * rng.uniform01()};
+    const double world_mm[3] = {25.4 * world_in[0], 25.4 * world_in[1], 25.4 * world_in[2]};
+    double joint_mm[3], joint_in[3], back_in[3];
+    REQUIRE(trueaxis_kins_set_linear_units("mm", &why) == 0);
+    REQUIRE(trueaxis_kins_to_joints(1, world_mm, a, c, 25.4 * tool_in, 0, 0.0, joint_mm) == 0);
+    REQUIRE(trueaxis_kins_set_linear_units(i % 2 == 0 ? "inch" : "imperial", &why) == 0);
+    REQUIRE(trueaxis_kins_to_joints(1, world_in, a, c, tool_in, 0, 0.0, joint_in) == 0);
+    for (int k = 0; k < 3; ++k) CHECK(std::abs(25.4 * joint_in[k] - joint_mm[k]) < 1e-9);
+    REQUIRE(trueaxis_kins_to_world(1, joint_in, a, c, tool_in, 0, 0.0, back_in) == 0);
+    for (int k = 0; k < 3; ++k) CHECK(std::abs(back_in[k] - world_in[k]) < 1e-12);
+    // The identity, LinuxCNC's world as it is, in any unit.
+    REQUIRE(trueaxis_kins_to_joints(0, world_in, a, c, tool_in, 0, 0.0, joint_in) == 0);
+    for (int k = 0; k < 3; ++k) CHECK(joint_in[k] == world_in[k]);
+  }
+  // A 4 in tool at A 30: where 101.6 mm puts it (read as mm, 4 in would be a 4 mm tool).
+  const double world_in[3] = {1.0, 2.0, 4.0};
+  const double world_mm[3] = {25.4, 50.8, 101.6};
+  double joint_in[3], joint_mm[3];
+  REQUIRE(trueaxis_kins_set_linear_units("metric", &why) == 0);
+  REQUIRE(trueaxis_kins_to_joints(1, world_mm, 30.0, 0.0, 101.6, 0, 0.0, joint_mm) == 0);
+  REQUIRE(trueaxis_kins_set_linear_units("in", &why) == 0);
+  REQUIRE(trueaxis_kins_to_joints(1, world_in, 30.0, 0.0, 4.0, 0, 0.0, joint_in) == 0);
+  for (int k = 0; k < 3; ++k) CHECK(std::abs(25.4 * joint_in[k] - joint_mm[k]) < 1e-9);
+  for (const char* bad : {"", "MM", "inches", "cm", "m"}) {
+    INFO(bad);
+    why = "";
+    CHECK(trueaxis_kins_set_linear_units(bad, &why) == -1);
+    CHECK(std::string(why).find("LINEAR_UNITS") != std::string::npos);
+  }
+  REQUIRE(trueaxis_kins_to_joints(1, world_in, 30.0, 0.0, 4.0, 0, 0.0, joint_in) == 0);  // still inch
+  for (int k = 0; k < 3; ++k) CHECK(std::abs(25.4 * joint_in[k] - joint_mm[k]) < 1e-9);
+  REQUIRE(trueaxis_kins_set_linear_units("mm", &why) == 0);
+}

@@ -209,8 +209,9 @@ def scenario_a_comp(checks, machine):
                    check=True, capture_output=True)
     out = os.path.join(machine.folder, "out.json")
     done = subprocess.run([os.path.join(machine.bin_dir, "trueaxis-calibrate"), "rigidity", "--in", csv, "--json",
-                           out, "--linuxcnc-comp", comp] + port, capture_output=True, text=True)
-    checks.check(done.returncode == 0 and os.path.exists(comp), "a_comp: trueaxis-calibrate rigidity --linuxcnc-comp",
+                           out, "--store", "--linuxcnc-comp", comp] + port, capture_output=True, text=True)
+    checks.check(done.returncode == 0 and os.path.exists(comp),
+                 "a_comp: trueaxis-calibrate rigidity --store --linuxcnc-comp",
                  done.stderr)
     if done.returncode != 0:
         return

@@ -169,8 +169,9 @@ void print_help() {
               "                         unlock, store, lock again\n"
               "  --port PORT, --host ADDR  the module's Modbus TCP server (default 127.0.0.1:502)\n"
               "  --unlock-code CODE     the machine's unlock code (#900) for --store, 1..9999 (default 2718)\n"
-              "  --linuxcnc-comp FILE   rigidity: also M3's A positioning error as a LinuxCNC joint\n"
-              "                         compensation file for the A joint (COMP_FILE_TYPE = 1)\n"
+              "  --linuxcnc-comp FILE   rigidity, with --store: also the stored A positioning error as a\n"
+              "                         LinuxCNC joint compensation file for the A joint (COMP_FILE_TYPE = 1);\n"
+              "                         not with --linuxcnc-kins, whose table corrects A itself\n"
               "  --linuxcnc-kins FILE   rigidity or spindle, with --store: also the stored table or model as\n"
               "                         the file the LinuxCNC kinematics trueaxis_kins load (integrations/linuxcnc/kins)\n"
               "  --accept-change        with --store: store even a result that differs from the stored\n"
@@ -859,6 +860,14 @@ int main(int argc, char** argv) {
   }
   if (!o.linuxcnc_comp_path.empty() && o.method != "rigidity") {
     return usage_error("--linuxcnc-comp goes with rigidity (M3's A positioning error)");
+  }
+  if (!o.linuxcnc_comp_path.empty() && !o.store) {
+    return usage_error("--linuxcnc-comp goes with --store: the joint's compensation is the stored table's A "
+                       "positioning error, not a table the controller does not hold");
+  }
+  if (!o.linuxcnc_comp_path.empty() && !o.linuxcnc_kins_path.empty()) {
+    return usage_error("--linuxcnc-comp and --linuxcnc-kins both correct the A positioning error (the kinematics' "
+                       "table holds it): together they correct it twice; give one");
   }
   if (!o.linuxcnc_kins_path.empty() && (method->kins_file == nullptr || !o.store)) {
     return usage_error("--linuxcnc-kins goes with rigidity or spindle, and --store (the kinematics take the stored "

@@ -3,6 +3,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <initializer_list>
 
 #include "cradle_kinematics.hpp"
 #include "trueaxis/core/rigidity_codec.hpp"
@@ -19,6 +20,9 @@ std::uint8_t g_file[trueaxis::core::kRigidityTableMaxBytes + trueaxis::macros::k
 
 static_assert(trueaxis::core::kSpindleModelBytes <= trueaxis::core::kRigidityTableMaxBytes,
               "the spindle model's file fits the buffer sized for the rigidity table's");
+
+// The machine's linear unit in mm (trueaxis_kins_set_linear_units).
+double g_mm_per_unit = 1.0;
 
 }  // namespace
 
@@ -77,28 +81,60 @@ extern "C" size_t trueaxis_kins_poses(void) { return g_kins.poses(); }
 extern "C" double trueaxis_kins_a_min_deg(void) { return g_kins.a_min_deg(); }
 extern "C" double trueaxis_kins_a_max_deg(void) { return g_kins.a_max_deg(); }
 
-extern "C" int trueaxis_kins_to_joints(int type, const double world_mm[3], double a_deg, double c_deg, double tool_mm,
-                                       int tip, double phi_deg, double joint_mm[3]) {
+extern "C" int trueaxis_kins_set_linear_units(const char* units, const char** why) {
+  // The names LinuxCNC's [TRAJ] LINEAR_UNITS takes.
+  for (const char* mm : {"mm", "metric"}) {
+    if (std::strcmp(units, mm) == 0) {
+      g_mm_per_unit = 1.0;
+      return 0;
+    }
+  }
+  for (const char* inch : {"inch", "in", "imperial"}) {
+    if (std::strcmp(units, inch) == 0) {
+      g_mm_per_unit = 25.4;
+      return 0;
+    }
+  }
+  *why = "linear_units takes what [TRAJ] LINEAR_UNITS does: mm (metric) or inch (in, imperial)";
+  return -1;
+}
+
+extern "C" int trueaxis_kins_to_joints(int type, const double world[3], double a_deg, double c_deg, double tool,
+                                       int tip, double phi_deg, double joint[3]) {
+  const double k = g_mm_per_unit;
+  if (type != 1 && tip == 0) {  // the identity: the world as LinuxCNC has it, bit for bit in any unit
+    if (!Vec3(world[0], world[1], world[2]).allFinite()) return -1;
+    for (int i = 0; i < 3; ++i) joint[i] = world[i];
+    return 0;
+  }
   Vec3 j;
-  if (!g_kins.to_joints(type == 1, Vec3(world_mm[0], world_mm[1], world_mm[2]), a_deg, c_deg, tool_mm, tip != 0,
-                        phi_deg, j)) {
+  if (!g_kins.to_joints(type == 1, k * Vec3(world[0], world[1], world[2]), a_deg, c_deg, k * tool,
+                        tip != 0, phi_deg, j)) {
     return -1;
   }
-  joint_mm[0] = j.x();
-  joint_mm[1] = j.y();
-  joint_mm[2] = j.z();
+  j /= k;
+  joint[0] = j.x();
+  joint[1] = j.y();
+  joint[2] = j.z();
   return 0;
 }
 
-extern "C" int trueaxis_kins_to_world(int type, const double joint_mm[3], double a_deg, double c_deg, double tool_mm,
-                                      int tip, double phi_deg, double world_mm[3]) {
+extern "C" int trueaxis_kins_to_world(int type, const double joint[3], double a_deg, double c_deg, double tool,
+                                      int tip, double phi_deg, double world[3]) {
+  const double k = g_mm_per_unit;
+  if (type != 1 && tip == 0) {
+    if (!Vec3(joint[0], joint[1], joint[2]).allFinite()) return -1;
+    for (int i = 0; i < 3; ++i) world[i] = joint[i];
+    return 0;
+  }
   Vec3 w;
-  if (!g_kins.to_world(type == 1, Vec3(joint_mm[0], joint_mm[1], joint_mm[2]), a_deg, c_deg, tool_mm, tip != 0,
-                       phi_deg, w)) {
+  if (!g_kins.to_world(type == 1, k * Vec3(joint[0], joint[1], joint[2]), a_deg, c_deg, k * tool,
+                       tip != 0, phi_deg, w)) {
     return -1;
   }
-  world_mm[0] = w.x();
-  world_mm[1] = w.y();
-  world_mm[2] = w.z();
+  w /= k;
+  world[0] = w.x();
+  world[1] = w.y();
+  world[2] = w.z();
   return 0;
 }

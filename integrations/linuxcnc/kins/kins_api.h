@@ -34,18 +34,27 @@ int trueaxis_kins_spindle_loaded(void);
    9843's answer); 0, or -1 without a model or for an input 9843 refuses. */
 int trueaxis_kins_tip_error(double phi_deg, double tool_mm, double error_mm[3]);
 
+/* The machine's linear units ([TRAJ] LINEAR_UNITS, the module's
+   `linear_units` parameter): "mm" or "metric" (the start), "inch", "in"
+   or "imperial"; the tables are in
+   mm, so on an inch machine the world, the joints and the tool offset are
+   converted (25.4 mm an inch) on the way in and out. 0, or -1 with *why for
+   anything else (the units stay as they were). */
+int trueaxis_kins_set_linear_units(const char* units, const char** why);
+
 /* LinuxCNC's kinematics, whole (cradle_kinematics.hpp conventions 1-6):
    world (table) coordinates to the joints' X, Y, Z at commanded A, C and
-   back, `type` 0 the identity or 1 the cradle; tool_mm the active tool
-   offset (motion.tooloffset.z: the tip is tool_mm below the gauge line, along
-   the machine's -Z); when `tip` is not 0, the tool tip's error at phi_deg and
-   tool_mm taken off the joints (added back going forward). 0 on success, -1
-   for a non-finite input, a tip asked for without a spindle model, or a
-   tool offset the model refuses (the output untouched). */
-int trueaxis_kins_to_joints(int type, const double world_mm[3], double a_deg, double c_deg, double tool_mm, int tip,
-                            double phi_deg, double joint_mm[3]);
-int trueaxis_kins_to_world(int type, const double joint_mm[3], double a_deg, double c_deg, double tool_mm, int tip,
-                           double phi_deg, double world_mm[3]);
+   back, in the machine's linear units; `type` 0 the identity or 1 the
+   cradle; `tool` the active tool offset (motion.tooloffset.z: the tip that
+   far below the gauge line, along the machine's -Z); when `tip` is not 0,
+   the tool tip's error at phi_deg and that length taken off the joints
+   (added back going forward). 0 on success, -1 for a non-finite input, a
+   tip asked for without a spindle model, or a tool offset the model refuses
+   (the output untouched). */
+int trueaxis_kins_to_joints(int type, const double world[3], double a_deg, double c_deg, double tool, int tip,
+                            double phi_deg, double joint[3]);
+int trueaxis_kins_to_world(int type, const double joint[3], double a_deg, double c_deg, double tool, int tip,
+                           double phi_deg, double world[3]);
 
 #ifdef __cplusplus
 }

@@ -24,6 +24,9 @@
    model refuses (below 0), is a kinematics error, not an uncorrected move.
    The pins act at once: change them only while the machine stands still (an
    oriented spindle does; a tool offset changes with a tool change).
+   On an inch machine give linear_units=inch: the tables are in mm, and the
+   world, the joints and the tool offset are converted; without it an inch
+   machine's offsets would be read as mm.
    Switchable (motion.switchkins-type): 0 identity (machine coordinates, for
    probing programs; the start), 1 the cradle's table coordinates. */
 #include "kins_api.h"
@@ -42,6 +45,8 @@ static char* table = 0;
 RTAPI_MP_STRING(table, "the M3 table file (trueaxis-calibrate rigidity --store --linuxcnc-kins); absent: the ideal cradle");
 static char* spindle = 0;
 RTAPI_MP_STRING(spindle, "the M4 model file (trueaxis-calibrate spindle --store --linuxcnc-kins); absent: no tip correction");
+static char* linear_units = 0;
+RTAPI_MP_STRING(linear_units, "mm (absent) or inch, as [TRAJ] LINEAR_UNITS: the tables are in mm");
 
 static int comp_id = -1;
 static int kins_type = 0; /* switchkins type: 0 identity, 1 the cradle */
@@ -62,6 +67,14 @@ static double tool_offset(void) { return tip != 0 ? *tip->tool_offset_mm : 0.0; 
 int rtapi_app_main(void) {
   comp_id = hal_init("trueaxis_kins");
   if (comp_id < 0) return comp_id;
+  if (linear_units != 0 && linear_units[0] != '\0') {
+    const char* why = "";
+    if (trueaxis_kins_set_linear_units(linear_units, &why) != 0) {
+      rtapi_print_msg(RTAPI_MSG_ERR, "trueaxis_kins: linear_units=%s: %s\n", linear_units, why);
+      hal_exit(comp_id);
+      return -EINVAL;
+    }
+  }
   if (table != 0 && table[0] != '\0') {
     const char* why = "";
     if (trueaxis_kins_load(table, &why) != 0) {

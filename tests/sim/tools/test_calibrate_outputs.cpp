@@ -81,12 +81,20 @@ TEST_CASE("calibrate: an output that cannot be written is named with its cause b
            nothing},
       {{"--json", json, "--report", "/sys/report"},
        "/sys/report: the report cannot be made there ('/sys' is read-only: no permission to write in it)" + nothing},
-      {{"--json", json, "--linuxcnc-comp", w.file("no/a.comp")},
+      {{"--json", json, "--store", "--linuxcnc-comp", w.file("no/a.comp")},
        w.file("no/a.comp") + ": cannot be written (no such directory '" + w.file("no") + "')" + nothing},
       {{"--json", json, "--store", "--linuxcnc-kins", a_file + "/table.kins"},
        a_file + "/table.kins: cannot be written ('" + a_file + "' is a file, where a folder is wanted)" + nothing},
-      {{"--json", json, "--linuxcnc-comp", json},
+      {{"--json", json, "--store", "--linuxcnc-comp", json},
        "--json and --linuxcnc-comp name the same file '" + json + "' (trueaxis-calibrate --help)\n"},
+      // A compensation file of a table not stored, or beside the kinematics' table: A corrected by
+      // what the controller does not hold, or twice.
+      {{"--json", json, "--linuxcnc-comp", w.file("a.comp")},
+       "--linuxcnc-comp goes with --store: the joint's compensation is the stored table's A positioning error, "
+       "not a table the controller does not hold (trueaxis-calibrate --help)\n"},
+      {{"--json", json, "--store", "--linuxcnc-comp", w.file("a.comp"), "--linuxcnc-kins", w.file("m3.table")},
+       "--linuxcnc-comp and --linuxcnc-kins both correct the A positioning error (the kinematics' table holds it): "
+       "together they correct it twice; give one (trueaxis-calibrate --help)\n"},
   };
   const double done_before = sim.get(v::kDoneCount);
   const double log_before = sim.get(v::kLogNewest);
@@ -106,7 +114,7 @@ TEST_CASE("calibrate: an output that cannot be written is named with its cause b
   }
   // The same with every output writable: the work is done.
   const Run good = calibrate(sim.port(), w, {"--in", samples, "--json", json, "--report", w.file("report"),
-                                             "--linuxcnc-comp", w.file("a.comp")});
+                                             "--store", "--linuxcnc-comp", w.file("a.comp")});
   INFO(good.err);
   CHECK(good.exit_code == 0);
   CHECK(exists(json));
