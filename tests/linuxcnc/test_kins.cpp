@@ -501,3 +501,84 @@ TEST_CASE("kins: an inch machine (linear_units=inch): world, joints and tool off
   for (int k = 0; k < 3; ++k) CHECK(std::abs(25.4 * joint_in[k] - joint_mm[k]) < 1e-9);
   REQUIRE(trueaxis_kins_set_linear_units("mm", &why) == 0);
 }
+
+TEST_CASE("kins: the servo thread's tip correction: a ramp of at most tip-ramp a period, by length, arriving "
+          "exactly; the mean over a revolution 9844's bit for bit; the kinematics with the error given as with the "
+          "pins",
+          "[kins]") {
+  // The ramp (cradle_kinematics.hpp convention 7), at its exact boundaries.
+  {
+    const Vec3 target(0.00285, -0.0038, 0.0);  // 4.75 um
+    Vec3 applied = Vec3::Zero();
+    int periods = 0;
+    while (!trueaxis::linuxcnc::tip_ramp_step(target, 0.0005, applied)) {
+      ++periods;
+      REQUIRE(periods < 100);
+      CHECK(std::abs(applied.norm() - 0.0005 * periods) < 1e-15);  // 0.5 um a period, along the way to the target
+      CHECK(applied.cross(target).norm() < 1e-18);
+    }
+    CHECK(periods == 9);  // 4.5 um after 9 periods; the 10th arrives (0.25 um left)
+    CHECK(applied == target);
+    // A step exactly the ramp arrives; one a hair longer does not.
+    Vec3 at = Vec3::Zero();
+    CHECK(trueaxis::linuxcnc::tip_ramp_step(Vec3(0.0005, 0.0, 0.0), 0.0005, at));
+    at = Vec3::Zero();
+    CHECK_FALSE(trueaxis::linuxcnc::tip_ramp_step(Vec3(std::nextafter(0.0005, 1.0), 0.0, 0.0), 0.0005, at));
+    // No ramp (0, negative, NaN): at once, as the pins were read before the ramp.
+    for (const double ramp : {0.0, -1.0, static_cast<double>(NAN), static_cast<double>(INFINITY)}) {
+      Vec3 a = Vec3::Zero();
+      CHECK(trueaxis::linuxcnc::tip_ramp_step(target, ramp, a));
+      CHECK(a == target);
+    }
+  }
+
+  // The mean over a revolution: 9844's (#110..#112) bit for bit, through the C interface.
+  t::InProcessSim sim;
+  t::Workspace w("trueaxis-kins-mean");
+  const t::SpindleFiles f = t::measure_spindle(w, "s", 3, 3);
+  const t::Run r = t::run({TRUEAXIS_CALIBRATE_BINARY, "spindle", "--in", f.samples, "--machine", f.machine, "--json",
+                           w.file("s.json"), "--store", "--linuxcnc-kins", w.file("m4.model"), "--port",
+                           std::to_string(sim.port())},
+                          w.file("stderr"));
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const char* why = "";
+  REQUIRE(trueaxis_kins_load_spindle(w.file("m4.model").c_str(), &why) == 0);
+  REQUIRE(trueaxis_kins_set_linear_units("mm", &why) == 0);
+  for (const double tool : {0.0, 100.0, 250.0}) {
+    double mean[3];
+    REQUIRE(trueaxis_kins_tip_target(2, 0.0, tool, mean) == 0);
+    const double rs[2] = {1.0, 0.0};  // R = 1: the stored model, S = 0
+    REQUIRE(sim.client().write(v::kArgR, 2, rs));
+    REQUIRE(sim.client().write_one(v::kArgZ, tool));
+    REQUIRE(sim.client().run_macro(9844).status == 2);
+    double out[3];
+    REQUIRE(sim.client().read(v::kSpindleMeanTipX, 3, out));
+    CHECK(same_bits(Vec3(mean[0], mean[1], mean[2]), Vec3(out[0], out[1], out[2])));
+    // At an angle: 9843's, as tip_error; off: zero.
+    double at[3], e[3], none[3] = {9.0, 9.0, 9.0};
+    REQUIRE(trueaxis_kins_tip_target(1, 37.5, tool, at) == 0);
+    REQUIRE(trueaxis_kins_tip_error(37.5, tool, e) == 0);
+    CHECK(same_bits(Vec3(at[0], at[1], at[2]), Vec3(e[0], e[1], e[2])));
+    REQUIRE(trueaxis_kins_tip_target(0, 37.5, tool, none) == 0);
+    CHECK((none[0] == 0.0 && none[1] == 0.0 && none[2] == 0.0));
+    // The kinematics with that error given are the kinematics with the pins, bit for bit.
+    const double world[3] = {12.0, -34.0, 56.0};
+    double by_pins[3], given[3], back[3];
+    for (const int type : {0, 1}) {
+      REQUIRE(trueaxis_kins_to_joints(type, world, 30.0, 75.0, tool, 1, 37.5, by_pins) == 0);
+      REQUIRE(trueaxis_kins_to_joints_with(type, world, 30.0, 75.0, tool, at, given) == 0);
+      CHECK(same_bits(Vec3(by_pins[0], by_pins[1], by_pins[2]), Vec3(given[0], given[1], given[2])));
+      REQUIRE(trueaxis_kins_to_world_with(type, given, 30.0, 75.0, tool, at, back) == 0);
+      CHECK(std::hypot(std::hypot(back[0] - world[0], back[1] - world[1]), back[2] - world[2]) < 1e-9);
+    }
+  }
+  double kept[3] = {7.0, 7.0, 7.0};
+  CHECK(trueaxis_kins_tip_target(2, 0.0, -1.0, kept) == -1);  // a length the model refuses
+  CHECK(trueaxis_kins_tip_target(3, 0.0, 10.0, kept) == -1);  // no such mode
+  CHECK(kept[0] == 7.0);
+  const double bad[3] = {NAN, 0.0, 0.0};
+  const double world[3] = {1.0, 2.0, 3.0};
+  double joint[3];
+  CHECK(trueaxis_kins_to_joints_with(1, world, 0.0, 0.0, 0.0, bad, joint) == -1);  // a non-finite error
+}

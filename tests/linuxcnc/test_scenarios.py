@@ -491,7 +491,8 @@ def scenario_tip(checks, machine):
         return
     use_kinematics(machine, f"trueaxis_kins spindle={model}")
     machine.add_ini_lines("HAL", ["HALCMD = net spindle-angle => trueaxis_kins.spindle-angle",
-                                  "HALCMD = net tip-enable motion.digital-out-02 => trueaxis_kins.tip-enable"])
+                                  "HALCMD = net tip-enable motion.digital-out-02 => trueaxis_kins.tip-enable",
+                                  "HALCMD = addf trueaxis_kins.update servo-thread"])
     angles = (0.0, 90.0, 200.0, 315.0)
     lines = ["o<trueaxis_tip_probe> sub", "  (LOGOPEN,trueaxis_tip.log)", "  G21 G90", "  G53 G0 Z[250 + #5403]", "  M65 P0",
              "  M64 P1"]

@@ -111,16 +111,34 @@ bool CradleKinematics::forward(const core::Vec3& joint_mm, double a_deg, double 
   return true;
 }
 
+bool CradleKinematics::mean_tip_error(double tool_mm, core::Vec3& error_mm) const {
+  if (!spindle_loaded_ || !(tool_mm >= 0.0 && tool_mm <= macros::rows::kBig)) return false;
+  error_mm = core::spindle_mean_tip_error_mm(spindle_.axes, spindle_.geometry.gauge_mm, tool_mm);
+  return error_mm.allFinite();
+}
+
 bool CradleKinematics::to_joints(bool cradle, const core::Vec3& world_mm, double a_deg, double c_deg, double tool_mm,
                                  bool tip, double phi_deg, core::Vec3& joint_mm) const {
-  if (!finite(world_mm, a_deg, c_deg) || !std::isfinite(tool_mm)) return false;
-  const core::Vec3 along = tool_mm * core::Vec3::UnitZ();  // the gauge line above the tip
   core::Vec3 e = core::Vec3::Zero();
   if (tip && !tip_error(phi_deg, tool_mm, e)) return false;  // never an uncorrected move
+  return to_joints(cradle, world_mm, a_deg, c_deg, tool_mm, e, joint_mm);
+}
+
+bool CradleKinematics::to_world(bool cradle, const core::Vec3& joint_mm, double a_deg, double c_deg, double tool_mm,
+                                bool tip, double phi_deg, core::Vec3& world_mm) const {
+  core::Vec3 e = core::Vec3::Zero();
+  if (tip && !tip_error(phi_deg, tool_mm, e)) return false;
+  return to_world(cradle, joint_mm, a_deg, c_deg, tool_mm, e, world_mm);
+}
+
+bool CradleKinematics::to_joints(bool cradle, const core::Vec3& world_mm, double a_deg, double c_deg, double tool_mm,
+                                 const core::Vec3& e, core::Vec3& joint_mm) const {
+  if (!finite(world_mm, a_deg, c_deg) || !std::isfinite(tool_mm) || !e.allFinite()) return false;
   if (!cradle) {  // the identity: the tool offset is LinuxCNC's own, in the world's Z already
     joint_mm = world_mm - e;
     return true;
   }
+  const core::Vec3 along = tool_mm * core::Vec3::UnitZ();  // the gauge line above the tip
   core::Vec3 tip_at;
   if (!inverse(world_mm - along, a_deg, c_deg, tip_at)) return false;
   joint_mm = tip_at + along - e;
@@ -128,19 +146,28 @@ bool CradleKinematics::to_joints(bool cradle, const core::Vec3& world_mm, double
 }
 
 bool CradleKinematics::to_world(bool cradle, const core::Vec3& joint_mm, double a_deg, double c_deg, double tool_mm,
-                                bool tip, double phi_deg, core::Vec3& world_mm) const {
-  if (!finite(joint_mm, a_deg, c_deg) || !std::isfinite(tool_mm)) return false;
-  const core::Vec3 along = tool_mm * core::Vec3::UnitZ();
-  core::Vec3 e = core::Vec3::Zero();
-  if (tip && !tip_error(phi_deg, tool_mm, e)) return false;
+                                const core::Vec3& e, core::Vec3& world_mm) const {
+  if (!finite(joint_mm, a_deg, c_deg) || !std::isfinite(tool_mm) || !e.allFinite()) return false;
   if (!cradle) {
     world_mm = joint_mm + e;
     return true;
   }
+  const core::Vec3 along = tool_mm * core::Vec3::UnitZ();
   core::Vec3 w;
   if (!forward(joint_mm + e - along, a_deg, c_deg, w)) return false;  // the real tip, machine frame
   world_mm = w + along;
   return true;
+}
+
+bool tip_ramp_step(const core::Vec3& target, double ramp_mm, core::Vec3& applied) {
+  const core::Vec3 step = target - applied;
+  const double length = step.norm();
+  if (!(ramp_mm > 0.0) || !std::isfinite(ramp_mm) || length <= ramp_mm) {
+    applied = target;
+    return true;
+  }
+  applied += (ramp_mm / length) * step;
+  return false;
 }
 
 }  // namespace trueaxis::linuxcnc

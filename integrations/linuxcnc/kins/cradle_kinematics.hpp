@@ -44,6 +44,13 @@
 //     off), and forward the same backwards. With G43 the controlled point is
 //     the tool's tip, with G49 (t = 0) the gauge line; type 0 leaves W as it
 //     is but for M4's tip error, as LinuxCNC does with its own offset.
+//  7. In the servo thread (trueaxis_kins.c): the correction the kinematics
+//     apply is not the pins' at once but a ramp towards it, at most `ramp`
+//     mm a servo period (by length; tip_ramp_step), so that switching it on,
+//     turning the oriented spindle or changing the tool moves the joints
+//     smoothly. Its target is the tip error at the spindle's angle, or, for a
+//     rotating tool, its mean over a revolution (the error a tool that cuts
+//     all round leaves on the part), or 0 with the correction off.
 #pragma once
 
 #include <cstddef>
@@ -93,6 +100,10 @@ class CradleKinematics {
   // beyond 1e5 mm).
   bool tip_error(double phi_deg, double tool_mm, core::Vec3& error_mm) const;
 
+  // Convention 7: the tip error averaged over a revolution at tool_mm (9844's
+  // mean), for a rotating tool; false as tip_error.
+  bool mean_tip_error(double tool_mm, core::Vec3& error_mm) const;
+
   // The whole of LinuxCNC's inverse and forward (conventions 4-6): `cradle`
   // false the identity, true the cradle; tool_mm the tool offset t; with
   // `tip` the M4 tip error at phi_deg and t taken off the joints (added back
@@ -103,6 +114,12 @@ class CradleKinematics {
                  double phi_deg, core::Vec3& joint_mm) const;
   bool to_world(bool cradle, const core::Vec3& joint_mm, double a_deg, double c_deg, double tool_mm, bool tip,
                 double phi_deg, core::Vec3& world_mm) const;
+  // The same with the tip's error given (convention 7: the one the servo
+  // thread has ramped to); false only for a non-finite input.
+  bool to_joints(bool cradle, const core::Vec3& world_mm, double a_deg, double c_deg, double tool_mm,
+                 const core::Vec3& tip_error_mm, core::Vec3& joint_mm) const;
+  bool to_world(bool cradle, const core::Vec3& joint_mm, double a_deg, double c_deg, double tool_mm,
+                const core::Vec3& tip_error_mm, core::Vec3& world_mm) const;
 
   // Convention 3's theory point p of a world point (the ideal machine's where
   // no table is loaded): the point 9835 converts into the joints.
@@ -116,5 +133,10 @@ class CradleKinematics {
   core::RigidTransform world_T_table_;  // T0
   bool calibrated_ = false;
 };
+
+// Convention 7: one servo period's step of `applied` towards `target`, at most
+// ramp_mm long (a ramp not above 0, or not finite, steps at once); true when
+// it has arrived.
+bool tip_ramp_step(const core::Vec3& target, double ramp_mm, core::Vec3& applied);
 
 }  // namespace trueaxis::linuxcnc

@@ -138,3 +138,54 @@ extern "C" int trueaxis_kins_to_world(int type, const double joint[3], double a_
   world[2] = w.z();
   return 0;
 }
+
+extern "C" int trueaxis_kins_tip_target(int mode, double phi_deg, double tool, double target_mm[3]) {
+  Vec3 e = Vec3::Zero();
+  const double tool_mm = g_mm_per_unit * tool;
+  if ((mode == 1 && !g_kins.tip_error(phi_deg, tool_mm, e)) || (mode == 2 && !g_kins.mean_tip_error(tool_mm, e)) ||
+      mode < 0 || mode > 2) {
+    return -1;
+  }
+  for (int i = 0; i < 3; ++i) target_mm[i] = e[i];
+  return 0;
+}
+
+extern "C" int trueaxis_kins_tip_ramp(const double target_mm[3], double ramp_mm, double applied_mm[3]) {
+  Vec3 applied(applied_mm[0], applied_mm[1], applied_mm[2]);
+  const bool arrived =
+      trueaxis::linuxcnc::tip_ramp_step(Vec3(target_mm[0], target_mm[1], target_mm[2]), ramp_mm, applied);
+  for (int i = 0; i < 3; ++i) applied_mm[i] = applied[i];
+  return arrived ? 1 : 0;
+}
+
+extern "C" int trueaxis_kins_to_joints_with(int type, const double world[3], double a_deg, double c_deg, double tool,
+                                            const double tip_error_mm[3], double joint[3]) {
+  const double k = g_mm_per_unit;
+  const Vec3 e(tip_error_mm[0], tip_error_mm[1], tip_error_mm[2]);
+  if (type != 1 && e == Vec3::Zero()) {  // the identity: the world as LinuxCNC has it, bit for bit in any unit
+    if (!Vec3(world[0], world[1], world[2]).allFinite()) return -1;
+    for (int i = 0; i < 3; ++i) joint[i] = world[i];
+    return 0;
+  }
+  Vec3 j;
+  if (!g_kins.to_joints(type == 1, k * Vec3(world[0], world[1], world[2]), a_deg, c_deg, k * tool, e, j)) return -1;
+  j /= k;
+  for (int i = 0; i < 3; ++i) joint[i] = j[i];
+  return 0;
+}
+
+extern "C" int trueaxis_kins_to_world_with(int type, const double joint[3], double a_deg, double c_deg, double tool,
+                                           const double tip_error_mm[3], double world[3]) {
+  const double k = g_mm_per_unit;
+  const Vec3 e(tip_error_mm[0], tip_error_mm[1], tip_error_mm[2]);
+  if (type != 1 && e == Vec3::Zero()) {
+    if (!Vec3(joint[0], joint[1], joint[2]).allFinite()) return -1;
+    for (int i = 0; i < 3; ++i) world[i] = joint[i];
+    return 0;
+  }
+  Vec3 w;
+  if (!g_kins.to_world(type == 1, k * Vec3(joint[0], joint[1], joint[2]), a_deg, c_deg, k * tool, e, w)) return -1;
+  w /= k;
+  for (int i = 0; i < 3; ++i) world[i] = w[i];
+  return 0;
+}

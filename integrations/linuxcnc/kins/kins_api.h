@@ -56,6 +56,22 @@ int trueaxis_kins_to_joints(int type, const double world[3], double a_deg, doubl
 int trueaxis_kins_to_world(int type, const double joint[3], double a_deg, double c_deg, double tool, int tip,
                            double phi_deg, double world[3]);
 
+/* The servo thread's tip correction (cradle_kinematics.hpp convention 7):
+   its target, mode 0 none (zero), 1 at phi_deg, 2 the mean over a
+   revolution (a rotating tool), at the tool offset `tool` (machine units),
+   in mm; 0, or -1 without a model or at a length it refuses (target
+   untouched). Then one period's step of `applied` (mm) towards it, at most
+   ramp_mm long: 1 when it has arrived, 0 while it ramps. */
+int trueaxis_kins_tip_target(int mode, double phi_deg, double tool, double target_mm[3]);
+int trueaxis_kins_tip_ramp(const double target_mm[3], double ramp_mm, double applied_mm[3]);
+
+/* The kinematics with the tip's error given (mm: the ramped one), in place of
+   `tip` and phi_deg: -1 only for a non-finite input. */
+int trueaxis_kins_to_joints_with(int type, const double world[3], double a_deg, double c_deg, double tool,
+                                 const double tip_error_mm[3], double joint[3]);
+int trueaxis_kins_to_world_with(int type, const double joint[3], double a_deg, double c_deg, double tool,
+                                const double tip_error_mm[3], double world[3]);
+
 #ifdef __cplusplus
 }
 #endif

@@ -19,11 +19,15 @@
    tip is the controlled point, with G49 the gauge line. While the pin
    trueaxis_kins.tip-enable is true, the tool tip's error at
    trueaxis_kins.spindle-angle (deg, the oriented spindle's, M19) and that
-   tool length is taken off the joints' X, Y, Z, so that the tip lands where
-   the program says; the correction on without a model, or a tool length the
-   model refuses (below 0), is a kinematics error, not an uncorrected move.
-   The pins act at once: change them only while the machine stands still (an
-   oriented spindle does; a tool offset changes with a tool change).
+   tool length (with trueaxis_kins.tip-mean, its mean over a revolution, for
+   a rotating tool) is taken off the joints' X, Y, Z, so that the tip lands
+   where the program says. The function trueaxis_kins.update (addf it to the
+   servo thread) ramps the correction applied towards that, at most
+   trueaxis_kins.tip-ramp um a servo period (0.5 at the start), and shows
+   it: tip-x, tip-y, tip-z (mm), tip-settled (the pins' correction reached;
+   a program waits on it with M66 before a touch). The correction on without
+   a model, at a tool length the model refuses (below 0), or with update in
+   no thread, is a kinematics error (tip-fault), not an uncorrected move.
    On an inch machine give linear_units=inch: the tables are in mm, and the
    world, the joints and the tool offset are converted; without it an inch
    machine's offsets would be read as mm.
@@ -51,18 +55,44 @@ RTAPI_MP_STRING(linear_units, "mm (absent) or inch, as [TRAJ] LINEAR_UNITS: the 
 static int comp_id = -1;
 static int kins_type = 0; /* switchkins type: 0 identity, 1 the cradle */
 
-/* The tool's pins (conventions 5, 6 of cradle_kinematics.hpp). */
+/* The tool's pins (conventions 5-7 of cradle_kinematics.hpp). */
 struct tip_pins {
   hal_bit_t* enable;
+  hal_bit_t* mean;          /* the mean over a revolution, for a rotating tool */
   hal_float_t* angle_deg;
-  hal_float_t* tool_offset_mm;
+  hal_float_t* tool_offset;
+  hal_float_t* ramp_um;     /* at most this far a servo period */
+  hal_bit_t* settled;       /* out: the correction applied is the pins' */
+  hal_bit_t* fault;         /* out: the pins ask for a correction the model refuses: the kinematics stop motion */
+  hal_float_t* applied[3];  /* out: the correction applied, mm */
 };
 static struct tip_pins* tip = 0;
+static double applied_mm[3] = {0.0, 0.0, 0.0};
+static int updates = 0; /* trueaxis_kins.update's runs (capped): 0, the function is in no thread */
 
-/* The pins' values: the tip correction on, its angle, the tool offset (0, 0, 0 before the pins exist). */
-static int tip_on(void) { return tip != 0 && *tip->enable; }
-static double tip_angle(void) { return tip != 0 ? *tip->angle_deg : 0.0; }
-static double tool_offset(void) { return tip != 0 ? *tip->tool_offset_mm : 0.0; }
+static double tool_offset(void) { return tip != 0 ? *tip->tool_offset : 0.0; }
+
+/* A servo period: the correction ramped towards the pins' (convention 7). */
+static void update(void* arg, long period) {
+  double target[3] = {0.0, 0.0, 0.0};
+  int i;
+  (void)arg;
+  (void)period;
+  if (tip == 0) return;
+  if (*tip->enable) {
+    if (trueaxis_kins_tip_target(*tip->mean ? 2 : 1, *tip->angle_deg, *tip->tool_offset, target) != 0) {
+      *tip->fault = 1; /* no move on a correction it cannot give: the kinematics fail */
+      return;
+    }
+  }
+  *tip->fault = 0;
+  *tip->settled = trueaxis_kins_tip_ramp(target, 0.001 * *tip->ramp_um, applied_mm) == 1;
+  for (i = 0; i < 3; ++i) *tip->applied[i] = applied_mm[i];
+  if (updates < 2) ++updates;
+}
+
+/* The kinematics' refusal: a fault, or the correction on while update runs in no thread. */
+static int tip_refused(void) { return tip != 0 && (*tip->fault || (*tip->enable && updates == 0)); }
 
 int rtapi_app_main(void) {
   comp_id = hal_init("trueaxis_kins");
@@ -105,12 +135,22 @@ int rtapi_app_main(void) {
     /* The pins are published to the kinematics only once they all exist. */
     struct tip_pins* pins = hal_malloc(sizeof *pins);
     if (pins == 0 || hal_pin_bit_new("trueaxis_kins.tip-enable", HAL_IN, &pins->enable, comp_id) != 0 ||
+        hal_pin_bit_new("trueaxis_kins.tip-mean", HAL_IN, &pins->mean, comp_id) != 0 ||
         hal_pin_float_new("trueaxis_kins.spindle-angle", HAL_IN, &pins->angle_deg, comp_id) != 0 ||
-        hal_pin_float_new("trueaxis_kins.tool-offset", HAL_IN, &pins->tool_offset_mm, comp_id) != 0) {
-      rtapi_print_msg(RTAPI_MSG_ERR, "trueaxis_kins: its pins could not be made\n");
+        hal_pin_float_new("trueaxis_kins.tool-offset", HAL_IN, &pins->tool_offset, comp_id) != 0 ||
+        hal_pin_float_new("trueaxis_kins.tip-ramp", HAL_IN, &pins->ramp_um, comp_id) != 0 ||
+        hal_pin_bit_new("trueaxis_kins.tip-settled", HAL_OUT, &pins->settled, comp_id) != 0 ||
+        hal_pin_bit_new("trueaxis_kins.tip-fault", HAL_OUT, &pins->fault, comp_id) != 0 ||
+        hal_pin_float_new("trueaxis_kins.tip-x", HAL_OUT, &pins->applied[0], comp_id) != 0 ||
+        hal_pin_float_new("trueaxis_kins.tip-y", HAL_OUT, &pins->applied[1], comp_id) != 0 ||
+        hal_pin_float_new("trueaxis_kins.tip-z", HAL_OUT, &pins->applied[2], comp_id) != 0 ||
+        hal_export_funct("trueaxis_kins.update", update, 0, 1, 0, comp_id) != 0) {
+      rtapi_print_msg(RTAPI_MSG_ERR, "trueaxis_kins: its pins and function could not be made\n");
       hal_exit(comp_id);
       return -ENOMEM;
     }
+    *pins->ramp_um = 0.5; /* 0.5 um a period: 0.5 mm/s at 1 kHz */
+    *pins->settled = 1;
     hal_ready(comp_id);
     tip = pins;
   }
@@ -134,7 +174,7 @@ int kinematicsForward(const double* joint, EmcPose* world, const KINEMATICS_FORW
   double w[3];
   (void)fflags;
   (void)iflags;
-  if (trueaxis_kins_to_world(kins_type, joint, joint[3], joint[4], tool_offset(), tip_on(), tip_angle(), w) != 0) {
+  if (tip_refused() || trueaxis_kins_to_world_with(kins_type, joint, joint[3], joint[4], tool_offset(), applied_mm, w) != 0) {
     return -1;
   }
   world->tran.x = w[0];
@@ -155,7 +195,7 @@ int kinematicsInverse(const EmcPose* world, double* joint, const KINEMATICS_INVE
   double j[3];
   (void)iflags;
   (void)fflags;
-  if (trueaxis_kins_to_joints(kins_type, w, world->a, world->c, tool_offset(), tip_on(), tip_angle(), j) != 0) {
+  if (tip_refused() || trueaxis_kins_to_joints_with(kins_type, w, world->a, world->c, tool_offset(), applied_mm, j) != 0) {
     return -1;
   }
   joint[0] = j[0];
