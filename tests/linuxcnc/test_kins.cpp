@@ -89,6 +89,18 @@ Vec3 convert(sim::VariableClient& client, double a, double c, const Vec3& p) {
 
 bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), sizeof(double) * 3) == 0; }
 
+// The spindle measured, calibrated and stored through the user's command, its
+// model written as the kinematics' file w/m4.model.
+void store_spindle_model(t::InProcessSim& sim, const t::Workspace& w) {
+  const t::SpindleFiles f = t::measure_spindle(w, "s", 3, 3);
+  const t::Run r = t::run({TRUEAXIS_CALIBRATE_BINARY, "spindle", "--in", f.samples, "--machine", f.machine, "--json",
+                           w.file("s.json"), "--store", "--linuxcnc-kins", w.file("m4.model"), "--port",
+                           std::to_string(sim.port())},
+                          w.file("stderr"));
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+}
+
 }  // namespace
 
 TEST_CASE("kins: the table file of the stored calibration; forward and inverse invert each other; 9835 bit for bit",
@@ -363,13 +375,7 @@ TEST_CASE("kins: the tool tip (M4): the stored model's file, its error 9843's bi
           "[kins]") {
   t::InProcessSim sim;
   t::Workspace w("trueaxis-kins");
-  const t::SpindleFiles f = t::measure_spindle(w, "s", 3, 3);
-  const t::Run r = t::run({TRUEAXIS_CALIBRATE_BINARY, "spindle", "--in", f.samples, "--machine", f.machine, "--json",
-                           w.file("s.json"), "--store", "--linuxcnc-kins", w.file("m4.model"), "--port",
-                           std::to_string(sim.port())},
-                          w.file("stderr"));
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
+  store_spindle_model(sim, w);
   const std::string bytes = t::slurp(w.file("m4.model"));
   const std::vector<std::uint8_t> file(bytes.begin(), bytes.end());
   const t::Run exported = t::run({TRUEAXIS_CALIBRATE_BINARY, "linuxcnc-kins", "spindle", "--out", w.file("x.model"),
@@ -535,13 +541,7 @@ TEST_CASE("kins: the servo thread's tip correction: a ramp of at most tip-ramp a
   // The mean over a revolution: 9844's (#110..#112) bit for bit, through the C interface.
   t::InProcessSim sim;
   t::Workspace w("trueaxis-kins-mean");
-  const t::SpindleFiles f = t::measure_spindle(w, "s", 3, 3);
-  const t::Run r = t::run({TRUEAXIS_CALIBRATE_BINARY, "spindle", "--in", f.samples, "--machine", f.machine, "--json",
-                           w.file("s.json"), "--store", "--linuxcnc-kins", w.file("m4.model"), "--port",
-                           std::to_string(sim.port())},
-                          w.file("stderr"));
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
+  store_spindle_model(sim, w);
   const char* why = "";
   REQUIRE(trueaxis_kins_load_spindle(w.file("m4.model").c_str(), &why) == 0);
   REQUIRE(trueaxis_kins_set_linear_units("mm", &why) == 0);

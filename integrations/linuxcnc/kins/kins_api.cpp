@@ -101,42 +101,16 @@ extern "C" int trueaxis_kins_set_linear_units(const char* units, const char** wh
 
 extern "C" int trueaxis_kins_to_joints(int type, const double world[3], double a_deg, double c_deg, double tool,
                                        int tip, double phi_deg, double joint[3]) {
-  const double k = g_mm_per_unit;
-  if (type != 1 && tip == 0) {  // the identity: the world as LinuxCNC has it, bit for bit in any unit
-    if (!Vec3(world[0], world[1], world[2]).allFinite()) return -1;
-    for (int i = 0; i < 3; ++i) joint[i] = world[i];
-    return 0;
-  }
-  Vec3 j;
-  if (!g_kins.to_joints(type == 1, k * Vec3(world[0], world[1], world[2]), a_deg, c_deg, k * tool,
-                        tip != 0, phi_deg, j)) {
-    return -1;
-  }
-  j /= k;
-  joint[0] = j.x();
-  joint[1] = j.y();
-  joint[2] = j.z();
-  return 0;
+  double e[3] = {0.0, 0.0, 0.0};  // on without a model, or with pins it refuses: an error, never an uncorrected move
+  if (trueaxis_kins_tip_target(tip != 0 ? 1 : 0, phi_deg, tool, e) != 0) return -1;
+  return trueaxis_kins_to_joints_with(type, world, a_deg, c_deg, tool, e, joint);
 }
 
 extern "C" int trueaxis_kins_to_world(int type, const double joint[3], double a_deg, double c_deg, double tool,
                                       int tip, double phi_deg, double world[3]) {
-  const double k = g_mm_per_unit;
-  if (type != 1 && tip == 0) {
-    if (!Vec3(joint[0], joint[1], joint[2]).allFinite()) return -1;
-    for (int i = 0; i < 3; ++i) world[i] = joint[i];
-    return 0;
-  }
-  Vec3 w;
-  if (!g_kins.to_world(type == 1, k * Vec3(joint[0], joint[1], joint[2]), a_deg, c_deg, k * tool,
-                       tip != 0, phi_deg, w)) {
-    return -1;
-  }
-  w /= k;
-  world[0] = w.x();
-  world[1] = w.y();
-  world[2] = w.z();
-  return 0;
+  double e[3] = {0.0, 0.0, 0.0};
+  if (trueaxis_kins_tip_target(tip != 0 ? 1 : 0, phi_deg, tool, e) != 0) return -1;
+  return trueaxis_kins_to_world_with(type, joint, a_deg, c_deg, tool, e, world);
 }
 
 extern "C" int trueaxis_kins_tip_target(int mode, double phi_deg, double tool, double target_mm[3]) {
