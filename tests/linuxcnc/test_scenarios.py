@@ -49,7 +49,7 @@ tip       (issue 21, item 2) M4's tool tip in trueaxis_kins: trueaxis-sim's
           realistic spindle on the probe's tip (sim_spindle = 1, the tool
           100 mm long); the spindle measured (trueaxis-measure-spindle),
           calibrated and stored with --linuxcnc-kins; the ball probed at A 0
-          at four spindle angles (M68 E2) with the correction off and on
+          at four spindle angles (M19 R before every touch) with the correction off and on
           (M64/M65 P2). Checks: with it the ball's centre within 3 sigma across
           the tool (the model's tip sigma from 9844 and the probe's 1 um);
           without it beyond 3 sigma. Along the tool the spindle's axial error
@@ -498,7 +498,9 @@ def scenario_tip(checks, machine):
              "  M64 P1"]
     for phi in angles:
         for on in (0, 1):
-            lines += [f"  M68 E2 Q{phi:g}", f"  M6{5 - on} P2", "  G4 P0.5",
+            # Every touch orients the spindle there first (trueaxis_touch, #<_trueaxis_orient>): the
+            # only M19 of the run; the correction ramps in while the probe approaches.
+            lines += [f"  #<_trueaxis_orient> = {phi:g}", f"  M6{5 - on} P2", "  G4 P0.5",
                       "  o<trueaxis_probe_ball> call [200] [0] [50] [12.5] [2] [1] [100]",
                       f"  (LOG,tip {on} {phi:g} #100 #101 #102)"]
     lines += ["  M65 P2", "  M65 P1", "  (LOGCLOSE)", "  G65 P0", "o<trueaxis_tip_probe> endsub", "M2"]
@@ -537,6 +539,11 @@ def scenario_tip(checks, machine):
                      f"{math.hypot(on[0], on[1]):.2f} um")
         checks.check(math.hypot(off[0], off[1]) > 3 * lateral_sigma,
                      f"tip: {phi:g} deg: without it the tip's lateral error shows", f"{math.hypot(off[0], off[1]):.2f} um")
+        # The ball shows the true tip error at this angle (the touches oriented the spindle there:
+        # the four angles' errors lie 20 um and more apart).
+        seen = math.hypot(off[0] + 1000.0 * true_tip[0], off[1] + 1000.0 * true_tip[1])
+        checks.check(seen <= 3 * lateral_sigma, f"tip: {phi:g} deg: without it the ball is off by the tip error at "
+                     f"{phi:g} deg, the spindle oriented there (M19 before each touch)", f"{seen:.2f} um")
 
 
 def main(argv):

@@ -21,7 +21,7 @@ Pins (component trueaxis-sim-bridge):
   (the gauge line): the face and the ball are given shifted up by it, where
   the joints meet them.
   spindle-angle (float in)         the spindle's angle (deg; the HAL file nets
-                                   it to M68 E2): the probe's tip is the joints'
+                                   it to spindle.0.orient-angle, M19): the probe's tip is the joints'
                                    X, Y, Z plus the spindle's tool tip error
                                    there (#12060..#12062, 0 unless the
                                    simulator's sim_spindle is 1), so the face
