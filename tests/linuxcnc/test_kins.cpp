@@ -89,6 +89,15 @@ Vec3 convert(sim::VariableClient& client, double a, double c, const Vec3& p) {
 
 bool same_bits(const Vec3& a, const Vec3& b) { return std::memcmp(a.data(), b.data(), sizeof(double) * 3) == 0; }
 
+// The C interface's units back to mm when a case ends, a failed REQUIRE too:
+// the module's state is global, as LinuxCNC loads one kinematics module.
+struct MmAtExit {
+  ~MmAtExit() {
+    const char* why = "";
+    trueaxis_kins_set_linear_units("mm", &why);
+  }
+};
+
 // The spindle measured, calibrated and stored through the user's command, its
 // model written as the kinematics' file w/m4.model.
 void store_spindle_model(t::InProcessSim& sim, const t::Workspace& w) {
@@ -468,6 +477,7 @@ TEST_CASE("kins: an inch machine (linear_units=inch): world, joints and tool off
           "anything but LinuxCNC's unit names refused",
           "[kins]") {
   // On whatever table the module holds (the ideal cradle, or an earlier case's).
+  const MmAtExit mm;
   const char* why = "";
   sim::SimRng rng(5);
   for (int i = 0; i < 50; ++i) {
@@ -505,7 +515,6 @@ TEST_CASE("kins: an inch machine (linear_units=inch): world, joints and tool off
   }
   REQUIRE(trueaxis_kins_to_joints(1, world_in, 30.0, 0.0, 4.0, 0, 0.0, joint_in) == 0);  // still inch
   for (int k = 0; k < 3; ++k) CHECK(std::abs(25.4 * joint_in[k] - joint_mm[k]) < 1e-9);
-  REQUIRE(trueaxis_kins_set_linear_units("mm", &why) == 0);
 }
 
 TEST_CASE("kins: the servo thread's tip correction: a ramp of at most tip-ramp a period, by length, arriving "
@@ -530,11 +539,11 @@ TEST_CASE("kins: the servo thread's tip correction: a ramp of at most tip-ramp a
     CHECK(trueaxis::linuxcnc::tip_ramp_step(Vec3(0.0005, 0.0, 0.0), 0.0005, at));
     at = Vec3::Zero();
     CHECK_FALSE(trueaxis::linuxcnc::tip_ramp_step(Vec3(std::nextafter(0.0005, 1.0), 0.0, 0.0), 0.0005, at));
-    // No ramp (0, negative, NaN): at once, as the pins were read before the ramp.
+    // A ramp not above 0 or not finite (a pin netted to a signal nobody sets): the default, never at once.
     for (const double ramp : {0.0, -1.0, static_cast<double>(NAN), static_cast<double>(INFINITY)}) {
       Vec3 a = Vec3::Zero();
-      CHECK(trueaxis::linuxcnc::tip_ramp_step(target, ramp, a));
-      CHECK(a == target);
+      CHECK_FALSE(trueaxis::linuxcnc::tip_ramp_step(target, ramp, a));
+      CHECK(std::abs(a.norm() - trueaxis::linuxcnc::kDefaultTipRampMm) < 1e-15);
     }
   }
 
@@ -571,6 +580,20 @@ TEST_CASE("kins: the servo thread's tip correction: a ramp of at most tip-ramp a
       CHECK(same_bits(Vec3(by_pins[0], by_pins[1], by_pins[2]), Vec3(given[0], given[1], given[2])));
       REQUIRE(trueaxis_kins_to_world_with(type, given, 30.0, 75.0, tool, at, back) == 0);
       CHECK(std::hypot(std::hypot(back[0] - world[0], back[1] - world[1]), back[2] - world[2]) < 1e-9);
+    }
+  }
+  // An inch machine with the tip's error on: the error (mm) in the machine's units.
+  {
+    const MmAtExit mm;
+    const double world_mm[3] = {25.4, -50.8, 76.2};
+    const double world_in[3] = {1.0, -2.0, 3.0};
+    for (const int type : {0, 1}) {
+      double jm[3], ji[3];
+      REQUIRE(trueaxis_kins_set_linear_units("mm", &why) == 0);
+      REQUIRE(trueaxis_kins_to_joints(type, world_mm, 30.0, 75.0, 101.6, 1, 37.5, jm) == 0);
+      REQUIRE(trueaxis_kins_set_linear_units("inch", &why) == 0);
+      REQUIRE(trueaxis_kins_to_joints(type, world_in, 30.0, 75.0, 4.0, 1, 37.5, ji) == 0);
+      for (int k = 0; k < 3; ++k) CHECK(std::abs(25.4 * ji[k] - jm[k]) < 1e-9);
     }
   }
   double kept[3] = {7.0, 7.0, 7.0};

@@ -162,7 +162,8 @@ bool CradleKinematics::to_world(bool cradle, const core::Vec3& joint_mm, double 
 bool tip_ramp_step(const core::Vec3& target, double ramp_mm, core::Vec3& applied) {
   const core::Vec3 step = target - applied;
   const double length = step.norm();
-  if (!(ramp_mm > 0.0) || !std::isfinite(ramp_mm) || length <= ramp_mm) {
+  if (!(ramp_mm > 0.0) || !std::isfinite(ramp_mm)) ramp_mm = kDefaultTipRampMm;
+  if (length <= ramp_mm) {
     applied = target;
     return true;
   }

@@ -46,9 +46,10 @@
 //     is but for M4's tip error, as LinuxCNC does with its own offset.
 //  7. In the servo thread (trueaxis_kins.c): the correction the kinematics
 //     apply is not the pins' at once but a ramp towards it, at most `ramp`
-//     mm a servo period (by length; tip_ramp_step), so that switching it on,
-//     turning the oriented spindle or changing the tool moves the joints
-//     smoothly. Its target is the tip error at the spindle's angle, or, for a
+//     mm a servo period (by length; tip_ramp_step), so that switching it on
+//     or turning the oriented spindle moves the joints smoothly (the tool
+//     offset itself applies at once, as in xyzac-trt-kins: change tools in
+//     machine coordinates or at A = 0). Its target is the tip error at the spindle's angle, or, for a
 //     rotating tool, its mean over a revolution (the error a tool that cuts
 //     all round leaves on the part), or 0 with the correction off.
 #pragma once
@@ -135,8 +136,9 @@ class CradleKinematics {
 };
 
 // Convention 7: one servo period's step of `applied` towards `target`, at most
-// ramp_mm long (a ramp not above 0, or not finite, steps at once); true when
-// it has arrived.
+// ramp_mm long (a ramp not above 0, or not finite: a pin netted to a signal
+// nobody sets, kDefaultTipRampMm); true when it has arrived.
+inline constexpr double kDefaultTipRampMm = 0.0005;
 bool tip_ramp_step(const core::Vec3& target, double ramp_mm, core::Vec3& applied);
 
 }  // namespace trueaxis::linuxcnc

@@ -61,7 +61,8 @@ int trueaxis_kins_to_world(int type, const double joint[3], double a_deg, double
    revolution (a rotating tool), at the tool offset `tool` (machine units),
    in mm; 0, or -1 without a model or at a length it refuses (target
    untouched). Then one period's step of `applied` (mm) towards it, at most
-   ramp_mm long: 1 when it has arrived, 0 while it ramps. */
+   ramp_mm long (not above 0: the default 0.5 um): 1 when it has arrived, 0
+   while it ramps. */
 int trueaxis_kins_tip_target(int mode, double phi_deg, double tool, double target_mm[3]);
 int trueaxis_kins_tip_ramp(const double target_mm[3], double ramp_mm, double applied_mm[3]);
 

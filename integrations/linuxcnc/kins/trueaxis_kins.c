@@ -26,8 +26,9 @@
    trueaxis_kins.tip-ramp um a servo period (0.5 at the start), and shows
    it: tip-x, tip-y, tip-z (mm), tip-settled (the pins' correction reached;
    a program waits on it with M66 before a touch). The correction on without
-   a model, at a tool length the model refuses (below 0), or with update in
-   no thread, is a kinematics error (tip-fault), not an uncorrected move.
+   a model, at a tool length the model refuses (below 0), or with update
+   never run (in no thread), is a kinematics error (tip-fault), not an
+   uncorrected move.
    On an inch machine give linear_units=inch: the tables are in mm, and the
    world, the joints and the tool offset are converted; without it an inch
    machine's offsets would be read as mm.
@@ -82,6 +83,7 @@ static void update(void* arg, long period) {
   if (*tip->enable) {
     if (trueaxis_kins_tip_target(*tip->mean ? 2 : 1, *tip->angle_deg, *tip->tool_offset, target) != 0) {
       *tip->fault = 1; /* no move on a correction it cannot give: the kinematics fail */
+      *tip->settled = 0;
       return;
     }
   }
@@ -149,7 +151,7 @@ int rtapi_app_main(void) {
       hal_exit(comp_id);
       return -ENOMEM;
     }
-    *pins->ramp_um = 0.5; /* 0.5 um a period: 0.5 mm/s at 1 kHz */
+    *pins->ramp_um = 0.5; /* 0.5 um a period: 0.5 mm/s at 1 kHz (kDefaultTipRampMm) */
     *pins->settled = 1;
     hal_ready(comp_id);
     tip = pins;
