@@ -605,3 +605,50 @@ TEST_CASE("kins: the servo thread's tip correction: a ramp of at most tip-ramp a
   double joint[3];
   CHECK(trueaxis_kins_to_joints_with(1, world, 0.0, 0.0, 0.0, bad, joint) == -1);  // a non-finite error
 }
+
+TEST_CASE("kins: the ideal cradle about a nominal pivot off the origin (pivot=, a_offset=) is xyzac-trt-kins with "
+          "the same rot-point and offsets; refused when not numbers",
+          "[kins]") {
+  sim::SimRng rng(41);
+  for (int i = 0; i < 200; ++i) {
+    Trt trt;
+    trt.rot_point = Vec3(400.0 * rng.uniform01() - 200.0, 400.0 * rng.uniform01() - 200.0, 200.0 * rng.uniform01());
+    trt.dy = 100.0 * rng.uniform01() - 50.0;
+    trt.dz = 100.0 * rng.uniform01() - 50.0;
+    trt.tool = i % 3 == 0 ? 0.0 : 200.0 * rng.uniform01();
+    trueaxis::linuxcnc::CradleKinematics ideal;
+    REQUIRE(ideal.set_nominal_pivot(trt.rot_point, trt.dy, trt.dz));
+    const double a = -120.0 + 240.0 * rng.uniform01();
+    const double c = -400.0 + 800.0 * rng.uniform01();
+    const Vec3 world(300.0 * rng.uniform01() - 150.0, 200.0 * rng.uniform01() - 100.0, 100.0 * rng.uniform01());
+    INFO("A " << a << " C " << c << " pivot " << trt.rot_point.x() << "," << trt.rot_point.y() << "," << trt.rot_point.z()
+                << " dy " << trt.dy << " dz " << trt.dz);
+    Vec3 joint, back;
+    REQUIRE(ideal.to_joints(true, world, a, c, trt.tool, false, 0.0, joint));
+    CHECK((joint - trt.inverse(world, a, c)).norm() < 1e-9);
+    REQUIRE(ideal.to_world(true, joint, a, c, trt.tool, false, 0.0, back));
+    CHECK((back - world).norm() < 1e-9);
+    // The C axis through the pivot, the A axis through pivot + (0, dy, dz): points on them stay.
+    REQUIRE(ideal.inverse(trt.rot_point + Vec3(0.0, 0.0, 37.0), 0.0, c, joint));
+    CHECK((joint - (trt.rot_point + Vec3(0.0, 0.0, 37.0))).norm() < 1e-9);
+    const Vec3 on_a = trt.rot_point + Vec3(55.0, trt.dy, trt.dz);
+    REQUIRE(ideal.inverse(on_a, a, 0.0, joint));
+    CHECK((joint - on_a).norm() < 1e-9);
+  }
+  // Through the module's parameters (the machine's units), and what they refuse.
+  const char* why = "";
+  REQUIRE(trueaxis_kins_set_linear_units("mm", &why) == 0);
+  for (const char* bad : {"1,2", "1,2,3,4", "a,b,c", "1;2;3", "1,2,nan", "1,,3", "1,2,3,"}) {
+    INFO(bad);
+    why = "";
+    CHECK(trueaxis_kins_set_pivot(bad, "", &why) == -1);
+    CHECK(std::string(why).find("pivot takes X,Y,Z") != std::string::npos);
+  }
+  for (const char* bad : {"1", "1,2,3", "x,2"}) {
+    INFO(bad);
+    CHECK(trueaxis_kins_set_pivot("", bad, &why) == -1);
+    CHECK(std::string(why).find("a_offset takes DY,DZ") != std::string::npos);
+  }
+  CHECK(trueaxis_kins_set_pivot("12.5,-30,0.25", "40,-2", &why) == 0);
+  CHECK(trueaxis_kins_set_pivot(nullptr, nullptr, &why) == 0);  // absent: the origin again
+}

@@ -26,6 +26,14 @@ core::Mat3 ideal_rotation(double a_deg, double c_deg) {
 
 void CradleKinematics::make_ideal() { calibrated_ = false; }
 
+bool CradleKinematics::set_nominal_pivot(const core::Vec3& rot_point_mm, double y_offset_mm, double z_offset_mm) {
+  const core::Vec3 a_point = rot_point_mm + core::Vec3(0.0, y_offset_mm, z_offset_mm);
+  if (!rot_point_mm.allFinite() || !a_point.allFinite()) return false;
+  c_point_ = rot_point_mm;
+  a_point_ = a_point;
+  return true;
+}
+
 LoadResult CradleKinematics::load_table(const std::uint8_t* file, std::size_t size) {
   const std::uint8_t* payload = nullptr;
   std::size_t length = 0;
@@ -70,10 +78,27 @@ bool CradleKinematics::tip_error(double phi_deg, double tool_mm, core::Vec3& err
   return true;
 }
 
+// Convention 2 both ways; about the origin exactly as before the pivot existed.
+core::Vec3 CradleKinematics::ideal_joints(const core::Vec3& world_mm, double a_deg, double c_deg) const {
+  if (c_point_ == core::Vec3::Zero() && a_point_ == core::Vec3::Zero()) return ideal_rotation(a_deg, c_deg) * world_mm;
+  const core::Mat3 rc = ideal_rotation(0.0, c_deg);
+  const core::Mat3 ra = ideal_rotation(a_deg, 0.0);
+  return ra * (rc * (world_mm - c_point_) + c_point_ - a_point_) + a_point_;
+}
+
+core::Vec3 CradleKinematics::ideal_world(const core::Vec3& joint_mm, double a_deg, double c_deg) const {
+  if (c_point_ == core::Vec3::Zero() && a_point_ == core::Vec3::Zero()) {
+    return ideal_rotation(a_deg, c_deg).transpose() * joint_mm;
+  }
+  const core::Mat3 rc = ideal_rotation(0.0, c_deg);
+  const core::Mat3 ra = ideal_rotation(a_deg, 0.0);
+  return rc.transpose() * (ra.transpose() * (joint_mm - a_point_) + a_point_ - c_point_) + c_point_;
+}
+
 bool CradleKinematics::theory_point(const core::Vec3& world_mm, double a_deg, double c_deg, core::Vec3& p_mm) const {
   if (!finite(world_mm, a_deg, c_deg)) return false;
   if (!calibrated_) {
-    p_mm = ideal_rotation(a_deg, c_deg) * world_mm;
+    p_mm = ideal_joints(world_mm, a_deg, c_deg);
     return true;
   }
   const core::Result<core::RigidityFrames> f = core::rigidity_frames(table_, a_deg, c_deg, kBlend, true);
@@ -85,7 +110,7 @@ bool CradleKinematics::theory_point(const core::Vec3& world_mm, double a_deg, do
 bool CradleKinematics::inverse(const core::Vec3& world_mm, double a_deg, double c_deg, core::Vec3& joint_mm) const {
   if (!finite(world_mm, a_deg, c_deg)) return false;
   if (!calibrated_) {
-    joint_mm = ideal_rotation(a_deg, c_deg) * world_mm;
+    joint_mm = ideal_joints(world_mm, a_deg, c_deg);
     return true;
   }
   const core::Result<core::RigidityFrames> f = core::rigidity_frames(table_, a_deg, c_deg, kBlend, true);
@@ -100,7 +125,7 @@ bool CradleKinematics::inverse(const core::Vec3& world_mm, double a_deg, double 
 bool CradleKinematics::forward(const core::Vec3& joint_mm, double a_deg, double c_deg, core::Vec3& world_mm) const {
   if (!finite(joint_mm, a_deg, c_deg)) return false;
   if (!calibrated_) {
-    world_mm = ideal_rotation(a_deg, c_deg).transpose() * joint_mm;
+    world_mm = ideal_world(joint_mm, a_deg, c_deg);
     return true;
   }
   const core::Result<core::RigidityFrames> f = core::rigidity_frames(table_, a_deg, c_deg, kBlend, true);

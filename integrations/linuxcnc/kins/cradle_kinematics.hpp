@@ -8,9 +8,13 @@
 //     point fixed to the table is in the machine frame with the table at A = 0,
 //     C = 0. Joints: the machine's X, Y, Z of the tool tip, and A, C as
 //     commanded (world A, C = joint A, C).
-//  2. Ideal (no table loaded): joints = Rx(A) Rz(C) world, both turns about the
-//     machine origin, right-handed (core::table_rotation with signs +1): the
-//     cradle of host_sim's cradle_machine.hpp and of the rigidity program.
+//  2. Ideal (no table loaded): joints = Rx(A) Rz(C) world, both turns
+//     right-handed (core::table_rotation with signs +1), C about the vertical
+//     line through the nominal pivot r and A about the X line through r + d,
+//     d = (0, dy, dz): xyzac-trt-kins' x/y/z-rot-point and y/z-offset, so
+//         joints = Rx(A) (Rz(C) (world - r) + r - (r + d)) + r + d;
+//     r = d = 0 (the start): both about the machine origin, the cradle of
+//     host_sim's cradle_machine.hpp. A table's measured axes replace them.
 //  3. Calibrated (a stored M3 table, rigidity_compensation.hpp): with
 //     F(A, C) the table's theory frame and K(A, C) = actual_T_theory (exactly
 //     what macro 9835 computes, core::rigidity_correction's arithmetic on
@@ -76,6 +80,8 @@ class CradleKinematics {
  public:
   // Convention 2 (the state after construction).
   void make_ideal();
+  // Convention 2's nominal pivot (mm); false (unchanged) for a non-finite one.
+  bool set_nominal_pivot(const core::Vec3& rot_point_mm, double y_offset_mm, double z_offset_mm);
 
   // Convention 3 from a table file's bytes (record_file.hpp of the rigidity
   // record, as `trueaxis-calibrate rigidity --store --linuxcnc-kins` writes
@@ -127,9 +133,14 @@ class CradleKinematics {
   bool theory_point(const core::Vec3& world_mm, double a_deg, double c_deg, core::Vec3& p_mm) const;
 
  private:
+  core::Vec3 ideal_joints(const core::Vec3& world_mm, double a_deg, double c_deg) const;
+  core::Vec3 ideal_world(const core::Vec3& joint_mm, double a_deg, double c_deg) const;
+
   core::RigidityTable table_;
   core::SpindleModel spindle_;
   bool spindle_loaded_ = false;
+  core::Vec3 c_point_ = core::Vec3::Zero();  // r: the nominal C axis' point (convention 2)
+  core::Vec3 a_point_ = core::Vec3::Zero();  // r + d: the nominal A axis' point
   core::RigidTransform table_T_world_;  // T0^-1
   core::RigidTransform world_T_table_;  // T0
   bool calibrated_ = false;

@@ -1,7 +1,9 @@
 #include "kins_api.h"
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <initializer_list>
 
@@ -97,6 +99,44 @@ extern "C" int trueaxis_kins_set_linear_units(const char* units, const char** wh
   }
   *why = "linear_units takes what [TRAJ] LINEAR_UNITS does: mm (metric) or inch (in, imperial)";
   return -1;
+}
+
+namespace {
+
+// "A,B[,C]" into exactly `count` finite numbers; NULL or "" all 0.
+bool numbers(const char* text, int count, double* out) {
+  for (int i = 0; i < count; ++i) out[i] = 0.0;
+  if (text == nullptr || text[0] == '\0') return true;
+  const char* at = text;
+  for (int i = 0; i < count; ++i) {
+    char* end = nullptr;
+    out[i] = std::strtod(at, &end);
+    if (end == at || !std::isfinite(out[i])) return false;
+    at = end;
+    if (i + 1 < count && *at++ != ',') return false;
+  }
+  return *at == '\0';
+}
+
+}  // namespace
+
+extern "C" int trueaxis_kins_set_pivot(const char* rot_point, const char* a_offset, const char** why) {
+  double r[3];
+  double d[2];
+  if (!numbers(rot_point, 3, r)) {
+    *why = "pivot takes X,Y,Z: the C axis' point at A = 0 (xyzac-trt-kins' x/y/z-rot-point), the machine's units";
+    return -1;
+  }
+  if (!numbers(a_offset, 2, d)) {
+    *why = "a_offset takes DY,DZ: the A axis' offset from the pivot (xyzac-trt-kins' y-offset, z-offset)";
+    return -1;
+  }
+  const double k = g_mm_per_unit;
+  if (!g_kins.set_nominal_pivot(k * Vec3(r[0], r[1], r[2]), k * d[0], k * d[1])) {
+    *why = "the pivot is not finite in mm";
+    return -1;
+  }
+  return 0;
 }
 
 extern "C" int trueaxis_kins_to_joints(int type, const double world[3], double a_deg, double c_deg, double tool,

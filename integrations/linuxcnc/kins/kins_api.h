@@ -42,6 +42,14 @@ int trueaxis_kins_tip_error(double phi_deg, double tool_mm, double error_mm[3]);
    anything else (the units stay as they were). */
 int trueaxis_kins_set_linear_units(const char* units, const char** why);
 
+/* The ideal cradle's nominal pivot (cradle_kinematics.hpp convention 2), in
+   the machine's linear units (set them first): rot_point "X,Y,Z", the C
+   axis' point at A = 0 (xyzac-trt-kins' x/y/z-rot-point), and a_offset
+   "DY,DZ", the A axis' from it (its y-offset, z-offset); NULL or "" for 0.
+   0, or -1 with *why (nothing changed) for anything but that many finite
+   numbers. A loaded table's measured axes replace the pivot. */
+int trueaxis_kins_set_pivot(const char* rot_point, const char* a_offset, const char** why);
+
 /* LinuxCNC's kinematics, whole (cradle_kinematics.hpp conventions 1-6):
    world (table) coordinates to the joints' X, Y, Z at commanded A, C and
    back, in the machine's linear units; `type` 0 the identity or 1 the

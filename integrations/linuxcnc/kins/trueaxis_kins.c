@@ -32,6 +32,10 @@
    On an inch machine give linear_units=inch: the tables are in mm, and the
    world, the joints and the tool offset are converted; without it an inch
    machine's offsets would be read as mm.
+   Without a table the cradle is ideal about the nominal pivot: pivot=X,Y,Z
+   (the C axis' point at A = 0) and a_offset=DY,DZ (the A axis' from it), as
+   xyzac-trt-kins' rot-point and offsets take them; a table's measured axes
+   replace them.
    Switchable (motion.switchkins-type): 0 identity (machine coordinates, for
    probing programs; the start), 1 the cradle's table coordinates. */
 #include "kins_api.h"
@@ -50,6 +54,10 @@ static char* table = 0;
 RTAPI_MP_STRING(table, "the M3 table file (trueaxis-calibrate rigidity --store --linuxcnc-kins); absent: the ideal cradle");
 static char* spindle = 0;
 RTAPI_MP_STRING(spindle, "the M4 model file (trueaxis-calibrate spindle --store --linuxcnc-kins); absent: no tip correction");
+static char* pivot = 0;
+RTAPI_MP_STRING(pivot, "X,Y,Z: the ideal cradle's C axis at A = 0 (xyzac-trt-kins' x/y/z-rot-point); absent: the origin");
+static char* a_offset = 0;
+RTAPI_MP_STRING(a_offset, "DY,DZ: the ideal cradle's A axis from the pivot (xyzac-trt-kins' y-offset, z-offset); absent: 0,0");
 static char* linear_units = 0;
 RTAPI_MP_STRING(linear_units, "mm (absent) or inch, as [TRAJ] LINEAR_UNITS: the tables are in mm");
 
@@ -103,6 +111,15 @@ int rtapi_app_main(void) {
     const char* why = "";
     if (trueaxis_kins_set_linear_units(linear_units, &why) != 0) {
       rtapi_print_msg(RTAPI_MSG_ERR, "trueaxis_kins: linear_units=%s: %s\n", linear_units, why);
+      hal_exit(comp_id);
+      return -EINVAL;
+    }
+  }
+  {
+    const char* why = "";
+    if (trueaxis_kins_set_pivot(pivot, a_offset, &why) != 0) {
+      rtapi_print_msg(RTAPI_MSG_ERR, "trueaxis_kins: pivot=%s a_offset=%s: %s\n", pivot ? pivot : "",
+                      a_offset ? a_offset : "", why);
       hal_exit(comp_id);
       return -EINVAL;
     }
