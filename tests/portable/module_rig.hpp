@@ -241,6 +241,7 @@ class ModuleRig {
     const double value = get(v::kGateValue);
     const double limit = get(v::kGateLimit);
     if (put(v::kLogSelect, get(v::kLogNewest)) != macros::AccessFault::kNone) return false;
+    // spindle::change_log_step, written out: the rig builds without the spindle method too.
     if (code == core::Status::kChangeBeyondLimit && get(v::kLogMacro) == 9842.0) item = item / 10.0 + 1.0;
     const auto f32 = [](double x) { return static_cast<double>(static_cast<float>(x)); };
     return get(v::kLogType) == static_cast<double>(macros::LogType::kRefusal) && get(v::kLogStored) == 0.0 &&

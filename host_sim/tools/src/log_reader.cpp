@@ -78,7 +78,7 @@ std::string refusal_item_text(const std::string& method, core::Status status, in
   if (item <= 0) return "";
   // M4's change gate logs the angle's step (spindle_macros.cpp): 1 .. 36, angle 10 (step - 1) deg.
   if (method == "spindle" && status == core::Status::kChangeBeyondLimit) {
-    return "at " + std::to_string(360 / macros::spindle::kChangeAngles * (item - 1)) + " deg";
+    return "at " + std::to_string(static_cast<int>(macros::spindle::change_angle_of_step(item))) + " deg";
   }
   return "at item " + std::to_string(item);
 }

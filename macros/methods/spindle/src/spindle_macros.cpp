@@ -56,14 +56,14 @@ Change change_against(const State& state, const core::SpindleModel& m) {
   Change c;
   const double tool = m.geometry.ball_mm[1];
   for (int k = 0; k < kChangeAngles; ++k) {
-    const double phi_deg = 360.0 / kChangeAngles * k;
+    const double phi_deg = kChangeStepDeg * k;
     const core::Result<core::SpindleCorrection> stored = tool_tip_correction(state, phi_deg, tool);
     if (!stored.ok()) return {};
     const core::Result<core::SpindleCorrection> now =
         core::spindle_correction(m.axes, m.geometry.gauge_mm, tool, core::deg_to_rad(phi_deg));
     if (!now.ok()) return {};
     const double d = (now.value().tip_error_mm - stored.value().tip_error_mm).norm();
-    if (!c.stored || d > c.mm) c = {d, phi_deg, true, static_cast<std::uint8_t>(k + 1)};
+    if (!c.stored || d > c.mm) c = {d, phi_deg, true, change_log_step(k)};
   }
   return c;
 }

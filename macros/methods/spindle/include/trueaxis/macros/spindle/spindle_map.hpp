@@ -107,6 +107,11 @@ inline constexpr std::uint16_t kCheckWx = 5;
 inline constexpr std::uint16_t kCheckWy = 6;
 // The angles the change gate compares the tool tips at: every 10 deg.
 inline constexpr int kChangeAngles = 36;
+inline constexpr double kChangeStepDeg = 360.0 / kChangeAngles;
+// The change gate's angle k * kChangeStepDeg as the measuring log keeps its
+// item, a byte (measuring_log.hpp convention 1): its step k + 1, 1 .. 36; and back.
+constexpr std::uint8_t change_log_step(int k) { return static_cast<std::uint8_t>(k + 1); }
+constexpr double change_angle_of_step(int step) { return kChangeStepDeg * (step - 1); }
 
 // Its status codes (block 1300..1399).
 inline constexpr core::Status kBallSpacingImplausible = static_cast<core::Status>(1300);
