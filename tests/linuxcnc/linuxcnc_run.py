@@ -8,9 +8,9 @@ caller may give it (root), so that a build beside them cannot stall them
 (_real_time_class).
 LinuxCNC refuses to run as root: as root the run is `runuser -u trueaxis-ci`
 (the user toolchain/setup.sh creates), otherwise as the calling user. What
-LinuxCNC reads is copied into `folder` in the repository's layout (so the
-machine ini's relative paths hold and the user can read it wherever the clone
-is) and handed to that user.
+LinuxCNC reads, and trueaxis-var (which the display runs), is copied into
+`folder` in the repository's layout (so the machine ini's relative paths hold
+and the user can read it wherever the clone is) and handed to that user.
 
 One LinuxCNC on a host at a time: two share its shared-memory keys, and its
 start and stop kill the other's processes by name. Machine.run holds the
@@ -131,8 +131,13 @@ class Machine:
             self.sim.kill()
             raise RuntimeError(f"trueaxis-sim said {line!r}")
         self.port = int(found.group(1))
-        self.var = [os.path.join(bin_dir, "trueaxis-var"), "--port", str(self.port)]
         self._copy()
+        # trueaxis-var from the machine's folder, not the build: the display runs
+        # it as the LinuxCNC user, who may not reach a clone under a 0700
+        # folder (mktemp -d).
+        os.makedirs(os.path.join(folder, "bin"))
+        var = shutil.copy(os.path.join(bin_dir, "trueaxis-var"), os.path.join(folder, "bin"))
+        self.var = [var, "--port", str(self.port)]
 
     # ----- the module and the simulator's truth, over trueaxis-var -----------
 
