@@ -114,13 +114,45 @@ PROBE_LENGTH_MM = 100.0
 PROBE_SETUP = ("T1 M6", "G43")
 
 
+def _sim_pivot():
+    """The simulated machine's nominal pivot, [TRUEAXIS] of its ini (the one
+    place it is stated): ((PIVOT_X, PIVOT_Y, PIVOT_Z), (A_OFFSET_Y, A_OFFSET_Z)), mm."""
+    values, section = {}, None
+    with open(os.path.join(ROOT, "integrations", "linuxcnc", "sim", "trueaxis_sim.ini"), encoding="utf-8") as f:
+        for line in f:
+            line = line.strip()
+            if line.startswith("["):
+                section = line
+            elif section == "[TRUEAXIS]" and "=" in line:
+                key, value = (part.strip() for part in line.split("=", 1))
+                values[key] = value
+    return (tuple(float(values[k]) for k in ("PIVOT_X", "PIVOT_Y", "PIVOT_Z")),
+            tuple(float(values[k]) for k in ("A_OFFSET_Y", "A_OFFSET_Z")))
+
+
+PIVOT_MM, A_OFFSET_MM = _sim_pivot()
+# trueaxis_kins' parameters for that pivot (its [KINS] line on the simulated machine).
+KINS_PIVOT = (f"pivot={','.join(f'{v:g}' for v in PIVOT_MM)} "
+              f"a_offset={','.join(f'{v:g}' for v in A_OFFSET_MM)}")
+# trueaxis-sim's calibration ball on the table (sim_ball_x, _y, _z's defaults)
+# and so its centre at A = 0, C = 0 in machine coordinates, nominally.
+BALL_TABLE_MM = (200.0, 0.0, 50.0)
+BALL_MM = tuple(b + r for b, r in zip(BALL_TABLE_MM, PIVOT_MM))
+
+
+def on_table(x, y):
+    """A point X, Y from the table's centre (the C axis at A = 0) in machine coordinates."""
+    return (PIVOT_MM[0] + x, PIVOT_MM[1] + y)
+
+
 class Machine:
     def __init__(self, bin_dir, folder, errors="ideal", face_tilt=None):
         self.bin_dir = bin_dir = os.path.abspath(bin_dir)
         self.folder = folder
         os.chmod(folder, 0o755)
         argv = [os.path.join(bin_dir, "trueaxis-sim"), "--port", "0", "--nv", os.path.join(folder, "sim.nv"),
-                "--errors", errors]
+                "--errors", errors, "--pivot", ",".join(repr(v) for v in PIVOT_MM),
+                "--a-offset", ",".join(repr(v) for v in A_OFFSET_MM)]
         if face_tilt is not None:
             argv += ["--face-tilt", str(face_tilt)]
         self.sim = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,

@@ -11,7 +11,8 @@ result file}. A command is an MDI line, or
 {"mdi": line, "may_fail": true} (a step whose error does not stop the run),
 or {"run": [argv]} (a program run while LinuxCNC is up, its output in the
 step's "stdout"). The result file: {"steps": [{"command", "ok", "errors":
-[texts], "seconds", "position": [x, y, z, a, c]}], "homed": bool, "error":
+[texts], "seconds", "position": [x, y, z, a, c], "joints": [the five joints]}],
+"homed": bool, "error":
 text of a failure outside the steps or null}. Stops at the first command that
 fails (unless it may).
 
@@ -106,7 +107,8 @@ def main():
                     "messages": [t for error, t in drained if not error],
                     "probed": list(s.probed_position)[:6], "probe_tripped": bool(s.probe_tripped),
                     "seconds": round(time.monotonic() - started, 3),
-                    "position": [s.actual_position[i] for i in (0, 1, 2, 3, 5)]}
+                    "position": [s.actual_position[i] for i in (0, 1, 2, 3, 5)],
+                    "joints": list(s.joint_actual_position[:5])}
             if plan.get("show"):  # diagnosis: HAL pins after each step
                 import subprocess
                 step["hal"] = subprocess.run(["halcmd", "show", "pin"] + plan["show"], capture_output=True,

@@ -23,7 +23,10 @@ rs274/NAME.expected; --regenerate writes the .expected files):
              level face at Z 20), 9810 once, the interface given back
   rigidity_flow  o<trueaxis_rigidity> likewise: every pose and touch, 9815
              finding the nominal centres, 9831 twelve times, 9832 building
-             an ideal cradle's table
+             an ideal cradle's table; again about a pivot off the origin
+             ([TRUEAXIS] PIVOT_*: 9832's A axis there), without PIVOT_X (a
+             stop naming it), and beside a trueaxis_kins [KINS] line with
+             another pivot (the remap's stop)
 Error cases: each program must stop (exit 1) with the module's code, name and
 text from the register map on one line, or the remap's own sentence; under
 G20 only G65 P1 and P0 pass (o<interface_seen>: #9009 1, then 0).
@@ -110,7 +113,9 @@ def rs274(ini, program, folder, timeout=60):
         with open(path, "w", encoding="utf-8") as f:
             f.write(program)
         program = path
-    env = dict(os.environ, TRUEAXIS_DUMP=os.path.join(folder, "dump.txt"), PYTHONDONTWRITEBYTECODE="1")
+    # INI_FILE_NAME as `linuxcnc` sets it: the interpreter reads #<_ini[..]..> from it.
+    env = dict(os.environ, TRUEAXIS_DUMP=os.path.join(folder, "dump.txt"), PYTHONDONTWRITEBYTECODE="1",
+               INI_FILE_NAME=ini)
     done = subprocess.run([RS274, "-i", ini, "-n", "2", "-g", program], capture_output=True, text=True,
                           cwd=folder, env=env, timeout=timeout)
     return done.returncode, done.stdout + done.stderr
@@ -255,6 +260,40 @@ def run_cases(checks, sim, folder, errors, regenerate):
     built = sim.get(100, 101, 109)
     checks.check(built[100] == 3.0 and built[101] < 1e-6 and built[109] < 1e-9,
                  "rigidity_flow: 9832 built 3 poses of an ideal cradle from the fitted centres", str(built))
+
+    # 3b. ... on a cradle whose pivot is off the origin ([TRUEAXIS] PIVOT_*,
+    # A_OFFSET_*): the program aims at the ball turned about it, so the
+    # centres 9815 finds are the nominal cradle's and 9832's A axis lies at
+    # r + d, d_y across the C axis.
+    pivot = {"PIVOT_X": "35", "PIVOT_Y": "-25", "PIVOT_Z": "0", "A_OFFSET_Y": "4", "A_OFFSET_Z": "-80"}
+    code, output = rs274(make_ini(folder, sim.port, extra=pivot), os.path.join(HERE, "rs274", "rigidity_flow.ngc"),
+                         folder)
+    built = sim.get(100, 101, 104, 105, 109)
+    checks.check(code == 0 and built[100] == 3.0 and built[101] < 1e-6 and abs(built[104] - (-25 + 4)) < 1e-6
+                 and abs(built[105] - (0 - 80)) < 1e-6 and abs(built[109] - 4) < 1e-6,
+                 "rigidity_flow about the pivot (35, -25, 0) + (0, 4, -80): 9832's A axis at Y -21, Z -80, "
+                 "4 mm across C", f"exit {code}; {built}\n{output[-600:]}")
+    # ... and a program that cannot know the pivot, or whose pivot is not the
+    # kinematics', stops with the sentence.
+    no_pivot = make_ini(folder, sim.port)
+    text = open(no_pivot, encoding="utf-8").read()
+    with open(no_pivot, "w", encoding="utf-8") as f:
+        f.write(re.sub(r"(?m)^PIVOT_X = .*\n", "", text))
+    code, output = rs274(no_pivot, os.path.join(HERE, "rs274", "rigidity_flow.ngc"), folder)
+    checks.check(code == 1 and "#<_ini[trueaxis]pivot_x> not defined" in output,
+                 "rigidity_flow without [TRUEAXIS] PIVOT_X: stops, naming it", f"exit {code}; {output[-400:]}")
+    mismatch = make_ini(folder, sim.port, extra=pivot)
+    with open(mismatch, "a", encoding="utf-8") as f:
+        f.write("[KINS]\nKINEMATICS = trueaxis_kins pivot=35,-25,0 a_offset=0,-80\n")
+    code, output = rs274(mismatch, "G21\nG65 P9830\nM2\n", folder)
+    checks.check(code == 1 and "are not [KINS] trueaxis_kins' pivot=" in output,
+                 "a [TRUEAXIS] pivot that is not trueaxis_kins' (A offset Y 4 against 0): G65 stops with the sentence",
+                 f"exit {code}; {output[-400:]}")
+    same = make_ini(folder, sim.port, extra=pivot)
+    with open(same, "a", encoding="utf-8") as f:
+        f.write("[KINS]\nKINEMATICS = trueaxis_kins pivot=35,-25,0 a_offset=4,-80\n")
+    code, output = rs274(same, "G21\nG65 P9830\nM2\n", folder)
+    checks.check(code == 0, "the same pivot in both: G65 runs", f"exit {code}; {output[-400:]}")
 
     # 4. The module's errors abort the program with its code, name and text.
     points = "G21\nG10 L2 P4 X0 Y0 Z40\nG10 L2 P5 X{} Y0 Z{}\nG10 L2 P6 X{} Y{} Z40\n"

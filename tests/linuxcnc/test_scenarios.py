@@ -2,7 +2,11 @@
 """The operator's programs in full LinuxCNC, headless, on the simulated cradle
 (integrations/linuxcnc/sim), against trueaxis-sim's ground truth.
 
-usage: test_scenarios.py BIN_DIR leveling|rigidity|a_comp|kins [--keep]
+usage: test_scenarios.py BIN_DIR leveling|rigidity|a_comp|kins|tip|trt [--keep]
+
+The simulated machine's cradle turns about a pivot off the machine origin
+([TRUEAXIS] PIVOT_* of its ini: C at X 35, Y -25, A 80 mm below the table);
+the programs aim with it, points are given from the table's centre.
 
 leveling  (scenario a) a face tilted 12.5 deg on the ideal machine:
           o<trueaxis_level> probes three points with G38.2, runs 9810, turns
@@ -54,6 +58,15 @@ tip       (issue 21, item 2) M4's tool tip in trueaxis_kins: trueaxis-sim's
           the tool (the model's tip sigma from 9844 and the probe's 1 um);
           without it beyond 3 sigma. Along the tool the spindle's axial error
           stays (no analyser sees it): printed, not checked.
+trt       (issue 33, item 2) a cradle whose axes are only out of place (trueaxis-sim
+          --errors location: A 150/-120 um, C 80 um off): the ball measured
+          (trueaxis-measure-ball), the table stored and exported as
+          xyzac-trt-kins' pivot (trueaxis-calibrate linuxcnc-trt); LinuxCNC's own
+          xyzac-trt-kins (switchkins type 1) with the nominal and with the
+          exported pivot, and trueaxis_kins on the table, command the tip to
+          the ball's world point at four poses. Checks: the exported trt's
+          joints within 3 sigma of trueaxis_kins' and both of the truth; the
+          nominal pivot beyond 3 sigma; what it cannot hold stated.
 Prints the operator's view. Exit 0 when every check holds, 1 when one fails.
 """
 import math
@@ -65,7 +78,8 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from linuxcnc_run import PROBE_LENGTH_MM, ROOT, Machine, host_lock  # noqa: E402
+from linuxcnc_run import (A_OFFSET_MM, BALL_MM, BALL_TABLE_MM, KINS_PIVOT, PIVOT_MM, PROBE_LENGTH_MM, ROOT,  # noqa: E402
+                          Machine, host_lock, on_table)
 
 ARCSEC = 3600.0
 
@@ -88,7 +102,8 @@ def steps_ok(checks, result, what):
 
 
 def level_call(points, clear, start, down, feed, tolerance, rounds):
-    xy = " ".join(f"[{v:g}]" for p in points for v in p)
+    """o<trueaxis_level> at `points` X, Y from the table's centre (on_table)."""
+    xy = " ".join(f"[{v:g}]" for p in points for v in on_table(*p))
     return f"o<trueaxis_level> call {xy} [{clear:g}] [{start:g}] [{down:g}] [{feed:g}] [2] [{tolerance:g}] [{rounds}]"
 
 
@@ -151,9 +166,14 @@ def scenario_leveling(checks, machine):
                  "leveling: the table stands at the face's tilt and azimuth (A 12.5, C 60 deg)", str(f))
 
 
+def ball_call():
+    """The ball's nominal centre at A = 0, C = 0 as o<trueaxis_rigidity>'s first three arguments."""
+    return " ".join(f"[{v:g}]" for v in BALL_MM)
+
+
 def scenario_rigidity(checks, machine):
     rigidity = ["G21 G90 G54", "M65 P0", "M64 P1", "G53 G0 Z[250 + #5403]",
-                "o<trueaxis_rigidity> call [200] [0] [50] [12.5] [2] [1] [100] [20] [3] [4] [250] [2718]"]
+                f"o<trueaxis_rigidity> call {ball_call()} [12.5] [2] [1] [100] [20] [3] [4] [250] [2718]"]
     level = ["G21 G90 G54", "M65 P1", "M64 P0", "G53 G0 Z[150 + #5403]", "G53 G0 A0 C0",
              level_call([(-20, -20), (20, -20), (-20, 20)], 150, 90, -10, 100, 0.05, 2)]
     result = machine.run(rigidity + level, timeout_s=300, name="rigidity")
@@ -350,10 +370,12 @@ def kins_log(machine):
 
 
 def use_kinematics(machine, value):
-    """The machine's ini with KINEMATICS = value, trueaxis_kins' pin taking the tool offset."""
+    """The machine's ini with KINEMATICS = value, trueaxis_kins' pin taking the
+    tool offset, without xyzac-trt-kins' pivot pins (trueaxis_sim_trt.hal)."""
     text = open(machine.ini, encoding="utf-8").read()
     text = re.sub(r"(?m)^KINEMATICS = .*$", f"KINEMATICS = {value}", text)
     text = re.sub(r"(?m)^TOOL_OFFSET_PIN = .*$", "TOOL_OFFSET_PIN = trueaxis_kins.tool-offset", text)
+    text = re.sub(r"(?m)^HALFILE = trueaxis_sim_trt.hal\n", "", text)
     with open(machine.ini, "w", encoding="utf-8") as f:
         f.write(text)
 
@@ -371,7 +393,7 @@ def scenario_kins(checks, machine):
     # C positions (five touches each, 9815), the table stored with the unlock
     # code; then the controller's stored table written as the kinematics' file.
     rigidity = ["G21 G90 G54", "M65 P0", "M64 P1", "G53 G0 Z[250 + #5403]",
-                "o<trueaxis_rigidity> call [200] [0] [50] [12.5] [2] [1] [100] [30] [5] [4] [250] [2718] [-60]"]
+                f"o<trueaxis_rigidity> call {ball_call()} [12.5] [2] [1] [100] [30] [5] [4] [250] [2718] [-60]"]
     result = machine.run(rigidity, timeout_s=400, name="kins_rigidity")
     if not steps_ok(checks, result, "kins: o<trueaxis_rigidity> at A -60..60, the table stored"):
         return
@@ -398,15 +420,16 @@ def scenario_kins(checks, machine):
     offset = t[12051]
     ball = (t[12052], t[12053], t[12054])
     face_points = []
-    for x, y in ((-40.0, -30.0), (30.0, -40.0), (-20.0, 40.0)):
+    for x, y in (on_table(-40.0, -30.0), on_table(30.0, -40.0), on_table(-20.0, 40.0)):
         face_points.append((x, y, (offset - normal[0] * x - normal[1] * y) / normal[2]))
     poses = [(-60, 95), (-30, 200), (30, 15), (60, 300)]
-    kins_program(machine.folder, poses, (200.0, 0.0, 50.0), face_points)
+    kins_program(machine.folder, poses, BALL_MM, face_points)
     def with_kinematics(value):
         use_kinematics(machine, value)
 
     errors = {}
-    for label, value in (("calibrated", f"trueaxis_kins table={table}"), ("ideal", "trueaxis_kins")):
+    for label, value in (("calibrated", f"trueaxis_kins table={table} {KINS_PIVOT}"),
+                         ("ideal", f"trueaxis_kins {KINS_PIVOT}")):
         with_kinematics(value)
         # No file a user may write is loaded by rtapi_app (setuid root): every
         # file it maps, the kinematics module among them (read as root).
@@ -431,15 +454,16 @@ def scenario_kins(checks, machine):
             ball_um = 1000.0 * math.dist(centre, ball)
             face_um = max(1000.0 * abs(sum(n * p for n, p in zip(normal, q)) - offset) for q in touches)
             errors[label][a] = (ball_um, face_um)
-    # The calibration's 1 sigma at a pose, over the ball's lever from the C
-    # centre (its rotation vector's and A error's sigmas), with the probe's
+    # The calibration's 1 sigma at a pose, over the ball's lever from the A
+    # axis (its rotation vector's and A error's sigmas), with the probe's
     # own (0.5 um repeatability and up to 1.7 um overshoot at F100, as
     # integrations/linuxcnc/sim/README.md measures; the sphere of five touches).
+    lever_mm = math.hypot(BALL_TABLE_MM[0], BALL_TABLE_MM[2] - A_OFFSET_MM[1])  # the ball from the A axis
     print("operator's view: the ball's centre and the face in table coordinates against the truth (um)")
     for a, c in poses:
         p = poses_json[float(a)]
         rotation = math.hypot(*p["rotation_vector_sigma_arcsec"], p["a_positioning_error_sigma_arcsec"]) / 206264.8
-        sigma_um = math.hypot(rotation * 206.2 * 1000.0, 1.0)
+        sigma_um = math.hypot(rotation * lever_mm * 1000.0, 1.0)
         (ball_cal, face_cal), (ball_ideal, face_ideal) = errors["calibrated"][a], errors["ideal"][a]
         print(f"  A {a:+4d} C {c:3d}: ball {ball_cal:6.2f} calibrated, {ball_ideal:6.1f} ideal; face {face_cal:6.2f} "
               f"calibrated, {face_ideal:6.1f} ideal; 1 sigma {sigma_um:.2f}")
@@ -451,8 +475,9 @@ def scenario_kins(checks, machine):
                      f"{ball_ideal:.1f} um")
 
     # A table file that is missing or damaged stops the start, with its reason.
-    for label, value, says in (("missing", f"trueaxis_kins table={table}.absent", "No such file or directory"),
-                               ("damaged", f"trueaxis_kins table={table}.damaged", "damaged")):
+    for label, value, says in (("missing", f"trueaxis_kins table={table}.absent {KINS_PIVOT}",
+                                "No such file or directory"),
+                               ("damaged", f"trueaxis_kins table={table}.damaged {KINS_PIVOT}", "damaged")):
         if label == "damaged":
             data = bytearray(open(table, "rb").read())
             data[200] ^= 0x01
@@ -489,8 +514,15 @@ def scenario_tip(checks, machine):
                  "tip: trueaxis-calibrate spindle --store --linuxcnc-kins", done.stderr)
     if done.returncode != 0:
         return
-    use_kinematics(machine, f"trueaxis_kins spindle={model}")
-    machine.add_ini_lines("HAL", ["HALCMD = net spindle-angle => trueaxis_kins.spindle-angle",
+    use_kinematics(machine, f"trueaxis_kins spindle={model} {KINS_PIVOT}")
+    # The angle the spindle stands at, from its encoder (the simulated orient
+    # stops [TRUEAXIS_SIM] ORIENT_ERROR past M19's command), not the command;
+    # HAL pins readable in G-code (#<_hal[..]>, FEATURES 8) to log the correction.
+    text = open(machine.ini, encoding="utf-8").read()
+    with open(machine.ini, "w", encoding="utf-8") as f:
+        f.write(re.sub(r"(?m)^FEATURES = 4$", "FEATURES = 12", text))
+    orient_error = float(re.search(r"(?m)^ORIENT_ERROR = (\S+)$", text).group(1))
+    machine.add_ini_lines("HAL", ["HALCMD = net spindle-encoder => trueaxis_kins.spindle-angle",
                                   "HALCMD = net tip-enable motion.digital-out-02 => trueaxis_kins.tip-enable",
                                   "HALCMD = addf trueaxis_kins.update servo-thread"])
     angles = (0.0, 90.0, 200.0, 315.0)
@@ -501,8 +533,13 @@ def scenario_tip(checks, machine):
             # Every touch orients the spindle there first (trueaxis_touch, #<_trueaxis_orient>): the
             # only M19 of the run; the correction ramps in while the probe approaches.
             lines += [f"  #<_trueaxis_orient> = {phi:g}", f"  M6{5 - on} P2", "  G4 P0.5",
-                      "  o<trueaxis_probe_ball> call [200] [0] [50] [12.5] [2] [1] [100]",
-                      f"  (LOG,tip {on} {phi:g} #100 #101 #102)"]
+                      f"  o<trueaxis_probe_ball> call {ball_call()} [12.5] [2] [1] [100]",
+                      f"  (LOG,tip {on} {phi:g} #100 #101 #102)",
+                      # (in nm: LOG writes six decimals)
+                      "  #<nx> = [#<_hal[trueaxis_kins.tip-x]> * 1000000]",
+                      "  #<ny> = [#<_hal[trueaxis_kins.tip-y]> * 1000000]",
+                      "  #<nz> = [#<_hal[trueaxis_kins.tip-z]> * 1000000]",
+                      f"  (LOG,pins {on} {phi:g} #<nx> #<ny> #<nz>)"]
     lines += ["  M65 P2", "  M65 P1", "  (LOGCLOSE)", "  G65 P0", "o<trueaxis_tip_probe> endsub", "M2"]
     with open(os.path.join(machine.folder, "integrations", "linuxcnc", "nc_subroutines", "trueaxis_tip_probe.ngc"), "w",
               encoding="utf-8") as f:
@@ -513,23 +550,37 @@ def scenario_tip(checks, machine):
     found = {}
     for line in open(os.path.join(machine.machine_dir, "trueaxis_tip.log"), encoding="utf-8"):
         parts = line.split()
-        if len(parts) == 6 and parts[0] == "tip":
-            found[(int(float(parts[1])), float(parts[2]))] = [float(v) for v in parts[3:]]
+        if len(parts) == 6 and parts[0] in ("tip", "pins"):
+            scale = 1e-6 if parts[0] == "pins" else 1.0  # nm to mm
+            found[(parts[0], int(float(parts[1])), float(parts[2]))] = [scale * float(v) for v in parts[3:]]
     machine.set("12000=0", "12001=0")
     t = machine.get(12052, 12053, 12054)
     ball = (t[12052], t[12053], t[12054])
     print(f"operator's view: the ball's centre against the truth at tool length {tool:g} mm (um: x, y, z)")
     for phi in angles:
-        if (0, phi) not in found or (1, phi) not in found:
+        if any((what, on, phi) not in found for what in ("tip", "pins") for on in (0, 1)):
             checks.check(False, f"tip: both probings at {phi:g} deg in trueaxis_tip.log", str(found))
             return
-        machine.set(f"12058={phi!r}")
+        standing = math.fmod(phi + orient_error, 360.0)
+        # The correction applied (the pins, ramped in) is 9843's at the angle the encoder reads,
+        # not at M19's command: 1.5 deg apart, its error differs by a fraction of a um.
+        at = {}
+        for label, angle in (("encoder", standing), ("command", phi)):
+            machine.query(9843, f"S={angle!r}", f"Z={tool!r}")
+            v = machine.get(102, 103, 104)
+            at[label] = (v[102], v[103], v[104])
+        applied = found[("pins", 1, phi)]
+        checks.check(math.dist(applied, at["encoder"]) < 1e-9 and math.dist(at["encoder"], at["command"]) > 1e-5
+                     and math.dist(found[("pins", 0, phi)], (0.0, 0.0, 0.0)) == 0.0,
+                     f"tip: {phi:g} deg: the correction applied is the tip error at the angle the encoder reads "
+                     f"({standing:g} deg), not at M19's", f"applied {applied}; {at}")
+        machine.set(f"12058={standing!r}")
         e = machine.get(12060, 12061, 12062)
         true_tip = (e[12060], e[12061], e[12062])
-        machine.query(9844, f"S={phi!r}", f"Z={tool!r}", "R=1")
+        machine.query(9844, f"S={standing!r}", f"Z={tool!r}", "R=1")
         sigma = machine.get(107, 108)
-        off = [1000.0 * (m - b) for m, b in zip(found[(0, phi)], ball)]
-        on = [1000.0 * (m - b) for m, b in zip(found[(1, phi)], ball)]
+        off = [1000.0 * (m - b) for m, b in zip(found[("tip", 0, phi)], ball)]
+        on = [1000.0 * (m - b) for m, b in zip(found[("tip", 1, phi)], ball)]
         lateral_sigma = math.hypot(1000.0 * max(sigma[107], sigma[108]), 1.0)  # and the probe's 1 um
         print(f"  {phi:5.1f} deg: tip error {1000 * true_tip[0]:6.2f} {1000 * true_tip[1]:6.2f} "
               f"{1000 * true_tip[2]:6.2f}; without the correction {off[0]:6.2f} {off[1]:6.2f} {off[2]:6.2f}; "
@@ -546,9 +597,92 @@ def scenario_tip(checks, machine):
                      f"{phi:g} deg, the spindle oriented there (M19 before each touch)", f"{seen:.2f} um")
 
 
+def scenario_trt(checks, machine):
+    """(issue 33, item 2) M3's table as LinuxCNC's own xyzac-trt-kins' pivot:
+    on a cradle whose axes are only out of place, the exported parameters put
+    the ball where trueaxis_kins on the table does, on the same joints."""
+    import json
+    import subprocess
+    why = install_kins_module(machine.bin_dir)
+    checks.check(why is None, "trt: trueaxis_kins.so in LinuxCNC's module folder", why or "")
+    if why is not None:
+        return
+    port = ["--port", str(machine.port)]
+    csv = os.path.join(machine.folder, "ball.csv")
+    subprocess.run([os.path.join(machine.bin_dir, "trueaxis-measure-ball")] + port +
+                   ["--out", csv, "--a-from", "-40", "--a-to", "40", "--a-step", "20", "--c-step", "30"],
+                   check=True, capture_output=True)
+    out = os.path.join(machine.folder, "out.json")
+    table = os.path.join(machine.machine_dir, "m3.table")
+    hal = os.path.join(machine.machine_dir, "trt_measured.hal")
+    calibrate = os.path.join(machine.bin_dir, "trueaxis-calibrate")
+    done = subprocess.run([calibrate, "rigidity", "--in", csv, "--json", out, "--store", "--linuxcnc-kins", table] + port,
+                          capture_output=True, text=True)
+    exported = subprocess.run([calibrate, "linuxcnc-trt", "rigidity", "--out", hal] + port, capture_output=True,
+                              text=True)
+    checks.check(done.returncode == 0 and exported.returncode == 0 and os.path.exists(hal),
+                 "trt: the table stored, and exported as xyzac-trt-kins' pivot (trueaxis-calibrate linuxcnc-trt)",
+                 done.stderr + exported.stderr)
+    if exported.returncode != 0:
+        return
+    print(f"operator's view: {exported.stdout.strip()}")
+    for line in open(hal, encoding="utf-8"):
+        print(f"  {line.rstrip()}")
+    poses_json = {p["a_deg"]: p for p in json.load(open(out, encoding="utf-8"))["poses"]}
+    # Where the ball is at A = 0, C = 0 (world, both kinematics), and at each pose (the truth).
+    machine.set("12000=0", "12001=0")
+    t = machine.get(12052, 12053, 12054)
+    world = (t[12052], t[12053], t[12054])
+    poses = [(-40, 30), (0, 0), (20, 135), (40, 250)]
+    truth = {}
+    for a, c in poses:
+        machine.set(f"12000={a}", f"12001={c}")
+        t = machine.get(12052, 12053, 12054)
+        truth[(a, c)] = (t[12052], t[12053], t[12054])
+    commands = ["G21 G90 G54", "M68 E3 Q1", "M66 E0 L0"] + [
+        f"G0 X{world[0]!r} Y{world[1]!r} Z{world[2]!r} A{a} C{c}" for a, c in poses] + ["G0 A0 C0", "M68 E3 Q0"]
+    text = open(machine.ini, encoding="utf-8").read()
+    tip = {}
+    for label in ("nominal", "measured", "trueaxis_kins"):
+        with open(machine.ini, "w", encoding="utf-8") as f:
+            if label == "measured":
+                f.write(text.replace("HALFILE = trueaxis_sim_trt.hal", "HALFILE = trt_measured.hal"))
+            else:
+                f.write(text)
+        if label == "trueaxis_kins":
+            use_kinematics(machine, f"trueaxis_kins table={table} {KINS_PIVOT}")
+        result = machine.run(commands, timeout_s=120, name=f"trt_{label}")
+        if not steps_ok(checks, result, f"trt: the tip to the ball at four poses, {label}"):
+            return
+        # The joints hold the gauge line; the probe's tip is its length below.
+        tip[label] = [(j[0], j[1], j[2] - PROBE_LENGTH_MM) for j in (s["joints"] for s in result["steps"][3:3 + len(poses)])]
+    # The table's 1 sigma at the ball: its rotation and A error sigmas over the
+    # ball's lever from the A axis (no probe here: the joints are commanded).
+    lever_mm = math.hypot(BALL_TABLE_MM[0], BALL_TABLE_MM[2] - A_OFFSET_MM[1])
+    print("operator's view: the tip commanded to the ball, against the truth and trueaxis_kins on the table (um)")
+    for k, (a, c) in enumerate(poses):
+        p = poses_json[float(a)]
+        rotation = math.hypot(*p["rotation_vector_sigma_arcsec"], p["a_positioning_error_sigma_arcsec"]) / 206264.8
+        sigma_um = max(1000.0 * rotation * lever_mm, 0.1)
+        off = {label: 1000.0 * math.dist(tip[label][k], truth[(a, c)]) for label in tip}
+        between = 1000.0 * math.dist(tip["measured"][k], tip["trueaxis_kins"][k])
+        print(f"  A {a:+4d} C {c:3d}: xyzac-trt-kins nominal {off['nominal']:7.1f}, measured {off['measured']:6.2f}, "
+              f"trueaxis_kins {off['trueaxis_kins']:6.2f} from the truth; measured trt to trueaxis_kins "
+              f"{between:6.2f}; 1 sigma {sigma_um:.2f}")
+        checks.check(between <= 3 * sigma_um, f"trt: A {a} C {c}: xyzac-trt-kins with the exported pivot puts the "
+                     "ball where trueaxis_kins does, within 3 sigma", f"{between:.2f} um, sigma {sigma_um:.2f} um")
+        checks.check(off["measured"] <= 3 * sigma_um and off["trueaxis_kins"] <= 3 * sigma_um,
+                     f"trt: A {a} C {c}: both where the ball is, within 3 sigma", str(off))
+        if a != 0:
+            checks.check(off["nominal"] > 3 * sigma_um, f"trt: A {a} C {c}: the nominal pivot misses by the axes' "
+                         "location errors", f"{off['nominal']:.1f} um")
+    checks.check("A positioning error: up to" in open(hal, encoding="utf-8").read() and "not held" in exported.stdout,
+                 "trt: the orientation it cannot hold is stated in the file and on stdout", exported.stdout)
+
+
 def main(argv):
     if len(argv) < 3 or argv[2] not in SCENARIOS or not os.path.isdir(argv[1]):
-        print("usage: test_scenarios.py BIN_DIR leveling|rigidity|a_comp|kins|tip [--keep]", file=sys.stderr)
+        print("usage: test_scenarios.py BIN_DIR leveling|rigidity|a_comp|kins|tip|trt [--keep]", file=sys.stderr)
         return 2
     if shutil.which("linuxcnc") is None:
         print("test_scenarios: no linuxcnc: LinuxCNC is not installed (bash toolchain/setup.sh)", file=sys.stderr)
@@ -560,6 +694,8 @@ def main(argv):
     with host_lock(f"test_scenarios.py {argv[2]}"):
         if argv[2] in ("leveling", "tip"):
             machine = Machine(argv[1], folder, errors="ideal")
+        elif argv[2] == "trt":
+            machine = Machine(argv[1], folder, errors="location")
         else:
             machine = Machine(argv[1], folder, errors="realistic", face_tilt=40)
         try:
@@ -575,7 +711,7 @@ def main(argv):
 
 
 SCENARIOS = {"leveling": scenario_leveling, "rigidity": scenario_rigidity, "a_comp": scenario_a_comp,
-             "kins": scenario_kins, "tip": scenario_tip}
+             "kins": scenario_kins, "tip": scenario_tip, "trt": scenario_trt}
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv))

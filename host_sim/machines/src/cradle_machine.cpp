@@ -65,19 +65,26 @@ Vec3 vector_from_rotation(const Mat3& r) {
 
 }  // namespace
 
-CradleMachine::CradleMachine(const FaceConfig& face, const CradleErrors& errors) : face_(face), errors_(errors) {
+CradleMachine::CradleMachine(const FaceConfig& face, const CradleErrors& errors, const CradlePivot& pivot)
+    : face_(face), errors_(errors), pivot_(pivot) {
   const double t = core::deg_to_rad(face.tilt_deg);
   const double az = core::deg_to_rad(face.azimuth_deg);
   normal_table_ = core::Vec3(std::sin(t) * std::cos(az), std::sin(t) * std::sin(az), std::cos(t));
   q_ = rot_z(arcsec_to_rad(errors.a_dir_y_arcsec)) * rot_y(-arcsec_to_rad(errors.a_dir_z_arcsec));
   a_dir_ = q_.col(0);
   b_ = q_ * rot_y(-arcsec_to_rad(errors.c_squareness_arcsec));
-  origin_k_ = errors.a_point_mm + errors.c_offset_mm * q_.col(1);
+  a_point_ = pivot.c_point_mm + Vec3(0.0, pivot.a_offset_y_mm, pivot.a_offset_z_mm) + errors.a_point_mm;
+  origin_k_ = a_point_ + (errors.c_offset_mm - pivot.a_offset_y_mm) * q_.col(1) - pivot.a_offset_z_mm * b_.col(2);
   pivot_k_ = origin_k_ + errors.pivot_z_mm * b_.col(2);
 }
 
 core::Mat3 CradleMachine::table_rotation(double a_deg, double c_deg) {
   return rot_x(core::deg_to_rad(a_deg)) * rot_z(core::deg_to_rad(c_deg));
+}
+
+core::Vec3 CradleMachine::nominal_machine_point(const core::Vec3& p_table_mm, double a_deg, double c_deg) const {
+  const Vec3 d(0.0, pivot_.a_offset_y_mm, pivot_.a_offset_z_mm);
+  return rot_x(core::deg_to_rad(a_deg)) * (rot_z(core::deg_to_rad(c_deg)) * p_table_mm - d) + pivot_.c_point_mm + d;
 }
 
 double CradleMachine::actual_a_deg(double a_deg) const {
@@ -100,7 +107,7 @@ RigidTransform CradleMachine::machine_T_table(double a_deg, double c_deg) const 
   RigidTransform machine_T;
   machine_T.rotation = r_a * r_def * b_ * rot_z(core::deg_to_rad(c_deg));
   const Vec3 origin_k = origin_k_ + (r_def - Mat3::Identity()) * (origin_k_ - pivot_k_);
-  machine_T.translation_mm = errors_.a_point_mm + r_a * (origin_k - errors_.a_point_mm);
+  machine_T.translation_mm = a_point_ + r_a * (origin_k - a_point_);
   return machine_T;
 }
 
@@ -114,7 +121,7 @@ core::Vec3 CradleMachine::c_centre_at(double a_deg, double height_mm) const {
 }
 
 double CradleMachine::theory_angle_rad(double a_deg, double height_mm) const {
-  const Vec3 a_point = errors_.a_point_mm;
+  const Vec3 a_point = a_point_;
   const auto across_a = [&](const Vec3& p) {
     const Vec3 u = p - a_point;
     return Vec3(u - u.dot(a_dir_) * a_dir_);
@@ -142,7 +149,7 @@ double CradleMachine::a_positioning_error_arcsec(double a_deg, double height_mm)
 
 double CradleMachine::c_to_a_offset_mm() const {
   const Line c = c_axis_at(0.0);
-  const Vec3 between = c.point_mm - errors_.a_point_mm;
+  const Vec3 between = c.point_mm - a_point_;
   const Vec3 normal = c.direction.cross(a_dir_);
   const double sin_angle = normal.norm();
   // Parallel lines (never for a cradle, but defined): the distance between them.

@@ -1,6 +1,7 @@
 // trueaxis-sim: the module on a virtual cradle machine, served over Modbus TCP.
 // Usage and exit codes: usage() below; docs/INTERFACE.md "The simulator's command line".
 #include <cerrno>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -26,7 +27,8 @@ extern "C" void on_stop_signal(int) { g_stop = 1; }
 constexpr const char* kHelp =
     "usage: trueaxis-sim --port PORT [--host ADDR] [--nv PATH] [--seed N]\n"
     "                    [--face-tilt DEG] [--face-azimuth DEG] [--face-height MM]\n"
-    "                    [--errors ideal|realistic] [--max-clients N]\n"
+    "                    [--errors ideal|realistic|location] [--pivot X,Y,Z] [--a-offset DY,DZ]\n"
+    "                    [--max-clients N]\n"
     "                    [--frame-timeout MS] [--idle-timeout MS]\n"
     "  --port PORT        TCP port; 0 picks a free one (printed)\n"
     "  --host ADDR        IPv4 address to listen on (default 127.0.0.1)\n"
@@ -36,7 +38,13 @@ constexpr const char* kHelp =
     "  --face-azimuth DEG direction the face falls towards, from +X to +Y (default 30)\n"
     "  --face-height MM   Z of the face above the table centre (default 40)\n"
     "  --errors KIND      the machine's geometric errors at start (sim_errors #12020):\n"
-    "                     ideal (none, the default) or realistic (cradle_errors.hpp)\n"
+    "                     ideal (none, the default), realistic or location (the axes out of\n"
+    "                     place only; cradle_errors.hpp)\n"
+    "  --pivot X,Y,Z      the cradle's nominal pivot: the C axis' point with the table at\n"
+    "                     A = 0, the table's origin (mm; default 0,0,0), as xyzac-trt-kins'\n"
+    "                     x/y/z-rot-point\n"
+    "  --a-offset DY,DZ   the A axis' offset from it (mm; default 0,0), as xyzac-trt-kins'\n"
+    "                     y/z-offset\n"
     "  --max-clients N    connections served at once; the next is closed at once (default 32)\n"
     "  --frame-timeout MS a connection holding a partial frame or an unsent reply that\n"
     "                     long is closed (default 5000)\n"
@@ -52,6 +60,18 @@ bool parse_double(const char* text, double& out) {
   errno = 0;
   out = std::strtod(text, &end);
   return errno == 0 && end != text && *end == '\0';
+}
+
+// N numbers separated by commas, each finite.
+bool parse_list(const char* text, double* out, int n) {
+  std::string rest = text;
+  for (int k = 0; k < n; ++k) {
+    const std::size_t comma = rest.find(',');
+    if ((comma == std::string::npos) != (k == n - 1)) return false;
+    if (!parse_double(rest.substr(0, comma).c_str(), out[k]) || !std::isfinite(out[k])) return false;
+    rest = comma == std::string::npos ? std::string() : rest.substr(comma + 1);
+  }
+  return true;
 }
 
 bool parse_u64(const char* text, unsigned long long& out) {
@@ -72,6 +92,8 @@ int main(int argc, char** argv) {
   unsigned long long seed = 1;
   sim::FaceConfig face;
   bool errors_on = false;
+  sim::CradleErrors errors = sim::realistic_errors();
+  sim::CradlePivot pivot;
   sim::ServerLimits limits;
   unsigned long long number = 0;
   for (int i = 1; i < argc; ++i) {
@@ -98,8 +120,17 @@ int main(int argc, char** argv) {
       ok = parse_double(value, face.height_mm);
     } else if (arg == "--errors") {
       const std::string kind = value;
-      ok = kind == "ideal" || kind == "realistic";
-      errors_on = kind == "realistic";
+      ok = kind == "ideal" || kind == "realistic" || kind == "location";
+      errors_on = kind != "ideal";
+      errors = kind == "location" ? sim::location_errors() : sim::realistic_errors();
+    } else if (arg == "--pivot") {
+      double xyz[3];
+      ok = parse_list(value, xyz, 3);
+      if (ok) pivot.c_point_mm = core::Vec3(xyz[0], xyz[1], xyz[2]);
+    } else if (arg == "--a-offset") {
+      double yz[2];
+      ok = parse_list(value, yz, 2);
+      if (ok) pivot.a_offset_y_mm = yz[0], pivot.a_offset_z_mm = yz[1];
     } else if (arg == "--max-clients") {
       ok = parse_u64(value, number) && number >= 1 && number <= 1024;
       limits.max_clients = static_cast<std::size_t>(number);
@@ -133,7 +164,7 @@ int main(int argc, char** argv) {
   if (module.start() != core::Status::kOk) {
     std::fprintf(stderr, "trueaxis-sim: %s unreadable; using the map's defaults\n", nv_path.c_str());
   }
-  sim::Simulator simulator(module, face, seed, errors_on);
+  sim::Simulator simulator(module, face, seed, errors_on, errors, pivot);
   sim::VariableRouter router(module, simulator);
   modbus::ModbusCore core(router);
   sim::ModbusTcpServer server(core, simulator, limits);

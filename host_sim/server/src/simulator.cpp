@@ -21,8 +21,9 @@ bool is_probe_target(double target) {
 }
 
 Simulator::Simulator(macros::Module& module, const FaceConfig& face, std::uint64_t seed, bool errors_on,
-                     const CradleErrors& errors)
-    : module_(module), face_(face), errors_(errors), ideal_(face), with_errors_(face, errors),
+                     const CradleErrors& errors, const CradlePivot& pivot)
+    : module_(module), face_(face), errors_(errors), pivot_(pivot), ideal_(face, CradleErrors{}, pivot),
+      with_errors_(face, errors, pivot),
       spindle_(realistic_spindle()) {
   for (const macros::VarInfo& v : kSimMap) state_.values[v.number - simvar::kFirst] = v.default_value;
   state_.values[simvar::kErrors - simvar::kFirst] = errors_on ? 1.0 : 0.0;
@@ -33,7 +34,7 @@ CradleMachine Simulator::drifted(const double* values) const {
   CradleErrors e = errors_;
   e.local_a_deg = values[simvar::kDriftA - simvar::kFirst];
   e.local_arcsec = values[simvar::kDriftArcsec - simvar::kFirst];
-  return CradleMachine(face_, e);
+  return CradleMachine(face_, e, pivot_);
 }
 
 const CradleMachine& Simulator::machine_for(const double* values) const {

@@ -6,6 +6,7 @@
 // trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]
 // trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]
 // trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]
+// trueaxis-calibrate linuxcnc-trt rigidity --out FILE.hal [--port PORT] [--host ADDR] [--wait SECONDS]
 // The integrator's command (docs/INTERFACE.md, "The integrator's command"):
 // reads the samples, streams them to the module over Modbus (default
 // 127.0.0.1:502), runs the method's macros there and writes what the module
@@ -54,6 +55,7 @@
 #include "trueaxis/sim/tools/csv.hpp"
 #include "trueaxis/sim/tools/log_reader.hpp"
 #include "trueaxis/sim/tools/planner.hpp"
+#include "trueaxis/sim/tools/trt_export.hpp"
 
 using trueaxis::sim::write_text_file;
 
@@ -71,7 +73,8 @@ constexpr const char* kUsage =
     "                          [--sub-machines N,N...]\n"
     "       trueaxis-calibrate log [--port PORT] [--host ADDR] [--csv FILE] [--wait SECONDS]\n"
     "       trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]\n"
-    "       trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]\n";
+    "       trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]\n"
+    "       trueaxis-calibrate linuxcnc-trt rigidity --out FILE.hal [--port PORT] [--host ADDR] [--wait SECONDS]\n";
 
 constexpr const char* kPlanHelp =
     "plan METHOD: the 1-sigma of every output of a planned measurement, predicted before it is\n"
@@ -82,7 +85,9 @@ constexpr const char* kPlanHelp =
     "  rigidity  --a FROM,TO,STEP (deg; -90,90,30) --c-step DEG (10) or --in PLAN.csv (a_deg,c_deg:\n"
     "            a pose per A, its C positions; other columns ignored), --ball X,Y,Z (mm, table\n"
     "            coordinates; 200,0,50), --noise-um U (ball centre, 1 sigma per axis; 1),\n"
-    "            --a-limits MIN,MAX (deg; the suggested poses' range; -120,120)\n"
+    "            --a-limits MIN,MAX (deg; the suggested poses' range; -120,120), --pivot X,Y,Z and\n"
+    "            --a-offset DY,DZ (mm: the cradle's nominal pivot, as [TRUEAXIS] PIVOT_* and\n"
+    "            A_OFFSET_*; 0,0,0 and 0,0: the ball's lever about A is Z + its height above A)\n"
     "  gantry    --pad-grid N (5) --side-grid ROWS,COLS (4,5) --passes N (3) --pass-points N (15) --circle-points N (5..36; 24)\n"
     "            --c-arc FROM,TO (0,345) --a-arc FROM,TO (-90,90) --mpe UM,UM_PER_M (15,6: the tracker's\n"
     "            point MPE, read as 2 sigma across the line of sight) --radial-mpe UM (10)\n"
@@ -194,6 +199,9 @@ void print_help() {
               "date it reaches its tolerance; --csv FILE writes the entries as CSV too.\n"
               "linuxcnc-kins METHOD: the controller's stored M3 table (rigidity) or M4 model (spindle) as\n"
               "the file the LinuxCNC kinematics trueaxis_kins load (integrations/linuxcnc/kins).\n"
+              "linuxcnc-trt rigidity: the controller's stored M3 table as LinuxCNC's own xyzac-trt-kins'\n"
+              "pivot (setp lines of x/y/z-rot-point and y/z-offset, a HAL file), what those cannot hold\n"
+              "(the axes' directions, the rigidity, the A positioning error) stated in it and on stdout.\n"
               "%s"
               "Exit 0 with one summary line on stdout; 1 with one line on stderr on any failure, and\n"
               "then no OUT.json and nothing stored; 3 when --check's verdict is fail (OUT.json and the\n"
@@ -500,7 +508,10 @@ bool read_rigidity_plan(const std::string& path, trueaxis::sim::RigidityPlan& pl
 // trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]:
 // the controller's stored M3 table or M4 model as the LinuxCNC kinematics'
 // file, however it was stored (trueaxis-calibrate, an operator program's G65, an HMI).
-int run_kins_export(int argc, char** argv) {
+// `trt`: linuxcnc-trt rigidity, the stored M3 table as xyzac-trt-kins' pivot
+// (trt_export.hpp), a HAL file.
+int run_kins_export(int argc, char** argv, bool trt) {
+  const char* command = trt ? "linuxcnc-trt" : "linuxcnc-kins";
   Connection connection;
   std::string out_path;
   const CalibrateMethod* method = argc > 2 ? trueaxis::sim::find_calibrate_method(argv[2]) : nullptr;
@@ -508,8 +519,8 @@ int run_kins_export(int argc, char** argv) {
     print_help();
     return 0;
   }
-  if (method == nullptr || method->kins_file == nullptr) {
-    return usage_error("linuxcnc-kins takes METHOD: rigidity or spindle");
+  if (method == nullptr || method->kins_file == nullptr || (trt && std::string(method->name) != "rigidity")) {
+    return usage_error(trt ? "linuxcnc-trt takes METHOD: rigidity" : "linuxcnc-kins takes METHOD: rigidity or spindle");
   }
   for (int i = 3; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -523,10 +534,10 @@ int run_kins_export(int argc, char** argv) {
     } else if (arg == "--out" && i + 1 < argc) {
       out_path = argv[++i];
     } else {
-      return usage_error("unknown or incomplete option '" + arg + "' for linuxcnc-kins");
+      return usage_error("unknown or incomplete option '" + arg + "' for " + command);
     }
   }
-  if (out_path.empty()) return usage_error("linuxcnc-kins needs --out FILE");
+  if (out_path.empty()) return usage_error(std::string(command) + " needs --out FILE");
   const std::string cause = file_cause(out_path);  // tried before the module is asked
   if (!cause.empty()) return fail(out_path + ": cannot be written (" + cause + ")");
   trueaxis::sim::VariableClient client;
@@ -538,11 +549,28 @@ int run_kins_export(int argc, char** argv) {
   client.give_back_interface();  // at once, whatever happened
   client.close();
   if (!read) return fail(r.error);
+  trueaxis::sim::TrtParameters trt_p;
+  if (trt) {
+    trueaxis::core::RigidityTable table;
+    std::string refused;
+    if (!trueaxis::sim::decode_rigidity_file(file, table, refused) ||
+        !trueaxis::sim::trt_parameters(table, trt_p, refused)) {
+      return fail("linuxcnc-trt: " + refused);
+    }
+    file = trueaxis::sim::trt_hal_text(trt_p);
+  }
   const std::string tmp = out_path + ".tmp";
   if (!write_text_file(tmp, file) || std::rename(tmp.c_str(), out_path.c_str()) != 0) {
     const int error = errno;
     std::remove(tmp.c_str());
     return fail(cannot_write(out_path, error));
+  }
+  if (trt) {
+    std::printf("linuxcnc-trt: the stored rigidity table as xyzac-trt-kins' pivot (%.4f, %.4f, %.4f) mm, offsets "
+                "Y %.4f Z %.4f mm; not held: %.2f\" (axes' directions, rigidity, A positioning error); wrote %s\n",
+                trt_p.rot_point_mm.x(), trt_p.rot_point_mm.y(), trt_p.rot_point_mm.z(), trt_p.y_offset_mm,
+                trt_p.z_offset_mm, trt_p.not_held_arcsec(), out_path.c_str());
+    return 0;
   }
   std::printf("linuxcnc-kins: the stored %s calibration, %zu bytes; wrote %s\n", method->name, file.size(),
               out_path.c_str());
@@ -600,6 +628,12 @@ int run_plan(int argc, char** argv) {
       double um = 0.0;
       ok = ok && positive(value, um);
       rigidity.sigma_mm = level.sigma_mm = um / 1000.0;
+    } else if (method == "rigidity" && arg == "--pivot") {
+      ok = ok && numbers(value, 3, v);
+      if (ok) rigidity.pivot.c_point_mm = trueaxis::core::Vec3(v[0], v[1], v[2]);
+    } else if (method == "rigidity" && arg == "--a-offset") {
+      ok = ok && numbers(value, 2, v);
+      if (ok) rigidity.pivot.a_offset_y_mm = v[0], rigidity.pivot.a_offset_z_mm = v[1];
     } else if (method == "rigidity" && arg == "--a-limits") {
       ok = ok && numbers(value, 2, v) && v[0] < v[1];
       if (ok) rigidity.a_min_deg = v[0], rigidity.a_max_deg = v[1];
@@ -668,6 +702,8 @@ int run_plan(int argc, char** argv) {
           {"--ball", "X,Y,Z in mm (table coordinates)"},
           {"--noise-um", "micrometres, > 0"},
           {"--a-limits", "MIN,MAX in degrees, MIN < MAX"},
+          {"--pivot", "X,Y,Z in mm (machine coordinates)"},
+          {"--a-offset", "DY,DZ in mm (the A axis from the pivot)"},
           {"--pad-grid", "2..11"},
           {"--side-grid", "ROWS,COLS: 2..20 each"},
           {"--passes", "1..8"},
@@ -754,7 +790,8 @@ int main(int argc, char** argv) {
   const std::string first = argv[1];
   if (first == "log") return run_log(argc, argv);
   if (first == "plan") return run_plan(argc, argv);
-  if (first == "linuxcnc-kins") return run_kins_export(argc, argv);
+  if (first == "linuxcnc-kins") return run_kins_export(argc, argv, false);
+  if (first == "linuxcnc-trt") return run_kins_export(argc, argv, true);
   const CalibrateMethod* method = trueaxis::sim::find_calibrate_method(first);
   // --help and --version anywhere after METHOD, or in its place.
   const int options_from = method != nullptr ? 2 : 1;

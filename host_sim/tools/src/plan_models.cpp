@@ -54,7 +54,7 @@ std::vector<std::pair<std::uint16_t, double>> with_xyz(std::vector<std::pair<std
 class RigidityModel final : public PlanModel {
  public:
   explicit RigidityModel(RigidityPlan plan) : plan_(std::move(plan)), builder_(std::make_unique<core::RigidityBuilder>()) {
-    const CradleMachine machine(FaceConfig{}, realistic_errors());
+    const CradleMachine machine(FaceConfig{}, realistic_errors(), plan_.pivot);
     std::vector<double> poses;
     for (const auto& pose : plan_.poses) {
       for (const double c : pose.second) {
@@ -94,6 +94,13 @@ class RigidityModel final : public PlanModel {
   }
 
   const char* method() const override { return "rigidity"; }
+  // The nominal pivot when it is not the machine origin's.
+  std::string pivot_text() const {
+    const CradlePivot& p = plan_.pivot;
+    if (p.c_point_mm == Vec3::Zero() && p.a_offset_y_mm == 0.0 && p.a_offset_z_mm == 0.0) return "";
+    return plan_text(", C about (%g, %g, %g) mm, A %g, %g mm from it", p.c_point_mm.x(), p.c_point_mm.y(),
+                     p.c_point_mm.z(), p.a_offset_y_mm, p.a_offset_z_mm);
+  }
   std::string description() const override {
     std::vector<double> a;
     std::size_t c = 0;
@@ -107,7 +114,7 @@ class RigidityModel final : public PlanModel {
     return std::to_string(a.size()) + " A poses (" + poses + ") x up to " + std::to_string(c) +
            plan_text(" C positions, ball at (%g, %g, %g) mm on the table", plan_.ball_table_mm.x(), plan_.ball_table_mm.y(),
                 plan_.ball_table_mm.z()) +
-           plan_text(", read to %g um (1 sigma per axis)", plan_.sigma_mm * 1000.0);
+           plan_text(", read to %g um (1 sigma per axis)", plan_.sigma_mm * 1000.0) + pivot_text();
   }
   const std::vector<PlanReading>& readings() const override { return readings_; }
   const std::vector<PlanOutput>& outputs() const override { return outputs_; }

@@ -83,8 +83,33 @@ def read_settings(path):
             elif section == "TRUEAXIS" and "=" in line:
                 key, value = line.split("=", 1)
                 settings[key.strip().upper()] = value.strip()
+            elif section == "KINS" and "=" in line and line.split("=", 1)[0].strip().upper() == "KINEMATICS":
+                settings["_KINEMATICS"] = line.split("=", 1)[1].strip()
     settings["_DIR"] = os.path.dirname(os.path.abspath(path))
     return settings
+
+
+PIVOT_KEYS = ("PIVOT_X", "PIVOT_Y", "PIVOT_Z", "A_OFFSET_Y", "A_OFFSET_Z")
+
+
+def pivot_mismatch(settings):
+    """None, or the sentence why [TRUEAXIS] PIVOT_X .. A_OFFSET_Z (what the
+    programs aim with, absent 0) are not the pivot= and a_offset= of a [KINS]
+    KINEMATICS = trueaxis_kins line (absent 0): two pivots on one machine."""
+    words = settings.get("_KINEMATICS", "").split()
+    if not words or words[0] != "trueaxis_kins":
+        return None
+    kins = dict(w.split("=", 1) for w in words[1:] if "=" in w)
+    try:
+        theirs = [float(v) for v in kins.get("pivot", "0,0,0").split(",")] + \
+                 [float(v) for v in kins.get("a_offset", "0,0").split(",")]
+        ours = [float(settings.get(k, "0")) for k in PIVOT_KEYS]
+    except ValueError:
+        return "[KINS] KINEMATICS or [TRUEAXIS] PIVOT_* holds a pivot that is not numbers"
+    if len(theirs) != 5 or theirs != ours:
+        return (f"[TRUEAXIS] PIVOT_X..A_OFFSET_Z {ours} are not [KINS] trueaxis_kins' pivot= and a_offset= "
+                f"{theirs}: the programs would aim at a pivot the kinematics do not turn about")
+    return None
 
 
 class Remap:
@@ -97,6 +122,9 @@ class Remap:
             except ValueError:
                 raise TrueaxisError(f"[TRUEAXIS] {key} = {settings[key]!r} is not a number")
 
+        mismatch = pivot_mismatch(settings)
+        if mismatch:
+            raise TrueaxisError(mismatch)
         where = settings.get("_DIR", HERE)
         map_path = settings.get("MAP", os.path.join(HERE, "..", "..", "..", "macros", "register_map.json"))
         self.map = RegisterMap(os.path.join(where, map_path))

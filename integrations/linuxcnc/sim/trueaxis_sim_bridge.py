@@ -4,7 +4,7 @@ places the virtual probe's face and ball (trueaxis_sim.hal) where trueaxis-sim's
 own cradle model puts them, with its true geometric errors (one model of the
 machine: no second copy of its geometry here).
 
-usage: trueaxis_sim_bridge.py HOST PORT BALL_RADIUS_MM [PROBE_LENGTH_MM]
+usage: trueaxis_sim_bridge.py HOST PORT BALL_RADIUS_MM [PROBE_LENGTH_MM [ORIENT_ERROR_DEG]]
 
 Pins (component trueaxis-sim-bridge):
   a, c (float in)                  the table's commanded A and C, deg (joints 3, 4)
@@ -20,10 +20,15 @@ Pins (component trueaxis-sim-bridge):
   The probe's tip is PROBE_LENGTH_MM (default 0) below the joints' X, Y, Z
   (the gauge line): the face and the ball are given shifted up by it, where
   the joints meet them.
-  spindle-angle (float in)         the spindle's angle (deg; the HAL file nets
-                                   it to spindle.0.orient-angle, M19): the probe's tip is the joints'
+  spindle-angle (float in)         the angle M19 commands (deg; the HAL file nets
+                                   it to spindle.0.orient-angle)
+  spindle-encoder (float out)      the angle the spindle stands at, as its
+                                   encoder reads it: the command plus
+                                   ORIENT_ERROR_DEG (default 0), as a real
+                                   orient stops within its tolerance, not on
+                                   the command. The probe's tip is the joints'
                                    X, Y, Z plus the spindle's tool tip error
-                                   there (#12060..#12062, 0 unless the
+                                   at that angle (#12060..#12062, 0 unless the
                                    simulator's sim_spindle is 1), so the face
                                    and the ball are given shifted back by it
 Every 5 ms: when A, C, the spindle angle or an enable has changed, it writes
@@ -51,6 +56,7 @@ NEVER = -1.0e9
 def main(argv):
     host, port, radius = argv[1], int(argv[2]), float(argv[3])
     length = float(argv[4]) if len(argv) > 4 else 0.0
+    orient_error = float(argv[5]) if len(argv) > 5 else 0.0
     client = ModbusTcpClient(host, port=port, timeout=2)
     if not client.connect():
         sys.exit(f"trueaxis_sim_bridge: no trueaxis-sim at {host}:{port}")
@@ -60,7 +66,7 @@ def main(argv):
     for name in ("face-enable", "ball-enable"):
         h.newpin(name, hal.HAL_BIT, hal.HAL_IN)
     for name in ("face-nx", "face-ny", "face-nz", "face-d", "ball-x", "ball-y", "ball-z", "ball-r2",
-                 "pose-a", "pose-c"):
+                 "pose-a", "pose-c", "spindle-encoder"):
         h.newpin(name, hal.HAL_FLOAT, hal.HAL_OUT)
     h["face-d"] = NEVER   # nothing trips before the first answer
     h["ball-r2"] = -1.0
@@ -85,7 +91,10 @@ def main(argv):
             now = (h["a"], h["c"], h["face-enable"], h["ball-enable"], h["spindle-angle"])
             if now != last:
                 write(12000, [now[0], now[1]])
-                write(12058, [math.fmod(now[4], 360.0) if math.isfinite(now[4]) else 0.0])  # within the map's range
+                actual = math.fmod(now[4] + orient_error, 360.0) if math.isfinite(now[4]) else 0.0
+                actual = actual + 360.0 if actual < 0.0 else actual  # within the map's range
+                write(12058, [actual])
+                h["spindle-encoder"] = actual
                 nx, ny, nz, d, bx, by, bz = read(12048, 7)
                 ex, ey, ez = read(12060, 3)
                 ez -= length  # the tip below the joints: they meet the face and the ball that much higher

@@ -124,7 +124,7 @@ void check_plan(const char* what, const sim::PlanModel& model, const Measure& me
 
 Measure ball_measure(const sim::RigidityPlan& plan) {
   return [plan](sim::SimRng* rng) {
-    const sim::CradleMachine machine(sim::FaceConfig{}, sim::realistic_errors());
+    const sim::CradleMachine machine(sim::FaceConfig{}, sim::realistic_errors(), plan.pivot);
     sim::CalibrationBall ball;
     ball.centre_table_mm = plan.ball_table_mm;
     ball.sigma_mm = plan.sigma_mm;
@@ -200,11 +200,14 @@ TEST_CASE("plan rigidity: predicted sigmas within x1.2 of the Monte-Carlo spread
   sim::RigidityPlan narrow = sim::rigidity_plan(-30.0, 30.0, 30.0, 30.0);
   check_plan("M3 three poses x 12 C", *sim::rigidity_model(narrow), ball_measure(narrow), 32);
 
-  // Uneven: a short C arc at one pose, the ball elsewhere, a noisier probe.
+  // Uneven: a short C arc at one pose, the ball elsewhere, a noisier probe,
+  // the cradle about a pivot off the origin (the A axis 80 mm below the table).
   sim::RigidityPlan uneven = sim::rigidity_plan(-60.0, 75.0, 15.0, 45.0);
   uneven.poses[2].second = {0.0, 20.0, 40.0, 60.0, 80.0};
   uneven.ball_table_mm = Vec3(150.0, 40.0, 80.0);
   uneven.sigma_mm = 0.002;
+  uneven.pivot.c_point_mm = Vec3(35.0, -25.0, 0.0);
+  uneven.pivot.a_offset_z_mm = -80.0;
   check_plan("M3 uneven", *sim::rigidity_model(uneven), ball_measure(uneven), 33);
 }
 
@@ -258,6 +261,34 @@ TEST_CASE("plan level: predicted sigmas within x1.2 of the Monte-Carlo spread, t
   sim::LevelPlan five;
   five.points = {{-40.0, -40.0}, {40.0, -40.0}, {40.0, 40.0}, {-40.0, 40.0}, {0.0, 0.0}};
   check_plan("M1 five points", *sim::level_model(five), probe_measure(five), 63);
+}
+
+TEST_CASE("plan rigidity: the pivot's A offset is the ball's lever: the A positioning error's sigma scales as its "
+          "C centres' radius about A",
+          "[plan]") {
+  const sim::RigidityPlan at_origin = sim::rigidity_plan(-90.0, 90.0, 30.0, 10.0);
+  sim::RigidityPlan below = at_origin;
+  below.pivot.c_point_mm = Vec3(35.0, -25.0, 0.0);
+  below.pivot.a_offset_z_mm = -80.0;
+  const sim::PlanPrediction p0 = sim::predict_plan(*sim::rigidity_model(at_origin));
+  const sim::PlanPrediction p1 = sim::predict_plan(*sim::rigidity_model(below));
+  REQUIRE(p0.ok);
+  REQUIRE(p1.ok);
+  REQUIRE(p0.outputs.size() == p1.outputs.size());
+  std::size_t seen = 0;
+  for (std::size_t i = 0; i < p0.outputs.size(); ++i) {
+    if (p0.outputs[i].name.find("a_positioning_error") == std::string::npos) continue;
+    INFO(p0.outputs[i].name << ": " << p0.sigma[i] << " at the origin, " << p1.sigma[i] << " 80 mm below");
+    // The ball 50 mm above A at the origin's cradle, 130 mm above it below.
+    CHECK(p1.sigma[i] / p0.sigma[i] == Approx(50.0 / 130.0).epsilon(0.05));
+    ++seen;
+  }
+  CHECK(seen == 6);
+  // And the A axis' point where the pivot puts it.
+  for (std::size_t i = 0; i < p1.outputs.size(); ++i) {
+    if (p1.outputs[i].name == "a_axis_point_y") CHECK(p1.value[i] == Approx(-25.0 + 0.010).margin(1e-4));  // and the realistic errors
+    if (p1.outputs[i].name == "a_axis_point_z") CHECK(p1.value[i] == Approx(-80.0 - 0.015).margin(1e-4));
+  }
 }
 
 TEST_CASE("plan: a plan the method refuses is reported with the module's error", "[plan]") {

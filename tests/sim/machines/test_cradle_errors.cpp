@@ -292,3 +292,53 @@ TEST_CASE("the instrument's noise has the configured sigma and is reproducible")
     }
   }
 }
+
+TEST_CASE("a nominal pivot moves both axes: the ideal machine is xyzac-trt-kins' cradle about it, and the errors "
+          "keep their meaning from it") {
+  trueaxis::sim::CradlePivot pivot;
+  pivot.c_point_mm = Vec3(35.0, -25.0, 10.0);
+  pivot.a_offset_y_mm = 4.0;
+  pivot.a_offset_z_mm = -80.0;
+  const CradleMachine ideal(FaceConfig{}, CradleErrors{}, pivot);
+  const CradleMachine at_origin(FaceConfig{});
+  SimRng rng(91);
+  const Vec3 d(0.0, pivot.a_offset_y_mm, pivot.a_offset_z_mm);
+  for (int i = 0; i < 100; ++i) {
+    const double a = -120.0 + 240.0 * rng.uniform01();
+    const double c = -400.0 + 800.0 * rng.uniform01();
+    const Vec3 p(300.0 * rng.uniform01() - 150.0, 200.0 * rng.uniform01() - 100.0, 100.0 * rng.uniform01());
+    INFO("A " << a << " C " << c);
+    // xyzac-trt-kins' equations, written again: C about the vertical line
+    // through r, A about the X line through r + d, the table's origin at r.
+    const Mat3 r = turn(Vec3::UnitX(), a * kRadPerDeg);
+    const Vec3 expected = r * (turn(Vec3::UnitZ(), c * kRadPerDeg) * p - d) + pivot.c_point_mm + d;
+    CHECK((ideal.machine_T_table(a, c).apply(p) - expected).norm() < 1e-9);
+    CHECK((ideal.nominal_machine_point(p, a, c) - expected).norm() < 1e-9);
+    // The pivot alone is a rigid move of the whole cradle's path: at A = 0 a
+    // translation by r, and the rotations those of the machine origin's cradle.
+    CHECK((ideal.machine_T_table(a, c).rotation - at_origin.machine_T_table(a, c).rotation).norm() < 1e-15);
+  }
+  CHECK((ideal.machine_T_table(0.0, 0.0).translation_mm - pivot.c_point_mm).norm() == 0.0);
+  CHECK((ideal.a_axis().point_mm - (pivot.c_point_mm + d)).norm() == 0.0);
+  // The nominal C-to-A offset is d_y; the errors add to it, about the pivot.
+  CHECK(ideal.c_to_a_offset_mm() == Approx(4.0).margin(1e-12));
+  CradleErrors e = trueaxis::sim::realistic_errors();
+  const CradleMachine real(FaceConfig{}, e, pivot);
+  const CradleMachine real_at_origin(FaceConfig{}, e);
+  CHECK(real.c_to_a_offset_mm() == Approx(std::fabs(e.c_offset_mm - 4.0)).margin(1e-9));
+  CHECK(real.c_to_a_squareness_arcsec() == Approx(real_at_origin.c_to_a_squareness_arcsec()).margin(1e-9));
+  CHECK((real.a_axis().point_mm - (pivot.c_point_mm + d + e.a_point_mm)).norm() < 1e-12);
+  // With d_y = 0 the M3 truth (frames and A error at a ball height) is the
+  // machine origin's, moved: the rotations and angles do not see the pivot.
+  pivot.a_offset_y_mm = 0.0;
+  pivot.a_offset_z_mm = 0.0;
+  const CradleMachine moved(FaceConfig{}, e, pivot);
+  for (double a : {-60.0, -20.0, 30.0, 90.0}) {
+    INFO("A " << a);
+    CHECK((arcsec(moved.rotation_vector_rad(a, 50.0)) - arcsec(real_at_origin.rotation_vector_rad(a, 50.0))).norm() <
+          1e-6);
+    CHECK(moved.a_positioning_error_arcsec(a, 50.0) ==
+          Approx(real_at_origin.a_positioning_error_arcsec(a, 50.0)).margin(1e-6));
+    CHECK((moved.c_centre_at(a, 50.0) - real_at_origin.c_centre_at(a, 50.0) - pivot.c_point_mm).norm() < 1e-9);
+  }
+}

@@ -10,15 +10,18 @@
 //         a_dir = (cos z cos y, cos z sin y, sin z),  y = a_dir_y_arcsec, z = a_dir_z_arcsec,
 //     i.e. +X turned by y towards +Y, then by z towards +Z. Q = Rz(y) Ry(-z) carries
 //     X, Y, Z to a_dir, v = Q Y (horizontal, perpendicular to a_dir) and w = Q Z.
-//     a_point_mm is the foot, on the A axis, of the common perpendicular to the C axis.
+//     a_point_mm is the foot, on the A axis, of the common perpendicular to the C axis,
+//     taken from the nominal A axis' point r + d (cradle_machine.hpp convention 1;
+//     0 for a cradle about the machine origin): the true point is r + d + a_point_mm.
 //  2. A positioning: commanded A turns the cradle about the A axis by the actual angle
 //         alpha = A + e(A),   e(A) = a_error_0_arcsec + a_error_1_arcsec sin A,
 //         p_M = a_point + Q Rx(alpha) Q^T (p_K - a_point).
 //  3. C axis (on the cradle, alpha = 0): through the table origin
-//         o_K = a_point + c_offset_mm v,
+//         o_K = a_point + (c_offset_mm - d_y) v - d_z c_dir,
+//     (d the nominal A offset of convention 1; o_K = r on the nominal machine),
 //     unit direction c_dir = Q Ry(-s) Z = cos s w - sin s a_dir, s = c_squareness_arcsec.
 //     So the common perpendicular of the A and C lines is along v, of length
-//     |c_offset_mm|, and angle(c_dir, a_dir) - 90 deg = s (ISO 230-1 style, the sign
+//     |c_offset_mm - d_y|, and angle(c_dir, a_dir) - 90 deg = s (ISO 230-1 style, the sign
 //     M3 reports). The table's axes at C = 0 are the columns of B = Q Ry(-s) (X in
 //     the plane of a_dir and c_dir). C is exact (no C positioning error):
 //         p_H = o_K + B Rz(C) p_T.
@@ -79,6 +82,17 @@ inline CradleErrors realistic_errors() {
   e.k_gravity_arcsec = 25.0;
   e.k_stiffness_arcsec = 8.0;
   e.pivot_z_mm = -100.0;
+  return e;
+}
+
+// The axes out of place only (a cradle whose nominal pivot is a tenth of a
+// millimetre off, nothing turned): the A axis 150 um / -120 um off its nominal
+// line, C 80 um across it; every direction, rigidity and positioning error 0.
+// What xyzac-trt-kins' pivot parameters can hold entirely (trt_export.hpp).
+inline CradleErrors location_errors() {
+  CradleErrors e;
+  e.a_point_mm = core::Vec3(0.0, 0.150, -0.120);
+  e.c_offset_mm = 0.080;
   return e;
 }
 

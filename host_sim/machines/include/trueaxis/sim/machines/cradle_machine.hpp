@@ -6,10 +6,15 @@
 // Conventions
 //  1. Machine: A tilts the cradle about machine X, C turns the table about its own
 //     Z. Nominally, a point fixed to the table, written p_table with the table at
-//     zero, is at
-//         p_machine = Rx(A) Rz(C) p_table
-//     with both rotations about the machine origin and both signs +1 (commanded =
-//     physical, right-handed), i.e. the module's configuration a_sign = c_sign = +1.
+//     zero (its origin on the C axis), is at
+//         p_machine = Rx(A) (Rz(C) p_table - d) + r + d
+//     with C about the vertical line through the nominal pivot r (CradlePivot's
+//     c_point_mm: the table's origin at A = 0) and A about the X line through
+//     r + d, d = (0, a_offset_y_mm, a_offset_z_mm): xyzac-trt-kins' x/y/z-rot-point
+//     and y/z-offset (trueaxis_kins' pivot= and a_offset=). Both signs +1
+//     (commanded = physical, right-handed), i.e. the module's configuration
+//     a_sign = c_sign = +1. CradlePivot{} (the default): r = d = 0, both about
+//     the machine origin, Rx(A) Rz(C) p_table.
 //     The true machine is that plus the geometric errors of cradle_errors.hpp:
 //         p_machine = machine_T_table(A, C) p_table;
 //     with CradleErrors{} (all zero) the two are the same, bit for bit. The face,
@@ -38,6 +43,15 @@
 
 namespace trueaxis::sim {
 
+// Convention 1's nominal pivot (mm). The geometric errors are taken from it:
+// the true A axis passes through r + d + a_point_mm, the table's origin lies
+// c_offset_mm - a_offset_y_mm across it (cradle_errors.hpp model 3).
+struct CradlePivot {
+  core::Vec3 c_point_mm = core::Vec3::Zero();  // r
+  double a_offset_y_mm = 0.0;                  // d
+  double a_offset_z_mm = 0.0;
+};
+
 struct FaceConfig {
   double tilt_deg = 12.5;
   double azimuth_deg = 30.0;
@@ -46,13 +60,17 @@ struct FaceConfig {
 
 class CradleMachine {
  public:
-  explicit CradleMachine(const FaceConfig& face, const CradleErrors& errors = CradleErrors{});
+  explicit CradleMachine(const FaceConfig& face, const CradleErrors& errors = CradleErrors{},
+                         const CradlePivot& pivot = CradlePivot{});
 
   const FaceConfig& face() const { return face_; }
   const CradleErrors& errors() const { return errors_; }
+  const CradlePivot& pivot() const { return pivot_; }
 
   // The NOMINAL R_machine_table Rx(A) Rz(C) (convention 1), whatever the errors.
   static core::Mat3 table_rotation(double a_deg, double c_deg);
+  // The NOMINAL machine point of a table point (convention 1), whatever the errors.
+  core::Vec3 nominal_machine_point(const core::Vec3& p_table_mm, double a_deg, double c_deg) const;
 
   // The TRUE machine_T_table at commanded (a_deg, c_deg): cradle_errors.hpp model 5.
   RigidTransform machine_T_table(double a_deg, double c_deg) const;
@@ -64,7 +82,7 @@ class CradleMachine {
 
   // The true A axis (model 1), and the true C axis line at commanded A (point:
   // the table origin; direction: +Z of the table), machine frame.
-  Line a_axis() const { return Line{errors_.a_point_mm, a_dir_}; }
+  Line a_axis() const { return Line{a_point_, a_dir_}; }
   Line c_axis_at(double a_deg) const;
 
   // Convention 3, for a ball at table height height_mm.
@@ -92,7 +110,9 @@ class CradleMachine {
  private:
   FaceConfig face_;
   CradleErrors errors_;
+  CradlePivot pivot_;
   core::Vec3 normal_table_;
+  core::Vec3 a_point_;     // model 1's point, with convention 1's r + d
   core::Mat3 q_;           // model 1: X, Y, Z -> a_dir, v, w
   core::Mat3 b_;           // model 3: the table's axes at C = 0, cradle frame
   core::Vec3 a_dir_;       // model 1

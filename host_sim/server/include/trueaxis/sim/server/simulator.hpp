@@ -26,7 +26,8 @@
 //     (the table, the ball, sim_errors) applies before it measures. It always
 //     succeeds and always draws three deviates.
 //  5. sim_errors (#12020): 0 the ideal machine (CradleErrors{}), 1 the machine with
-//     the errors given to the constructor (realistic_errors() by default). The
+//     the errors given to the constructor (realistic_errors() by default), both
+//     about the constructor's nominal pivot. The
 //     probe, the ball and every ground-truth read-back follow the present value;
 //     the truth that depends on a ball height (rotation vector, A positioning
 //     error, C centre) is for a ball at sim_ball_z.
@@ -55,9 +56,11 @@ bool is_probe_target(double target);
 
 class Simulator final : public macros::VariableAccess {
  public:
-  // errors_on: the initial sim_errors (contract 5); errors: the set it turns on.
+  // errors_on: the initial sim_errors (contract 5); errors: the set it turns on;
+  // pivot: the cradle's nominal pivot, with and without the errors
+  // (cradle_machine.hpp convention 1; the machine origin by default).
   Simulator(macros::Module& module, const FaceConfig& face, std::uint64_t seed, bool errors_on = false,
-            const CradleErrors& errors = realistic_errors());
+            const CradleErrors& errors = realistic_errors(), const CradlePivot& pivot = CradlePivot{});
 
   // Contract 6.
   void after_request();
@@ -94,6 +97,7 @@ class Simulator final : public macros::VariableAccess {
   macros::Module& module_;
   FaceConfig face_;
   CradleErrors errors_;
+  CradlePivot pivot_;
   CradleMachine ideal_;
   CradleMachine with_errors_;
   VirtualSpindle spindle_;  // sim_spindle = 1: the realistic spindle

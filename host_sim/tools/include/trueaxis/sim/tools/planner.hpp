@@ -67,6 +67,7 @@
 
 #include "trueaxis/core/types.hpp"
 #include "trueaxis/sim/instruments/laser_tracker.hpp"
+#include "trueaxis/sim/machines/cradle_machine.hpp"
 #include "trueaxis/sim/tools/gantry_measure.hpp"
 
 namespace trueaxis::sim {
@@ -179,6 +180,7 @@ struct RigidityPlan {
   double sigma_mm = 0.001;
   double a_min_deg = -120.0;  // the candidates' A range (contract 5)
   double a_max_deg = 120.0;
+  CradlePivot pivot;           // the cradle's nominal pivot (cradle_machine.hpp convention 1)
 };
 // A from a_from to a_to every a_step (0 included), C every c_step over a turn.
 RigidityPlan rigidity_plan(double a_from, double a_to, double a_step, double c_step);
