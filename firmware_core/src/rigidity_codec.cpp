@@ -65,7 +65,7 @@ std::size_t encode_rigidity_table(const RigidityTable& t, std::uint8_t* out, std
   put_u16(out, kRigidityLayoutVersion);
   put_u16(out + 2, static_cast<std::uint16_t>(m));
   put_u16(out + 4, static_cast<std::uint16_t>(t.reference));
-  put_u16(out + 6, 0);
+  put_u16(out + 6, t.home_identity);
   F64Writer w{out + 8};
   Vec3 a_point = t.a_axis_point_mm;
   Vec3 a_dir = t.a_axis_direction;
@@ -101,15 +101,16 @@ void rigidity_pose_reals(const RigidityTable& t, std::size_t pose, double out[kR
   pose_fields(w, p, count);
 }
 
-std::size_t encode_rigidity_reals(std::size_t m, std::size_t reference, const double* header_reals,
-                                  const double* pose_reals, std::uint8_t* out, std::size_t capacity) {
+std::size_t encode_rigidity_reals(std::size_t m, std::size_t reference, std::uint16_t home_identity,
+                                  const double* header_reals, const double* pose_reals, std::uint8_t* out,
+                                  std::size_t capacity) {
   if (m < kMinAPoses || m > kMaxAPoses || reference >= m) return 0;
   const std::size_t size = rigidity_table_bytes(m);
   if (out == nullptr || header_reals == nullptr || pose_reals == nullptr || capacity < size) return 0;
   put_u16(out, kRigidityLayoutVersion);
   put_u16(out + 2, static_cast<std::uint16_t>(m));
   put_u16(out + 4, static_cast<std::uint16_t>(reference));
-  put_u16(out + 6, 0);
+  put_u16(out + 6, home_identity);
   F64Writer w{out + 8};
   for (std::size_t i = 0; i < kRigidityHeaderReals; ++i) w(header_reals[i]);
   for (std::size_t i = 0; i < m * kRigidityPoseReals; ++i) w(pose_reals[i]);
@@ -120,7 +121,8 @@ Status decode_rigidity_table(const std::uint8_t* bytes, std::size_t size, Rigidi
   if (bytes == nullptr || size < kRigidityHeaderBytes) return Status::kTableInvalid;
   const std::size_t m = get_u16(bytes + 2);
   const std::size_t reference = get_u16(bytes + 4);
-  if (get_u16(bytes) != kRigidityLayoutVersion || get_u16(bytes + 6) != 0) return Status::kTableInvalid;
+  if (get_u16(bytes) != kRigidityLayoutVersion) return Status::kTableInvalid;
+  const std::uint16_t home_identity = get_u16(bytes + 6);
   if (m < kMinAPoses || m > kMaxAPoses || reference >= m || size != rigidity_table_bytes(m)) {
     return Status::kTableInvalid;
   }
@@ -164,6 +166,7 @@ Status decode_rigidity_table(const std::uint8_t* bytes, std::size_t size, Rigidi
   for (std::size_t i = m; i < kMaxAPoses; ++i) out.poses[i] = RigidityPose{};
   out.pose_count = m;
   out.reference = reference;
+  out.home_identity = home_identity;
   F64Reader fill{bytes + 8};
   header_fields(fill, out.a_axis_point_mm, out.a_axis_direction, out.c_to_a_offset_mm, out.c_to_a_offset_sigma_mm,
                 out.c_to_a_squareness_rad, out.c_to_a_squareness_sigma_rad);

@@ -120,6 +120,7 @@ RigidityStep RigidityBuilder::step_sort() {
   for (std::size_t k = 0; k < count_; ++k) ++fits_[sorted_of_first_seen_[pose_of_sample_[k]]].count;
   table_.pose_count = m;
   table_.reference = reference;
+  table_.home_identity = options_.home_identity;
   phase_ = Phase::kFit;
   cursor_ = 0;
   return {Status::kOk, true};

@@ -254,7 +254,19 @@ double Module::value(std::uint16_t number, ClientId client) const {
   return slot < kVariableCount ? values_[slot] : 0.0;
 }
 
-void Module::set(std::uint16_t number, double value) { values_[slot_of(number)] = value; }
+void Module::set(std::uint16_t number, double value) {
+  values_[slot_of(number)] = value;
+  if (number == var::kHomeIdentity) set_tables_home(static_cast<std::uint16_t>(value));
+}
+
+// #904 to every built method's stored table (stored_table.hpp contract 4):
+// at start from the config record, and after every write of it.
+void Module::set_tables_home(std::uint16_t home) {
+  BuiltMethods::for_each([this, home](auto, auto tag) {
+    using M = typename decltype(tag)::Type;
+    if constexpr (detail::has_table<M>()) M::table(std::get<typename M::State>(states_)).set_home(home);
+  });
+}
 
 AccessFault Module::do_read(std::uint16_t first, std::uint16_t count, double* out, ClientId client) {
   for (std::uint16_t i = 0; i < count; ++i) {

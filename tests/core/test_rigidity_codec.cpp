@@ -28,7 +28,9 @@ std::unique_ptr<core::RigidityBuilder> build_16_poses() {
   for (int k = 0; k < 16; ++k) plan.a_deg.push_back(-70.0 + 10.0 * k);
   plan.noise_mm = 0.001;  // sigmas and rms not zero
   const auto samples = t::measure(t::Cradle{}, plan, rng);
-  REQUIRE(core::build_rigidity_table(samples.data(), samples.size(), {}, *b) == Status::kOk);
+  core::RigidityOptions options;
+  options.home_identity = 0xBEEF;  // the home it was measured under: both bytes seen
+  REQUIRE(core::build_rigidity_table(samples.data(), samples.size(), options, *b) == Status::kOk);
   return b;
 }
 
@@ -43,7 +45,7 @@ bool same_bits(const core::Mat3& a, const core::Mat3& b) {
 }
 
 bool same_table(const core::RigidityTable& a, const core::RigidityTable& b) {
-  bool same = a.pose_count == b.pose_count && a.reference == b.reference &&
+  bool same = a.pose_count == b.pose_count && a.reference == b.reference && a.home_identity == b.home_identity &&
               same_bits(a.a_axis_point_mm, b.a_axis_point_mm) && same_bits(a.a_axis_direction, b.a_axis_direction) &&
               same_bits(a.c_to_a_offset_mm, b.c_to_a_offset_mm) &&
               same_bits(a.c_to_a_offset_sigma_mm, b.c_to_a_offset_sigma_mm) &&
@@ -94,6 +96,9 @@ TEST_CASE("a rigidity table survives encode and decode bit for bit", "[rigidity]
   CHECK(bytes[0] == 1);
   CHECK(bytes[1] == 0);
   CHECK(bytes[2] == 16);
+  CHECK(table.home_identity == 0xBEEF);  // the builder records the options' home
+  CHECK(bytes[6] == 0xEF);               // and the layout holds it little-endian at offset 6
+  CHECK(bytes[7] == 0xBE);
   CHECK(get_f64(bytes, pose_field(3, 0)) == table.poses[3].a_deg);
   CHECK(get_f64(bytes, pose_field(15, 26)) == static_cast<double>(table.poses[15].c_count));
 
@@ -155,8 +160,11 @@ TEST_CASE("a corrupted, short or unsorted table is refused and changes nothing",
   b[4] = 16;  // reference index
   CHECK(refused(b, b.size()));
   b = good;
-  b[6] = 1;  // reserved
-  CHECK(refused(b, b.size()));
+  b[6] = 1;  // the home identity: any value decodes, as itself
+  b[7] = 0;
+  REQUIRE(core::decode_rigidity_table(b.data(), b.size(), *out) == Status::kOk);
+  CHECK(out->home_identity == 1);
+  REQUIRE(core::decode_rigidity_table(good.data(), good.size(), *out) == Status::kOk);
 
   CHECK(refused(with_value(8 + 8 * 1, nan), good.size()));                     // A-axis point
   CHECK(refused(with_value(8 + 8 * 3, 2.0), good.size()));                     // A direction not unit

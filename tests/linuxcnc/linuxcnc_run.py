@@ -114,26 +114,31 @@ PROBE_LENGTH_MM = 100.0
 PROBE_SETUP = ("T1 M6", "G43")
 
 
-def _sim_pivot():
-    """The simulated machine's nominal pivot, [TRUEAXIS] of its ini (the one
-    place it is stated): ((PIVOT_X, PIVOT_Y, PIVOT_Z), (A_OFFSET_Y, A_OFFSET_Z)), mm."""
-    values, section = {}, None
-    with open(os.path.join(ROOT, "integrations", "linuxcnc", "sim", "trueaxis_sim.ini"), encoding="utf-8") as f:
-        for line in f:
-            line = line.strip()
-            if line.startswith("["):
-                section = line
-            elif section == "[TRUEAXIS]" and "=" in line:
-                key, value = (part.strip() for part in line.split("=", 1))
-                values[key] = value
-    return (tuple(float(values[k]) for k in ("PIVOT_X", "PIVOT_Y", "PIVOT_Z")),
-            tuple(float(values[k]) for k in ("A_OFFSET_Y", "A_OFFSET_Z")))
+sys.path.insert(0, os.path.join(ROOT, "integrations", "linuxcnc", "python"))
+import trueaxis_module  # noqa: E402  (no LinuxCNC import: the ini reader and the home identity)
+
+SIM_INI = os.path.join(ROOT, "integrations", "linuxcnc", "sim", "trueaxis_sim.ini")
 
 
-PIVOT_MM, A_OFFSET_MM = _sim_pivot()
-# trueaxis_kins' parameters for that pivot (its [KINS] line on the simulated machine).
-KINS_PIVOT = (f"pivot={','.join(f'{v:g}' for v in PIVOT_MM)} "
-              f"a_offset={','.join(f'{v:g}' for v in A_OFFSET_MM)}")
+def _sim_machine():
+    """The simulated machine's nominal pivot and home, from its ini (the one
+    place they are stated): the [TRUEAXIS] PIVOT_* and A_OFFSET_* strings (the
+    first of each, as LinuxCNC reads them) and the home identity."""
+    sections = trueaxis_module.read_ini(SIM_INI)
+    keys = ("PIVOT_X", "PIVOT_Y", "PIVOT_Z", "A_OFFSET_Y", "A_OFFSET_Z")
+    missing = [k for k in keys if k not in sections.get("TRUEAXIS", {})]
+    if missing:
+        raise RuntimeError(f"{SIM_INI}: [TRUEAXIS] has no {', '.join(missing)}")
+    text = [sections["TRUEAXIS"][k][0] for k in keys]
+    return text, trueaxis_module.home_identity(sections)
+
+
+_PIVOT_TEXT, HOME_IDENTITY = _sim_machine()
+PIVOT_MM = tuple(float(v) for v in _PIVOT_TEXT[:3])
+A_OFFSET_MM = tuple(float(v) for v in _PIVOT_TEXT[3:])
+# trueaxis_kins' parameters for that machine (its [KINS] line on the simulated
+# machine): the pivot as the ini writes it, the home identity.
+KINS_PIVOT = f"pivot={','.join(_PIVOT_TEXT[:3])} a_offset={','.join(_PIVOT_TEXT[3:])} home={HOME_IDENTITY}"
 # trueaxis-sim's calibration ball on the table (sim_ball_x, _y, _z's defaults)
 # and so its centre at A = 0, C = 0 in machine coordinates, nominally.
 BALL_TABLE_MM = (200.0, 0.0, 50.0)
@@ -164,6 +169,10 @@ class Machine:
             raise RuntimeError(f"trueaxis-sim said {line!r}")
         self.port = int(found.group(1))
         self._copy()
+        # Commissioning: the module told the machine's home identity (#904),
+        # as the remap checks before every G65.
+        subprocess.run([os.path.join(bin_dir, "trueaxis-var"), "--port", str(self.port), "set", "9004=2718",
+                        f"904={HOME_IDENTITY}", "9004=0"], check=True, capture_output=True)
         # trueaxis-var from the machine's folder, not the build: the display runs
         # it as the LinuxCNC user, who may not reach a clone under a 0700
         # folder (mktemp -d).

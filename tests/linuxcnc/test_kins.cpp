@@ -380,6 +380,55 @@ TEST_CASE("kins: a damaged, truncated, foreign or missing table file is refused 
   CHECK(trueaxis_kins_poses() == 7);
 }
 
+TEST_CASE("kins: a table measured under another home of the axes (#904, home=) is refused with both identities; "
+          "the export carries the home either way",
+          "[kins]") {
+  t::InProcessSim sim;
+  t::Workspace w("trueaxis-kins");
+  const sim::CradleMachine machine(sim::FaceConfig{}, sim::realistic_errors());
+  const double unlock[1] = {2718.0};
+  const double home[1] = {7.0};
+  REQUIRE(sim.client().write(v::kUnlock, 1, unlock));
+  REQUIRE(sim.client().write(v::kHomeIdentity, 1, home));
+  const double lock[1] = {0.0};
+  REQUIRE(sim.client().write(v::kUnlock, 1, lock));
+  const std::vector<std::uint8_t> file = stored_table_file(sim, w, ball_csv(machine, 0.001, 9));
+  // The same bytes through the export of what is stored (9837's #129 carries the home).
+  const t::Run exported = t::run({TRUEAXIS_CALIBRATE_BINARY, "linuxcnc-kins", "rigidity", "--out",
+                                  w.file("again.table"), "--port", std::to_string(sim.port())},
+                                 w.file("stderr"));
+  REQUIRE(exported.exit_code == 0);
+  const std::string again = t::slurp(w.file("again.table"));
+  CHECK(std::vector<std::uint8_t>(again.begin(), again.end()) == file);
+
+  trueaxis::linuxcnc::CradleKinematics kins;
+  const trueaxis::linuxcnc::LoadResult at_zero = kins.load_table(file.data(), file.size());
+  CHECK_FALSE(at_zero.ok);
+  CHECK(std::string(at_zero.why).find("another home") != std::string::npos);
+  CHECK(kins.file_home() == 7);
+  CHECK_FALSE(kins.calibrated());
+  kins.set_home(8);
+  CHECK_FALSE(kins.load_table(file.data(), file.size()).ok);
+  kins.set_home(7);
+  CHECK(kins.load_table(file.data(), file.size()).ok);
+  CHECK(kins.calibrated());
+  // The C interface: home= a whole number 0..65535.
+  const char* why = "";
+  for (const char* bad : {"-1", "65536", "1.5", "seven", "7,8"}) {
+    INFO(bad);
+    CHECK(trueaxis_kins_set_home(bad, &why) == -1);
+    CHECK(std::string(why).find("home takes a whole number") != std::string::npos);
+  }
+  REQUIRE(trueaxis_kins_set_home("8", &why) == 0);
+  CHECK(trueaxis_kins_home() == 8);
+  CHECK(trueaxis_kins_load(w.file("m3.table").c_str(), &why) == -1);
+  CHECK(trueaxis_kins_file_home() == 7);
+  REQUIRE(trueaxis_kins_set_home("7", &why) == 0);
+  CHECK(trueaxis_kins_load(w.file("m3.table").c_str(), &why) == 0);
+  REQUIRE(trueaxis_kins_set_home("", &why) == 0);  // absent: 0
+  CHECK(trueaxis_kins_home() == 0);
+}
+
 TEST_CASE("kins: the tool tip (M4): the stored model's file, its error 9843's bit for bit, taken off the joints",
           "[kins]") {
   t::InProcessSim sim;

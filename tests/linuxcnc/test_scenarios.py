@@ -48,7 +48,8 @@ kins      (issue 21) the cradle kinematics trueaxis_kins (integrations/linuxcnc/
           face within 3 sigma of the calibration at the ball (the table's
           rotation and A error sigmas over the ball's lever, and the probe's
           1 um); without it the ball more than 3 sigma off; a missing and a
-          damaged table file stop LinuxCNC's start with the file and why.
+          damaged table file, and one measured under another home (home=
+          not its identity), stop LinuxCNC's start with the file and why.
 tip       (issue 21, item 2) M4's tool tip in trueaxis_kins: trueaxis-sim's
           realistic spindle on the probe's tip (sim_spindle = 1, the tool
           100 mm long); the spindle measured (trueaxis-measure-spindle),
@@ -78,8 +79,8 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from linuxcnc_run import (A_OFFSET_MM, BALL_MM, BALL_TABLE_MM, KINS_PIVOT, PIVOT_MM, PROBE_LENGTH_MM, ROOT,  # noqa: E402
-                          Machine, host_lock, on_table)
+from linuxcnc_run import (A_OFFSET_MM, BALL_MM, BALL_TABLE_MM, HOME_IDENTITY, KINS_PIVOT, PIVOT_MM,  # noqa: E402
+                          PROBE_LENGTH_MM, ROOT, Machine, host_lock, on_table)
 
 ARCSEC = 3600.0
 
@@ -474,17 +475,23 @@ def scenario_kins(checks, machine):
                      f"kins: A {a}: the ideal cradle misses the ball by the uncompensated error",
                      f"{ball_ideal:.1f} um")
 
-    # A table file that is missing or damaged stops the start, with its reason.
+    # A table file that is missing or damaged, or measured under another home
+    # of the axes (a home switch moved since: home= says so), stops the start,
+    # with its reason.
+    other_home = KINS_PIVOT.replace(f"home={HOME_IDENTITY}", f"home={HOME_IDENTITY + 1}")
     for label, value, says in (("missing", f"trueaxis_kins table={table}.absent {KINS_PIVOT}",
                                 "No such file or directory"),
-                               ("damaged", f"trueaxis_kins table={table}.damaged {KINS_PIVOT}", "damaged")):
+                               ("damaged", f"trueaxis_kins table={table}.damaged {KINS_PIVOT}", "damaged"),
+                               ("other home", f"trueaxis_kins table={table} {other_home}",
+                                f"measured under home identity {HOME_IDENTITY}, this machine's "
+                                f"home={HOME_IDENTITY + 1}")):
         if label == "damaged":
             data = bytearray(open(table, "rb").read())
             data[200] ^= 0x01
             open(table + ".damaged", "wb").write(bytes(data))
         with_kinematics(value)
-        result = machine.run(["G21"], timeout_s=60, name=f"kins_{label}")
-        message = f"trueaxis_kins: table {table}.{'absent' if label == 'missing' else 'damaged'}: "
+        result = machine.run(["G21"], timeout_s=60, name=f"kins_{label.replace(' ', '_')}")
+        message = f"trueaxis_kins: table {table}" + {"missing": ".absent: ", "damaged": ".damaged: "}.get(label, ": ")
         checks.check(not result["homed"] and message in result["log"] and says in result["log"],
                      f"kins: a {label} table file stops LinuxCNC's start with its reason",
                      result["log"][-1500:])

@@ -16,6 +16,10 @@
 #include "trueaxis/core/rigidity_codec.hpp"
 #include "trueaxis/macros/module.hpp"
 #include "trueaxis/macros/records.hpp"
+#if __has_include("trueaxis/macros/level/level_map.hpp")
+#include "trueaxis/macros/level/level_map.hpp"
+#define TRUEAXIS_WITH_LEVEL 1
+#endif
 
 TA_METHOD_TESTED("rigidity");
 
@@ -410,6 +414,8 @@ double reals(ModuleRig& rig, double q, double r) {
 
 TA_TEST("9837's reals, rebuilt by encode_rigidity_reals, are the stored record bit for bit, from the built and the stored table") {
   ModuleRig rig;
+  TA_REQUIRE(rig.unlock());
+  rig.set(v::kHomeIdentity, 4711.0);
   rf::stored(rig);
   static std::uint8_t scratch[m::kStoreScratchBytes];
   m::KeyedStore store(rig.storage(), m::kRecordSpecs.data(), m::kRecordCount, scratch, sizeof scratch);
@@ -439,8 +445,10 @@ TA_TEST("9837's reals, rebuilt by encode_rigidity_reals, are the stored record b
       }
     }
     static std::uint8_t rebuilt[trueaxis::core::kRigidityTableMaxBytes];
-    const std::size_t n =
-        trueaxis::core::encode_rigidity_reals(poses, reference - 1, header, pose_reals, rebuilt, sizeof rebuilt);
+    const auto home = static_cast<std::uint16_t>(rig.get(v::kRealsHomeIdentity));
+    TA_CHECK_EQ(home, 4711);  // the home it was built under (#129), as stored
+    const std::size_t n = trueaxis::core::encode_rigidity_reals(poses, reference - 1, home, header, pose_reals, rebuilt,
+                                                                sizeof rebuilt);
     TA_CHECK_EQ(n, length);
     TA_CHECK(std::memcmp(rebuilt, record, length) == 0);
   }
@@ -453,6 +461,66 @@ TA_TEST("9837's reals, rebuilt by encode_rigidity_reals, are the stored record b
   TA_CHECK_EQ(reals(rig, 1.0, 2.0), kError);
   TA_CHECK_EQ(rig.code(), Status::kArgumentOutOfRange);
   TA_CHECK(rig.results() == kept);
+}
+
+TA_TEST("a table is applied only under the home it was built under (#904): 9833, 9835, 9836 and the direct call say "
+        "home_changed; 9834 and 9837 still report it; at that home again, or once stored anew, all answer") {
+  ModuleRig rig;
+  TA_REQUIRE(rig.unlock());
+  rig.set(v::kHomeIdentity, 7.0);
+  rf::stored(rig);
+  TA_REQUIRE(query(rig, 10.0, 0.0, 0.0) == kDone);
+  const Vec3 at_home(rig.get(v::kRigidityRotvecX), rig.get(v::kRigidityRotvecX + 1), rig.get(v::kRigidityRotvecX + 2));
+  TA_REQUIRE(rig.unlock());
+  rig.set(v::kHomeIdentity, 8.0);  // a home switch moved: the integrator says so
+  TA_CHECK_EQ(query(rig, 10.0, 0.0, 0.0), kError);
+  TA_CHECK_EQ(rig.code(), Status::kHomeChanged);
+  TA_CHECK_EQ(convert(rig, 10.0, 0.0, Vec3(1, 2, 3), Vec3::UnitZ(), 0.0), kError);
+  TA_CHECK_EQ(rig.code(), Status::kHomeChanged);
+  TA_CHECK_EQ(m::rigidity::compensation_rad(rig.module().state<m::rigidity::Method>(), 10.0,
+                                            trueaxis::core::Blend::kLinear, false)
+                  .status(),
+              Status::kHomeChanged);
+#ifdef TRUEAXIS_WITH_LEVEL
+  // M1 on the calibrated axes (#508 = 1) does not level on them either.
+  TA_REQUIRE(rig.unlock());
+  rig.set(v::kLevelAxes, 1.0);
+  rig.set3(v::kG57, Vec3(0, 0, 10));
+  rig.set3(v::kG58, Vec3(100, 0, 30));
+  rig.set3(v::kG59, Vec3(0, 100, 10));
+  TA_CHECK_EQ(rig.refuse(9810), Status::kHomeChanged);
+  rig.set(v::kLevelAxes, 0.0);
+#endif
+  rf::stream(rig);
+  TA_REQUIRE(rf::build(rig, false) == kDone);  // a build is made under today's home
+  TA_CHECK_EQ(rig.refuse(9836), Status::kHomeChanged);  // not checked against a table of another home
+  // The reports still show the stored table, and which home it holds.
+  TA_CHECK_EQ(pose(rig, 1, 1.0), kDone);
+  TA_CHECK_EQ(reals(rig, 0.0, 1.0), kDone);
+  TA_CHECK_EQ(rig.get(v::kRealsHomeIdentity), 7.0);
+  TA_CHECK_EQ(reals(rig, 0.0, 0.0), kDone);
+  TA_CHECK_EQ(rig.get(v::kRealsHomeIdentity), 8.0);
+  // Over a restart the stored #904 and the table's home still differ.
+  TA_REQUIRE(rig.start() == Status::kOk);
+  TA_CHECK_EQ(query(rig, 10.0, 0.0, 0.0), kError);
+  TA_CHECK_EQ(rig.code(), Status::kHomeChanged);
+  // Homed as then: the same answers, bit for bit.
+  TA_REQUIRE(rig.unlock());
+  rig.set(v::kHomeIdentity, 7.0);
+  TA_REQUIRE(query(rig, 10.0, 0.0, 0.0) == kDone);
+  TA_CHECK(Vec3(rig.get(v::kRigidityRotvecX), rig.get(v::kRigidityRotvecX + 1), rig.get(v::kRigidityRotvecX + 2)) == at_home);
+  // Or measured and stored under the new home: applied there.
+  TA_REQUIRE(rig.unlock());
+  rig.set(v::kHomeIdentity, 8.0);
+  rf::stored(rig);
+  TA_CHECK_EQ(query(rig, 10.0, 0.0, 0.0), kDone);
+  TA_CHECK_EQ(reals(rig, 0.0, 1.0), kDone);
+  TA_CHECK_EQ(rig.get(v::kRealsHomeIdentity), 8.0);
+  // #904 is a whole number of 16 bits.
+  TA_REQUIRE(rig.unlock());
+  TA_CHECK_EQ(rig.put(v::kHomeIdentity, 65536.0), m::AccessFault::kOutOfRange);
+  TA_CHECK_EQ(rig.put(v::kHomeIdentity, 1.5), m::AccessFault::kOutOfRange);
+  TA_CHECK_EQ(rig.put(v::kHomeIdentity, 65535.0), m::AccessFault::kNone);
 }
 
 TA_TEST("9831 and 9832 answer session_closed once another method's session replaced this one; 9830 opens it again") {

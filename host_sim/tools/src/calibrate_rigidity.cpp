@@ -183,29 +183,35 @@ bool store_rigidity(VariableClient& client, FlowResult& fail) { return store_bui
 
 bool rigidity_kins_file(VariableClient& client, bool stored, std::string& file, FlowResult& fail) {
   const std::size_t n = core::kRigidityPoseReals;
-  double out[2 + core::kRigidityPoseReals];
+  double out[2 + core::kRigidityPoseReals + 1];  // the count, the reference, the reals, the home (#129)
   std::vector<double> header(core::kRigidityHeaderReals);
   std::vector<double> poses;
   std::size_t count = 0;
   std::size_t reference = 0;
+  double home = 0.0;
   for (std::size_t q = 0; q == 0 || q <= count; ++q) {
     const double args[2] = {static_cast<double>(q), stored ? 1.0 : 0.0};  // Q, R
     if (!transport(client, client.write(var::kArgQ, 2, args), fail)) return false;
     if (!run_or_fail(client, kReals, "", fail)) return false;
-    if (!transport(client, client.read(var::kRealsPoseCount, static_cast<std::uint16_t>(2 + n), out), fail)) {
+    static_assert(var::kRealsHomeIdentity == var::kRealsPoseCount + 2 + core::kRigidityPoseReals, "#129 follows");
+    if (!transport(client, client.read(var::kRealsPoseCount, static_cast<std::uint16_t>(3 + n), out), fail)) {
       return false;
     }
     // The pose count and the reference, whole numbers in range, the same in every part.
     const bool whole = out[0] == std::floor(out[0]) && out[0] >= static_cast<double>(core::kMinAPoses) &&
                        out[0] <= static_cast<double>(core::kMaxAPoses) && out[1] == std::floor(out[1]) &&
                        out[1] >= 1.0 && out[1] <= out[0];
-    if (!whole || (q > 0 && (out[0] != static_cast<double>(count) || out[1] != static_cast<double>(reference)))) {
+    const double h = out[2 + n];
+    const bool home_whole = h == std::floor(h) && h >= 0.0 && h <= var::kMaxHomeIdentity;
+    if (!whole || !home_whole ||
+        (q > 0 && (out[0] != static_cast<double>(count) || out[1] != static_cast<double>(reference) || h != home))) {
       fail.error = "the module's table (9837) gave an impossible pose count or reference";
       return false;
     }
     if (q == 0) {
       count = static_cast<std::size_t>(out[0]);
       reference = static_cast<std::size_t>(out[1]);
+      home = h;
       std::copy(out + 2, out + 2 + core::kRigidityHeaderReals, header.begin());
     } else {
       poses.insert(poses.end(), out + 2, out + 2 + n);
@@ -213,7 +219,8 @@ bool rigidity_kins_file(VariableClient& client, bool stored, std::string& file, 
   }
   std::uint8_t record[core::kRigidityTableMaxBytes];
   const std::size_t length =
-      reference >= 1 ? core::encode_rigidity_reals(count, reference - 1, header.data(), poses.data(), record, sizeof record)
+      reference >= 1 ? core::encode_rigidity_reals(count, reference - 1, static_cast<std::uint16_t>(home), header.data(),
+                                                   poses.data(), record, sizeof record)
                      : 0;
   core::RigidityTable check;
   if (length == 0 || core::decode_rigidity_table(record, length, check) != core::Status::kOk) {

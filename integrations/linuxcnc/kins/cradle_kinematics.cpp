@@ -44,6 +44,11 @@ LoadResult CradleKinematics::load_table(const std::uint8_t* file, std::size_t si
   if (core::decode_rigidity_table(payload, length, table) != core::Status::kOk) {
     return {false, "the rigidity table in it does not decode (a file of another build, or written by hand?)"};
   }
+  file_home_ = table.home_identity;
+  if (table.home_identity != home_) {
+    return {false, "it was measured under another home of the axes than this machine's (home=, the module's #904): "
+                   "home them as then, or measure M3 again and write the file again"};
+  }
   const core::Result<core::RigidityFrames> zero = core::rigidity_frames(table, 0.0, 0.0, kBlend, true);
   if (!zero.ok()) return {false, "the rigidity table in it gives no frame at A = 0, C = 0"};
   table_ = table;

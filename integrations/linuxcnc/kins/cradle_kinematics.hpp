@@ -48,6 +48,12 @@
 //     off), and forward the same backwards. With G43 the controlled point is
 //     the tool's tip, with G49 (t = 0) the gauge line; type 0 leaves W as it
 //     is but for M4's tip error, as LinuxCNC does with its own offset.
+//  8. The home: a table holds the axes as they were homed when it was
+//     measured (the module's #904 then, in the table: its home identity);
+//     the kinematics load it only under that identity (the module parameter
+//     home=, the machine's #904 now), so a moved home switch or home offset,
+//     said so by a new identity, stops the start rather than turn the table
+//     about axes that are no longer where it says.
 //  7. In the servo thread (trueaxis_kins.c): the correction the kinematics
 //     apply is not the pins' at once but a ramp towards it, at most `ramp`
 //     mm a servo period (by length; tip_ramp_step), so that switching it on
@@ -85,8 +91,13 @@ class CradleKinematics {
 
   // Convention 3 from a table file's bytes (record_file.hpp of the rigidity
   // record, as `trueaxis-calibrate rigidity --store --linuxcnc-kins` writes
-  // it); on refusal the kinematics stay as they were.
+  // it); on refusal the kinematics stay as they were. A table measured under
+  // another home identity than set_home()'s (0 at the start) is refused
+  // (convention 8); file_home() is the last file's, refused or not.
   LoadResult load_table(const std::uint8_t* file, std::size_t size);
+  void set_home(std::uint16_t home) { home_ = home; }
+  std::uint16_t home() const { return home_; }
+  std::uint16_t file_home() const { return file_home_; }
 
   bool calibrated() const { return calibrated_; }
   std::size_t poses() const { return calibrated_ ? table_.pose_count : 0; }
@@ -144,6 +155,8 @@ class CradleKinematics {
   core::RigidTransform table_T_world_;  // T0^-1
   core::RigidTransform world_T_table_;  // T0
   bool calibrated_ = false;
+  std::uint16_t home_ = 0;
+  std::uint16_t file_home_ = 0;
 };
 
 // Convention 7: one servo period's step of `applied` towards `target`, at most

@@ -120,6 +120,19 @@ bool numbers(const char* text, int count, double* out) {
 
 }  // namespace
 
+extern "C" int trueaxis_kins_set_home(const char* home, const char** why) {
+  double h = 0.0;
+  if (!numbers(home, 1, &h) || !(h >= 0.0 && h <= 65535.0 && h == std::floor(h))) {
+    *why = "home takes a whole number 0..65535: the machine's home identity, the module's #904";
+    return -1;
+  }
+  g_kins.set_home(static_cast<std::uint16_t>(h));
+  return 0;
+}
+
+extern "C" unsigned trueaxis_kins_file_home(void) { return g_kins.file_home(); }
+extern "C" unsigned trueaxis_kins_home(void) { return g_kins.home(); }
+
 extern "C" int trueaxis_kins_set_pivot(const char* rot_point, const char* a_offset, const char** why) {
   double r[3];
   double d[2];

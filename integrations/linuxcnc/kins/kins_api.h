@@ -17,6 +17,14 @@ extern "C" {
    check (the kinematics then stay the ideal cradle). */
 int trueaxis_kins_load(const char* path, const char** why);
 
+/* The machine's home identity (the module's #904, the parameter home=): a
+   whole number 0..65535, absent 0; 0, or -1 with *why. A table file is
+   loaded only when it was measured under it; trueaxis_kins_file_home() is the
+   last file's (cradle_kinematics.hpp convention 8). */
+int trueaxis_kins_set_home(const char* home, const char** why);
+unsigned trueaxis_kins_file_home(void);
+unsigned trueaxis_kins_home(void);
+
 /* The loaded table: its pose count (0: none, the ideal cradle) and A range. */
 size_t trueaxis_kins_poses(void);
 double trueaxis_kins_a_min_deg(void);

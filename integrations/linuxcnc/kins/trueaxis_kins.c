@@ -2,8 +2,10 @@
    calibrated axes (cradle_kinematics.hpp through kins_api.h), a real-time
    module for LinuxCNC 2.9 (uspace). In the ini:
        [KINS]
-       KINEMATICS = trueaxis_kins table=/path/to/m3.table
+       KINEMATICS = trueaxis_kins table=/path/to/m3.table home=N
        JOINTS = 5
+   (home=: the machine's home identity, the module's #904: a table measured
+   under another is refused, cradle_kinematics.hpp convention 8.)
    `table` is the file `trueaxis-calibrate rigidity --store --linuxcnc-kins`
    (or `trueaxis-calibrate linuxcnc-kins rigidity`) writes from the
    controller's stored M3 table. Without `table` the machine is the ideal
@@ -54,6 +56,8 @@ static char* table = 0;
 RTAPI_MP_STRING(table, "the M3 table file (trueaxis-calibrate rigidity --store --linuxcnc-kins); absent: the ideal cradle");
 static char* spindle = 0;
 RTAPI_MP_STRING(spindle, "the M4 model file (trueaxis-calibrate spindle --store --linuxcnc-kins); absent: no tip correction");
+static char* home = 0;
+RTAPI_MP_STRING(home, "the machine's home identity (the module's #904); a table measured under another is refused; absent: 0");
 static char* pivot = 0;
 RTAPI_MP_STRING(pivot, "X,Y,Z: the ideal cradle's C axis at A = 0 (xyzac-trt-kins' x/y/z-rot-point); absent: the origin");
 static char* a_offset = 0;
@@ -124,9 +128,23 @@ int rtapi_app_main(void) {
       return -EINVAL;
     }
   }
+  {
+    const char* why = "";
+    if (trueaxis_kins_set_home(home, &why) != 0) {
+      rtapi_print_msg(RTAPI_MSG_ERR, "trueaxis_kins: home=%s: %s\n", home ? home : "", why);
+      hal_exit(comp_id);
+      return -EINVAL;
+    }
+  }
   if (table != 0 && table[0] != '\0') {
     const char* why = "";
     if (trueaxis_kins_load(table, &why) != 0) {
+      if (trueaxis_kins_file_home() != trueaxis_kins_home()) {
+        rtapi_print_msg(RTAPI_MSG_ERR, "trueaxis_kins: table %s: measured under home identity %u, this machine's "
+                        "home=%u: %s\n", table, trueaxis_kins_file_home(), trueaxis_kins_home(), why);
+        hal_exit(comp_id);
+        return -EINVAL;
+      }
       rtapi_print_msg(RTAPI_MSG_ERR,
                       "trueaxis_kins: table %s: %s; the machine does not start on ideal axes in its place "
                       "(write the file again: trueaxis-calibrate rigidity --store --linuxcnc-kins FILE)\n",

@@ -46,7 +46,7 @@ import shlex
 
 from interpreter import INTERP_ERROR, INTERP_EXECUTE_FINISH, INTERP_OK
 
-from trueaxis_module import Module, RegisterMap, TrueaxisError
+from trueaxis_module import Module, RegisterMap, TrueaxisError, home_identity, read_ini
 
 LINE_LETTERS = "acdehijkqrxyz"  # the G65 line's letters besides P (trueaxis.ini argspec)
 NAMED_LETTERS = tuple("bfmstuvw")  # as #<_ta_LETTER>
@@ -70,8 +70,9 @@ def _ini_path():
 
 
 def read_settings(path):
-    """[TRUEAXIS] of the ini at `path` as a dict of upper-case keys (the last
-    value of a repeated key); paths in it are relative to the ini's folder."""
+    """[TRUEAXIS] of the ini at `path` as a dict of upper-case keys (the first
+    value of a repeated key, as LinuxCNC's own ini reader and #<_ini[..]>
+    take it); paths in it are relative to the ini's folder."""
     settings, section = {}, None
     with open(path, encoding="utf-8") as f:
         for line in f:
@@ -82,31 +83,54 @@ def read_settings(path):
                 section = line[1:-1].strip()
             elif section == "TRUEAXIS" and "=" in line:
                 key, value = line.split("=", 1)
-                settings[key.strip().upper()] = value.strip()
+                settings.setdefault(key.strip().upper(), value.strip())
             elif section == "KINS" and "=" in line and line.split("=", 1)[0].strip().upper() == "KINEMATICS":
-                settings["_KINEMATICS"] = line.split("=", 1)[1].strip()
+                settings.setdefault("_KINEMATICS", line.split("=", 1)[1].strip())
     settings["_DIR"] = os.path.dirname(os.path.abspath(path))
+    settings["_PATH"] = path
     return settings
 
 
 PIVOT_KEYS = ("PIVOT_X", "PIVOT_Y", "PIVOT_Z", "A_OFFSET_Y", "A_OFFSET_Z")
 
 
-def pivot_mismatch(settings):
-    """None, or the sentence why [TRUEAXIS] PIVOT_X .. A_OFFSET_Z (what the
-    programs aim with, absent 0) are not the pivot= and a_offset= of a [KINS]
-    KINEMATICS = trueaxis_kins line (absent 0): two pivots on one machine."""
+def home_mismatch(settings, home):
+    """None, or the sentence why a [KINS] KINEMATICS = trueaxis_kins line's
+    home= (absent 0) is not this machine's home identity `home`."""
     words = settings.get("_KINEMATICS", "").split()
     if not words or words[0] != "trueaxis_kins":
         return None
     kins = dict(w.split("=", 1) for w in words[1:] if "=" in w)
+    if kins.get("home", "0") in (str(home), ""):
+        return None
+    return (f"[KINS] trueaxis_kins home={kins.get('home', '0')} is not this machine's home identity {home} "
+            "([TRUEAXIS] HOME_ID and the joints' HOME, HOME_OFFSET; trueaxis_home.py prints it): the kinematics "
+            "would check their table against another home")
+
+
+INCH_NAMES = ("inch", "in", "imperial")  # trueaxis_kins' linear_units= for an inch machine
+
+
+def pivot_mismatch(settings):
+    """None, or the sentence why [TRUEAXIS] PIVOT_X .. A_OFFSET_Z (what the
+    programs aim with, mm, absent 0) are not the pivot= and a_offset= of a
+    [KINS] KINEMATICS = trueaxis_kins line without table= (the machine's
+    units, absent 0): two pivots on one machine. With table= the kinematics
+    turn about the table's measured axes, not the nominal pivot."""
+    words = settings.get("_KINEMATICS", "").split()
+    if not words or words[0] != "trueaxis_kins":
+        return None
+    kins = dict(w.split("=", 1) for w in words[1:] if "=" in w)
+    if kins.get("table"):
+        return None
+    mm = 25.4 if kins.get("linear_units", "mm") in INCH_NAMES else 1.0
     try:
-        theirs = [float(v) for v in kins.get("pivot", "0,0,0").split(",")] + \
-                 [float(v) for v in kins.get("a_offset", "0,0").split(",")]
+        theirs = [mm * float(v) for v in (kins.get("pivot") or "0,0,0").split(",")] + \
+                 [mm * float(v) for v in (kins.get("a_offset") or "0,0").split(",")]
         ours = [float(settings.get(k, "0")) for k in PIVOT_KEYS]
     except ValueError:
         return "[KINS] KINEMATICS or [TRUEAXIS] PIVOT_* holds a pivot that is not numbers"
-    if len(theirs) != 5 or theirs != ours:
+    if len(theirs) != 5 or any(abs(a - b) > 1e-9 for a, b in zip(theirs, ours)):
         return (f"[TRUEAXIS] PIVOT_X..A_OFFSET_Z {ours} are not [KINS] trueaxis_kins' pivot= and a_offset= "
                 f"{theirs}: the programs would aim at a pivot the kinematics do not turn about")
     return None
@@ -123,6 +147,12 @@ class Remap:
                 raise TrueaxisError(f"[TRUEAXIS] {key} = {settings[key]!r} is not a number")
 
         mismatch = pivot_mismatch(settings)
+        if mismatch:
+            raise TrueaxisError(mismatch)
+        # The machine's home identity (trueaxis_module.home_identity), which the
+        # module's #904 and the kinematics' home= must be.
+        self.home = home_identity(read_ini(settings["_PATH"])) if "_PATH" in settings else 0
+        mismatch = home_mismatch(settings, self.home)
         if mismatch:
             raise TrueaxisError(mismatch)
         where = settings.get("_DIR", HERE)
@@ -150,6 +180,17 @@ class Remap:
             module.take()
             self.session_count = module.done_count()
             return None
+        # The module's home is this machine's (docs/INTERFACE.md "The home"):
+        # else its tables hold axes whose zeros moved, or #904 was never set.
+        if module.map.home_var is not None:
+            theirs = module.read(module.map.home_var, 1)[0]
+            if theirs != self.home:
+                raise TrueaxisError(
+                    f"the module's home identity #{module.map.home_var} is {theirs:g}, this machine's {self.home} "
+                    "([TRUEAXIS] HOME_ID and the joints' HOME, HOME_OFFSET): an axis' zero moved since the module "
+                    f"was told, or it never was. Once the axes are homed where its tables were measured, set "
+                    f"#{module.map.home_var} = {self.home} (unlocked: trueaxis-var set {module.var['unlock']}=CODE "
+                    f"{module.map.home_var}={self.home} {module.var['unlock']}=0); else measure M3 again")
         # The arguments first: they take the interface (waiting for it), so no
         # other client's write comes between them and the macro; a later write
         # refused means another client took it meanwhile (trueaxis_module.py

@@ -58,6 +58,60 @@ class ModuleError(TrueaxisError):
         super().__init__(line)
 
 
+def read_ini(path):
+    """{SECTION: {KEY: [values, in file order]}} of a LinuxCNC ini (upper-case
+    names; `#` and `;` lines are comments)."""
+    sections, section = {}, None
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            line = line.strip()
+            if not line or line[0] in "#;":
+                continue
+            if line.startswith("[") and line.endswith("]"):
+                section = sections.setdefault(line[1:-1].strip().upper(), {})
+            elif section is not None and "=" in line:
+                key, value = line.split("=", 1)
+                section.setdefault(key.strip().upper(), []).append(value.strip())
+    return sections
+
+
+def _crc16(data):
+    """CRC-16/CCITT-FALSE (polynomial 0x1021, initial 0xFFFF)."""
+    crc = 0xFFFF
+    for byte in data:
+        crc ^= byte << 8
+        for _ in range(8):
+            crc = ((crc << 1) ^ 0x1021) & 0xFFFF if crc & 0x8000 else (crc << 1) & 0xFFFF
+    return crc
+
+
+def home_identity(sections):
+    """The machine's home identity, the module's #904 (docs/INTERFACE.md
+    "The home"), from an ini read by read_ini: 0 without [TRUEAXIS] HOME_ID
+    (the home is not checked); with it, a number 1..65535 of HOME_ID and every
+    [JOINT_n]'s HOME and HOME_OFFSET (the first of each, as LinuxCNC reads
+    them), so that a home offset changed in the ini changes it, and HOME_ID
+    (the integrator's, changed when a home switch moves) too. Raises
+    TrueaxisError for a HOME_ID, HOME or HOME_OFFSET that is not a number."""
+    trueaxis = sections.get("TRUEAXIS", {})
+    if "HOME_ID" not in trueaxis:
+        return 0
+
+    def number(where, key, text):
+        try:
+            return repr(float(text))
+        except ValueError:
+            raise TrueaxisError(f"[{where}] {key} = {text!r} is not a number (the home identity reads it)")
+
+    text = "HOME_ID=" + number("TRUEAXIS", "HOME_ID", trueaxis["HOME_ID"][0])
+    joints = sorted((int(name[6:]), name) for name in sections if re.fullmatch(r"JOINT_\d+", name))
+    for n, name in joints:
+        joint = sections[name]
+        home = [number(name, key, joint[key][0]) if key in joint else "-" for key in ("HOME", "HOME_OFFSET")]
+        text += f";{n}:{home[0]},{home[1]}"
+    return _crc16(text.encode("ascii")) or 1
+
+
 def encode(value):
     """The four registers of one variable."""
     return list(struct.unpack(">4H", struct.pack(">d", float(value))))
@@ -86,6 +140,7 @@ class RegisterMap:
             if missing:
                 raise KeyError(f"no variable named {', '.join(missing)}")
             self.var = {name: numbers[name] for name in HANDSHAKE}
+            self.home_var = numbers.get("home_identity")  # #904 (a map before it: None, not checked)
             self.letters = {name[4:]: number for name, number in numbers.items() if re.fullmatch(r"arg_[a-z]", name)}
             self.read_max = int(data["encoding"]["max_variables_per_read"])
             self.write_max = int(data["encoding"]["max_variables_per_write"])

@@ -328,6 +328,16 @@ TEST_CASE("a nominal pivot moves both axes: the ideal machine is xyzac-trt-kins'
   CHECK(real.c_to_a_offset_mm() == Approx(std::fabs(e.c_offset_mm - 4.0)).margin(1e-9));
   CHECK(real.c_to_a_squareness_arcsec() == Approx(real_at_origin.c_to_a_squareness_arcsec()).margin(1e-9));
   CHECK((real.a_axis().point_mm - (pivot.c_point_mm + d + e.a_point_mm)).norm() < 1e-12);
+  // a_point stays the foot, on the A axis, of the common perpendicular to the
+  // C axis (cradle_errors.hpp model 1), with the table 80 mm above A.
+  {
+    const trueaxis::sim::Line a = real.a_axis();
+    const trueaxis::sim::Line c = real.c_axis_at(0.0);
+    const Vec3 w0 = a.point_mm - c.point_mm;
+    const double b = a.direction.dot(c.direction);
+    const double s = (b * c.direction.dot(w0) - a.direction.dot(w0)) / (1.0 - b * b);  // along A
+    CHECK((a.point_mm + s * a.direction - a.point_mm).norm() < 1e-6);  // (the deflection at e(0) = 2": 15 pm)
+  }
   // With d_y = 0 the M3 truth (frames and A error at a ball height) is the
   // machine origin's, moved: the rotations and angles do not see the pivot.
   pivot.a_offset_y_mm = 0.0;

@@ -71,8 +71,15 @@ TEST_CASE("linuxcnc-trt: on a cradle whose axes are only out of place, xyzac-trt
   const Vec3 on_a = a.point_mm + (p.rot_point_mm.x() - a.point_mm.x()) / a.direction.x() * a.direction;
   CHECK(p.y_offset_mm == Approx(on_a.y() - p.rot_point_mm.y()).margin(1e-9));
   CHECK(p.z_offset_mm == Approx(on_a.z() - p.rot_point_mm.z()).margin(1e-9));
-  CHECK(std::fabs(p.y_offset_mm - (3.0 + 0.150 - 0.080)) > 0.0);  // the errors are in it ...
-  CHECK(p.not_held_arcsec() < 1e-3);                                // ... and no orientation to hold
+  // The numbers themselves: the A axis 150 um and -120 um out, C 80 um across
+  // it (the table moves with A's error, cradle_errors.hpp model 3); the pivot
+  // at the ball's height, 50 mm above the table's origin, 130 above A.
+  CHECK(p.rot_point_mm.x() == Approx(35.0).margin(1e-9));
+  CHECK(p.rot_point_mm.y() == Approx(-25.0 + 3.0 + 0.150 - (3.0 - 0.080)).margin(1e-9));
+  CHECK(p.rot_point_mm.z() == Approx(0.0 - 0.120 + 50.0).margin(1e-9));
+  CHECK(p.y_offset_mm == Approx(3.0 - 0.080).margin(1e-9));
+  CHECK(p.z_offset_mm == Approx(-130.0).margin(1e-9));
+  CHECK(p.not_held_arcsec() < 1e-3);  // no orientation to hold
   // Every table point, at every pose (also outside the measured A range).
   sim::SimRng rng(5);
   const sim::RigidTransform world_T_table = machine.machine_T_table(0.0, 0.0);
@@ -116,6 +123,22 @@ TEST_CASE("linuxcnc-trt: on the realistic cradle what it cannot hold is stated, 
   CHECK(p.a_error_arcsec == Approx(a_error).margin(1e-9));
   CHECK(p.a_direction_y_arcsec > 10.0);
   CHECK(p.a_error_arcsec > 1.0);
+  // The A axis' line is taken at X = r.x (the table's own A point is the C
+  // centres' circle's, elsewhere along a tilted axis).
+  // The same line from another of its points, 150 mm along the tilted axis: the same offsets.
+  core::RigidityTable along = t;
+  along.a_axis_point_mm += 150.0 * t.a_axis_direction;
+  sim::TrtParameters same;
+  REQUIRE(sim::trt_parameters(along, same, why));
+  CHECK(same.y_offset_mm == Approx(p.y_offset_mm).margin(1e-9));
+  CHECK(same.z_offset_mm == Approx(p.z_offset_mm).margin(1e-9));
+  CHECK(std::hypot(t.a_axis_direction.y(), t.a_axis_direction.z()) * 150.0 > 1e-3);  // 150 mm of it: > 1 um
+  // The A error's size whatever its sign.
+  core::RigidityTable negative = t;
+  negative.poses[0].a_error_rad = -1000.0 / 206264.806;
+  sim::TrtParameters q;
+  REQUIRE(sim::trt_parameters(negative, q, why));
+  CHECK(q.a_error_arcsec == Approx(1000.0).margin(1e-6));
   // The ball, at the measured poses: the miss within the ball's lever (from
   // the A axis) times what is not held, and not within a tenth of it.
   const sim::RigidTransform world_T_table = machine.machine_T_table(0.0, 0.0);
@@ -148,6 +171,13 @@ TEST_CASE("linuxcnc-trt: a table whose A is not about +X, or C not about +Z, is 
   CHECK((p.rot_point_mm - Vec3(35.0, -25.0, 50.0)).norm() < 1e-9);
   CHECK(p.y_offset_mm == Approx(3.0).margin(1e-9));
   CHECK(p.z_offset_mm == Approx(-130.0).margin(1e-9));  // the A axis 80 below r, 130 below the ball's height
+  for (const double deg : {1.01, 0.99}) {  // the A axis near 1 deg off +X, towards +Z
+    core::RigidityTable tilted = table;
+    const double a = deg * kPi / 180.0;
+    tilted.a_axis_direction = Vec3(std::cos(a), 0.0, std::sin(a));
+    INFO(deg);
+    CHECK(sim::trt_parameters(tilted, p, why) == (deg < 1.0));
+  }
   core::RigidityTable flipped = table;
   flipped.a_axis_direction = -flipped.a_axis_direction;
   CHECK_FALSE(sim::trt_parameters(flipped, p, why));

@@ -7,7 +7,7 @@
 //   0       2         layout version = 1
 //   2       2         m, kMinAPoses..kMaxAPoses
 //   4       2         reference pose index, < m
-//   6       2         reserved, 0
+//   6       2         home_identity (0: none recorded; before it, a reserved 0)
 //   8       10 x 8    a_axis_point_mm (3), a_axis_direction (3), c_to_a_offset_mm,
 //                     c_to_a_offset_sigma_mm, c_to_a_squareness_rad,
 //                     c_to_a_squareness_sigma_rad
@@ -22,7 +22,7 @@
 // bit for bit.
 //
 // Validation on decode (each failure kTableInvalid, `out` untouched): the size is
-// exactly 88 + 216 m; version 1; m in range; reference < m; reserved 0; every
+// exactly 88 + 216 m; version 1; m in range; reference < m; every
 // real finite; A strictly increasing; |A_ref| <= kPoseAToleranceDeg; the A
 // direction, each c_direction and c_x_axis unit within kCodecUnitTolerance and
 // c_x_axis normal to c_direction within it; |rotvec| <= pi; sigmas, rms, arc
@@ -71,10 +71,11 @@ void rigidity_header_reals(const RigidityTable& table, double out[kRigidityHeade
 void rigidity_pose_reals(const RigidityTable& table, std::size_t pose, double out[kRigidityPoseReals]);
 
 // The layout's bytes from its reals (rigidity_header_reals, then
-// pose_count x rigidity_pose_reals): encode_rigidity_table's bytes bit for
-// bit. Returns the bytes written, or 0 as encode_rigidity_table; it checks
-// nothing else (decode_rigidity_table does).
-std::size_t encode_rigidity_reals(std::size_t pose_count, std::size_t reference, const double* header_reals,
-                                  const double* pose_reals, std::uint8_t* out, std::size_t capacity);
+// pose_count x rigidity_pose_reals) and the home identity:
+// encode_rigidity_table's bytes bit for bit. Returns the bytes written, or 0
+// as encode_rigidity_table; it checks nothing else (decode_rigidity_table does).
+std::size_t encode_rigidity_reals(std::size_t pose_count, std::size_t reference, std::uint16_t home_identity,
+                                  const double* header_reals, const double* pose_reals, std::uint8_t* out,
+                                  std::size_t capacity);
 
 }  // namespace trueaxis::core

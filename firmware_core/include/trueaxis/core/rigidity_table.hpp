@@ -111,6 +111,8 @@ struct RigidityOptions {
   // A pose with more samples: kTooManyPoints. A pose's circle fit is one step,
   // so this bounds the longest step (the module passes kMaxPoseSamples).
   std::size_t max_pose_samples = kMaxCirclePoints;
+  // The machine's home identity the table records (RigidityTable::home_identity).
+  std::uint16_t home_identity = 0;
 };
 
 struct RigidityPose {
@@ -141,6 +143,10 @@ struct RigidityTable {
   double c_to_a_offset_sigma_mm = 0.0;
   double c_to_a_squareness_rad = 0.0;
   double c_to_a_squareness_sigma_rad = 0.0;
+  // The machine's home the poses were measured under, as a number its
+  // integrator sets (the module's #904; 0: none recorded): the axes' zeros
+  // the table's A, C and positions hold. Stored; not a measurement.
+  std::uint16_t home_identity = 0;
 
   // Derived (convention 8).
   Mat3 reference_axes = Mat3::Identity();     // E_ref

@@ -71,6 +71,7 @@ enum class Status : std::uint16_t {
   kResultReplaced = 407,    // another method's computation has replaced this method's last one
   kMethodNotBuilt = 408,    // the method this needs is not built into this module
   kNothingToCheck = 409,    // a check found no figure the build and the stored table share
+  kHomeChanged = 410,       // the stored table was measured under another home than the machine's now
 
   kFitBeyondNoise = 500,    // a fit's residuals far beyond the instrument's stated noise (a gate)
   kChangeBeyondLimit = 501, // a new table differs from the stored one beyond the change limit, unconfirmed (a gate)

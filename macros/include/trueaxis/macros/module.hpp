@@ -192,6 +192,7 @@ class Module final : public VariableAccess {
   void load_tables();
   MacroEntry lookup(std::uint16_t number) const;
   void set(std::uint16_t number, double value);
+  void set_tables_home(std::uint16_t home);
   // The module's own variables by a number known at compile time (no search).
   template <std::uint16_t N>
   double& at() {

@@ -9,8 +9,8 @@
 //                    Each method owns a block (its descriptor's kBlock,
 //                    method.hpp); #900 .. #903 are the platform's (the
 //                    unlock code, the gates' confidence, the machine's
-//                    identity, the macro interface's idle limit); #904 ..
-//                    #999 is free for further methods.
+//                    identity, the macro interface's idle limit), #904 the
+//                    home's identity; #905 .. #999 is free for further methods.
 //  4. #1000 .. #4999 macro-input data of the methods (point lists), one block
 //                    per method; volatile, cleared after every macro.
 //  5. #5221 .. #5326 work offsets G54 .. G59 (+0 X .. +5 C); persistent.
@@ -80,6 +80,8 @@ inline constexpr std::uint16_t kUnlockCodeSetting = 900;
 inline constexpr std::uint16_t kGateConfidence = 901;
 inline constexpr std::uint16_t kMachineId = 902;
 inline constexpr std::uint16_t kInterfaceIdleLimit = 903;
+inline constexpr std::uint16_t kHomeIdentity = 904;
+inline constexpr double kMaxHomeIdentity = 65535.0;  // 16 bits: a table's record holds it
 
 inline constexpr std::uint16_t kCmd = 9000;
 inline constexpr std::uint16_t kStatus = 9001;
@@ -189,6 +191,8 @@ inline constexpr VarInfo kPlatformRows[] = {
   {var::kMachineId, 1, Access::kConfig, ValueKind::kInteger, 0.0, 999999999.0, 0.0, "machine_id", "", "The machine's identity as a whole number (a variable holds numbers only: the serial's digits or an asset number), set by the integrator: every calibration report shows it beside the operator and the date. 0: not set."},
 
   {var::kInterfaceIdleLimit, 1, Access::kConfig, ValueKind::kInteger, kMinInterfaceIdleS, kMaxInterfaceIdleS, kDefaultInterfaceIdleS, "interface_idle_s", "s", "How long a client keeps the macro interface (#9009) after its last write that took it or its last macro's end, while it has a session open (after its clear macro, until its compute, 9815 or check macro succeeds) or has taken it with #9009 = 1: the LinuxCNC rigidity program probes for many seconds between two adds. A client without either keeps it 2 s. A hold already running keeps its length when this changes."},
+
+  {var::kHomeIdentity, 1, Access::kConfig, ValueKind::kInteger, 0.0, var::kMaxHomeIdentity, 0.0, "home_identity", "", "The axes' home as a number the integrator sets, and changes whenever an axis' zero moves (a home switch moved, a home offset changed; LinuxCNC: the remap computes it from the ini's [TRUEAXIS] HOME_ID and the joints' HOME and HOME_OFFSET and refuses G65 while this differs). M3's table records it at its build (9832); a stored table recorded under another value is not applied (home_changed) by 9833, 9835, 9836, leveling on the calibrated axes (#508 = 1) or the controller's direct queries, until this is set back (the axes homed as then) or the table is measured and stored again. 0: none set."},
 
   rows::offset(var::kG54 + 0, "g54_x", "mm"), rows::offset(var::kG54 + 1, "g54_y", "mm"), rows::offset(var::kG54 + 2, "g54_z", "mm"),
   rows::offset(var::kG54 + 3, "g54_a", "deg"), rows::offset(var::kG54 + 4, "g54_b", "deg"), rows::offset(var::kG54 + 5, "g54_c", "deg"),

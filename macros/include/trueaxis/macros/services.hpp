@@ -22,6 +22,8 @@ inline std::size_t rigidity_record_bytes(const core::RigidityTable& t) {
 struct RigidityTableRecord : TableCodec<core::RigidityTable, &core::decode_rigidity_table,
                                         &core::encode_rigidity_table, &rigidity_record_bytes> {
   static constexpr RecordSpec kRecord{3, 1, 4096, "rigidity_table"};
+  // stored_table.hpp contract 4: applied only under the home it was measured under.
+  static std::uint16_t home_of(const core::RigidityTable& t) { return t.home_identity; }
 };
 static_assert(core::kRigidityTableMaxBytes <= RigidityTableRecord::kRecord.capacity_bytes);
 

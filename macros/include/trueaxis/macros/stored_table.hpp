@@ -22,8 +22,16 @@
 //  3. The table staged must stay where it is until the commit (the method's
 //     work in the work arena, or its state): the module commits in the step
 //     after the macro's last one, and no other macro runs in between.
+//  4. The home. A Spec with `static std::uint16_t home_of(const Type&)` (M3's
+//     table: the home identity it was measured under) is applied only under
+//     that home: use_or(f) is read_or(f) but kHomeChanged while the table's
+//     home is not the machine's (#904, set_home(): the module at start and
+//     after every write of #904). read_or stays open for reports and the
+//     exact export. Without home_of, use_or is read_or. Lock-free: the home
+//     is a relaxed 16-bit atomic.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <type_traits>
@@ -62,6 +70,13 @@ struct TableCodec {
   }
 };
 
+// Contract 4: whether Spec records a home.
+template <typename Spec, typename = void>
+struct RecordsHome : std::false_type {};
+template <typename Spec>
+struct RecordsHome<Spec, std::void_t<decltype(Spec::home_of(std::declval<const typename Spec::Type&>()))>>
+    : std::true_type {};
+
 template <typename Spec>
 class StoredTable {
  public:
@@ -76,6 +91,25 @@ class StoredTable {
   auto read_or(F f) const -> decltype(f(std::declval<const Type&>())) {
     return macros::read_or(live_, missing_, f);
   }
+
+  // Contract 4: the table to apply, or why not (kHomeChanged besides contract 2's).
+  template <typename F>
+  auto use_or(F f) const -> decltype(f(std::declval<const Type&>())) {
+    using R = decltype(f(std::declval<const Type&>()));
+    if constexpr (RecordsHome<Spec>::value) {
+      const std::uint16_t home = home_.load(std::memory_order_relaxed);
+      return read_or([&](const Type& t) -> R {
+        if (Spec::home_of(t) != home) return R(core::Status::kHomeChanged);
+        return f(t);
+      });
+    } else {
+      return read_or(f);
+    }
+  }
+
+  // Contract 4: the machine's home now (Module).
+  void set_home(std::uint16_t home) { home_.store(home, std::memory_order_relaxed); }
+  std::uint16_t home() const { return home_.load(std::memory_order_relaxed); }
 
   // f(table) on the live table; false when there is none (live_table.hpp).
   template <typename F>
@@ -107,6 +141,8 @@ class StoredTable {
   LiveTable<Type> live_;
   core::Status missing_ = core::Status::kNoTable;
   const Type* staged_ = nullptr;
+  std::atomic<std::uint16_t> home_{0};
+  static_assert(std::atomic<std::uint16_t>::is_always_lock_free, "the real-time task reads the home");
 };
 
 }  // namespace trueaxis::macros

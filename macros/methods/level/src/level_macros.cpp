@@ -56,7 +56,7 @@ MacroStep level_and_report(Context& ctx, const core::Vec3* points, std::size_t c
   if (calibrated && axes == nullptr) return done(core::Status::kMethodNotBuilt);
   const core::Result<core::LevelResult> r =
       !calibrated ? core::level_face(input, read_config(ctx))
-                  : axes->read_or([&](const core::RigidityTable& t) {
+                  : axes->use_or([&](const core::RigidityTable& t) {
                       return core::level_on_table(input, read_config(ctx), t, core::Blend::kCubicNotAKnot, false);
                     });
   if (!r.ok()) return done(r.status());

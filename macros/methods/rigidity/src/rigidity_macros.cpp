@@ -60,7 +60,11 @@ struct Change {
 Change change_against(const State& state, const core::RigidityTable& t) {
   Change c;
   for (std::size_t i = 0; i < t.pose_count; ++i) {
-    const core::Result<core::Vec3> stored = compensation_rad(state, t.poses[i].a_deg, core::Blend::kLinear, true);
+    // The stored table as it is, whatever home it was measured under (read_or, not use_or):
+    // a new home is no reason to skip the gate.
+    const core::Result<core::Vec3> stored = state.table.read_or([&](const core::RigidityTable& s) {
+      return core::rigidity_rotvec_rad(s, t.poses[i].a_deg, core::Blend::kLinear, true);
+    });
     if (!stored.ok()) return {};
     const double d = (t.poses[i].rotvec_rad - stored.value()).norm();
     if (c.pose == 0 || d > c.rad) c = {d, i + 1};
@@ -144,7 +148,7 @@ MacroStep finish_build(Context& ctx, State& state, const core::RigidityTable& t,
 }  // namespace
 
 core::Result<core::Vec3> compensation_rad(const State& state, double a_deg, core::Blend blend, bool clamp) {
-  return state.table.read_or(
+  return state.table.use_or(
       [&](const core::RigidityTable& t) { return core::rigidity_rotvec_rad(t, a_deg, blend, clamp); });
 }
 
@@ -181,6 +185,7 @@ MacroStep run_build(Context& ctx, State& state) {
     core::RigidityOptions options;
     options.min_c_arc_deg = ctx.in<var::kRigidityMinCArc>();
     options.max_pose_samples = kMaxPoseSamples;
+    options.home_identity = static_cast<std::uint16_t>(ctx.in<var::kHomeIdentity>());  // a whole number 0..65535
     state.built = false;
     Work& work = ctx.open_work();
     work.built = false;
@@ -251,6 +256,7 @@ MacroStep report_reals(Context& ctx, const core::RigidityTable& t) {
   if (!whole_in(q, 0.0, static_cast<double>(t.pose_count))) return done(core::Status::kArgumentOutOfRange);
   ctx.out<var::kRealsPoseCount>(static_cast<double>(t.pose_count));
   ctx.out<var::kRealsReference>(static_cast<double>(t.reference + 1));
+  ctx.out<var::kRealsHomeIdentity>(static_cast<double>(t.home_identity));
   double reals[core::kRigidityPoseReals] = {};
   std::size_t count = core::kRigidityHeaderReals;
   if (q == 0.0) {
@@ -284,7 +290,7 @@ MacroStep run_convert(Context& ctx, State& state) {
   }
   const core::Vec3 direction(ctx.in<var::kArgI>(), ctx.in<var::kArgJ>(), ctx.in<var::kArgK>());
   const core::Vec3 point(ctx.in<var::kArgX>(), ctx.in<var::kArgY>(), ctx.in<var::kArgZ>());
-  const core::Result<core::RigidTransform> r = state.table.read_or([&](const core::RigidityTable& t) {
+  const core::Result<core::RigidTransform> r = state.table.use_or([&](const core::RigidityTable& t) {
     return core::rigidity_correction(t, ctx.in<var::kArgA>(), ctx.in<var::kArgC>(), blend, false);
   });
   if (!r.ok()) return done(r.status());
@@ -363,7 +369,7 @@ MacroStep run_check(Context& ctx, State& state) {
   const core::RigidityTable& built = work->builder.table();
   const double rotation_tolerance = ctx.in<var::kRigidityCheckRotation>();
   const double a_error_tolerance = ctx.in<var::kRigidityCheckAError>();
-  return state.table.read_or([&](const core::RigidityTable& stored) {
+  return state.table.use_or([&](const core::RigidityTable& stored) {
     std::size_t poses = 0;
     for (std::size_t i = 0; i < built.pose_count; ++i) poses += judged(built, i, stored) ? 1U : 0U;
     return publish_check(ctx, 2 * poses, [&](std::size_t k) {

@@ -30,7 +30,8 @@
 //  circle below #603), change (change_beyond_limit: with R = 1 and a stored
 //  table, a pose's rotation vector more than #604 from the stored table's at
 //  its A, unless M = #13 is 1). #114..#117 publish the change and the fit
-//  figure.
+//  figure. The table records #904, the axes' home it was measured under
+//  (stored_table.hpp contract 4).
 // Macro 9833: the rotation vector at commanded A = #1 from the stored (live)
 //  table: Q = #17 blend (0 linear, 1 geodesic, 2 natural cubic spline, 3 cubic
 //  spline with not-a-knot ends: more exact near the ends of the range for a
@@ -39,7 +40,9 @@
 //  (arcsec, machine frame), #103 norm. Without a stored table kNoTable (none
 //  stored), kTableDamaged (its record failed the CRC at start) or kTableInvalid
 //  (it did not decode); kArgumentOutOfRange for a blend or R not in its set;
-//  kOutsideMeasuredRange for A outside the measured range with R = 0.
+//  kOutsideMeasuredRange for A outside the measured range with R = 0;
+//  kHomeChanged when the stored table was built under another #904 than now
+//  (so 9835, 9836 and compensation_rad too; 9834 and 9837 still report it).
 // Macro 9834: pose Q = #17 (1..n, in A order) of the table: R = #18 0 the last
 //  table built since start, 1 the stored one. Out: #100..#120 (kPoseOutputs):
 //  #118 the A positioning error's sigma (stored with the table); #119, #120
@@ -55,7 +58,8 @@
 // Macro 9837: the table's stored reals (rigidity_codec.hpp): R = #18 0 the
 //  table built last, 1 the stored one; Q = #17 0 the header, 1..n pose Q.
 //  Out: #100 pose count, #101 the reference pose (1-based), #102.. the reals
-//  (Q = 0: 10, Q = n: 27), exactly as stored (radians, mm): a client rebuilds
+//  (Q = 0: 10, Q = n: 27), exactly as stored (radians, mm), #129 the home
+//  identity it was built under: a client rebuilds
 //  the stored record bit for bit (core::encode_rigidity_reals), e.g. the
 //  LinuxCNC kinematics' table file. Statuses as 9834.
 // Macro 9836: check (check.hpp): the table built last (9832 with R = 0)
@@ -136,6 +140,7 @@ inline constexpr InputRef kBuildInputs[] = {
   {var::kRigidityMinCRadius, 1, "The plausibility gate on the ball's C radius."},
   {var::kRigidityMaxChange, 1, "The change gate's limit."},
   {var::kGateConfidence, 1, "The fit gate's confidence."},
+  {var::kHomeIdentity, 1, "The axes' home the table records."},
 };
 inline constexpr InputRef kQueryInputs[] = {
   {var::kArgA, 1, "Commanded A (deg)."},

@@ -70,6 +70,7 @@ inline constexpr std::uint16_t kConvertDirectionX = 103;
 inline constexpr std::uint16_t kRealsPoseCount = 100;
 inline constexpr std::uint16_t kRealsReference = 101;
 inline constexpr std::uint16_t kRealsFirst = 102;
+inline constexpr std::uint16_t kRealsHomeIdentity = 129;  // after the 27 reals
 }  // namespace var
 
 namespace rigidity {
@@ -224,6 +225,7 @@ inline constexpr OutputInfo kRealsOutputs[] = {
   {var::kRealsFirst + 24, "table_real_25", "", "Q = n: the pose's c_circle_rms (mm); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
   {var::kRealsFirst + 25, "table_real_26", "", "Q = n: the pose's c_arc (deg); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
   {var::kRealsFirst + 26, "table_real_27", "", "Q = n: the pose's c_count (unit); exactly as stored (rigidity_codec.hpp); Q = 0: 0."},
+  {var::kRealsHomeIdentity, "table_home_identity", "", "The home identity the table was built under (#904 at its 9832): a client rebuilding the record writes it too (core::encode_rigidity_reals)."},
 };
 
 inline constexpr OutputInfo kConvertOutputs[] = {
