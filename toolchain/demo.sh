@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The operator demo: builds the host programs if needed (every trueaxis-*, so that
-# the README's commands work after it), starts trueaxis-sim on a free
-# port with a temporary NV file, runs trueaxis-level (probe, level, verify), stops
-# the sim and exits with the client's code (0 when the true residual tilt after
-# leveling is within 3 sigma of the module's uncertainty).
+# the commands of README.md and docs/GUIDE.md work after it), starts trueaxis-sim
+# on a free port with a temporary NV file, runs trueaxis-level (probe, level,
+# verify), stops the sim and exits with the client's code (0 when the true
+# residual tilt after leveling is within 3 sigma of the module's uncertainty).
 #
 # usage: toolchain/demo.sh [--bin-dir DIR] [-- extra trueaxis-sim options]
 #   --bin-dir DIR  use the programs in DIR and build nothing (ctest does this)

@@ -212,7 +212,7 @@ double arc_span_deg(const Vec3* p, std::size_t count, const CircleFit& fit, doub
 
 // Functions marked noinline hold a solver's or a factorisation's temporaries
 // (0.2-0.4 kB each): on the stack only while they run, not in fit_circle's
-// frame under every call it makes (README "Stack"). [[gnu::noinline]] is
+// frame under every call it makes (docs/FIGURES.md "Stack"). [[gnu::noinline]] is
 // ignored by compilers that do not know it.
 
 // Initial guess: the scatter matrix's plane (normal equations suffice: the

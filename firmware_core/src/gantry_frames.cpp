@@ -19,7 +19,7 @@ Vec6 frame_delta(const Rigid3& nominal, const Rigid3& moved) {
   return d;
 }
 
-// Stack (README "Stack"): the solvers and the covariances are the builder's
+// Stack (docs/FIGURES.md "Stack"): the solvers and the covariances are the builder's
 // (GantryBuilder's scratch members, passed in), and the functions marked
 // noinline keep their temporaries out of their callers' frames, so that
 // step()'s deepest call (a perturbed sub-machine frame) does not carry them.
@@ -75,10 +75,10 @@ template <int N, typename Sample, typename Eval>
 }
 
 // Convention 7, cheap enough for every perturbed build (no inverse
-// trigonometry: README "Instruction bounds"): the cosines of the three
-// squareness angles and of the A-to-C angle, and the signed A-to-C offset along
-// unit(a x c). d(angle) = -d(cos) / sin: sub_into_global divides the cosines'
-// variances by sin^2 of the nominal angles.
+// trigonometry: docs/GUIDE.md "Macros that take several steps"): the cosines of
+// the three squareness angles and of the A-to-C angle, and the signed A-to-C
+// offset along unit(a x c). d(angle) = -d(cos) / sin: sub_into_global divides
+// the cosines' variances by sin^2 of the nominal angles.
 Vec5 figures_of(const Vec3 dirs[3], const Line3& c, const Line3& a) {
   const Vec3 m = a.direction.cross(c.direction);
   Vec5 f;

@@ -68,7 +68,7 @@ void model_fields(Io& io, Model& m) {
 // its largest component, as plucker_from_point does (never here: |d| >= 1 for a
 // unit a, d - a normal to it). Not inlined ([[gnu::noinline]]; ignored by
 // compilers that do not know it): its temporaries stay out of
-// spindle_correction's frame (README "Stack").
+// spindle_correction's frame (docs/FIGURES.md "Stack").
 [[gnu::noinline]] Status tool_line_error(const Vec3& q, const Vec3& d_in, SpindleCorrection& out) {
   if (!all_finite(q) || !all_finite(d_in)) return Status::kNotFinite;
   Vec3 d = d_in;

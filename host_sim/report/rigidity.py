@@ -5,8 +5,8 @@ noise alone would give, and the per-pose table (every figure with its unit and
 its sigma).
 
 A pose's C-circle RMS within 3 sigma of its noise floor is marked "noise": it
-measures the instrument, not the machine (README "M3: what the C-circle RMS
-means").
+measures the instrument, not the machine (docs/GUIDE.md "M3: what the C-circle
+RMS means").
 """
 from page import fmt, plt
 

@@ -5,8 +5,8 @@ operator's command, not a test client, through the RTU framer of the image
 
 usage: test_var_rtu_qemu.py TRUEAXIS_VAR IMAGE
 
-Starts IMAGE (rtu_server_qemu_target: 2400 baud, see README "Modbus RTU on
-the firmware image") with UART0 on a pseudo-terminal, and holds the terminal
+Starts IMAGE (rtu_server_qemu_target: 2400 baud, see docs/GUIDE.md "Modbus RTU
+on the firmware image") with UART0 on a pseudo-terminal, and holds the terminal
 open itself for the whole run: QEMU reads a terminal only while one is open,
 and notices a newly opened one only on its next check (once a second), so
 each trueaxis-var run then finds it listening. Then, with

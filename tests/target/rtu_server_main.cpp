@@ -1,5 +1,6 @@
 // The module served over Modbus RTU on the board's UART0: the firmware an
-// integrator flashes, as QEMU runs it (README, "Modbus RTU under QEMU").
+// integrator flashes, as QEMU runs it (docs/GUIDE.md, "Modbus RTU on the
+// firmware image (QEMU)").
 //
 // Conventions
 //  1. Slave address 1, 19200 baud (the UART itself is 8N1, cmsdk_uart.hpp 2;

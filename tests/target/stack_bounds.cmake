@@ -1,6 +1,6 @@
 # The stack bounds CI holds: ctest stack_bounds fails when a root of
 # tools/stack_report.py needs more than its bound here (bytes: its own frame and
-# the worst of everything it calls, interrupts not included; README "Stack").
+# the worst of everything it calls, interrupts not included; docs/FIGURES.md "Stack").
 #
 # step() and every per-cycle query (query:*) hold the targets of the issue ("A
 # method is one type", item 2): 4 KiB and 1 KiB. The large scratch of the fits

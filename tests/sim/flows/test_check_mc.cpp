@@ -5,7 +5,7 @@
 // checks a second measurement (R = 0, then the check macro), so that both the
 // stored table's noise and the check's are in every run, as on a machine.
 // TRUEAXIS_FIGURES=1 prints the verdict counts and the worst ratios (the
-// README's table).
+// table of docs/GUIDE.md "Check").
 #include <catch2/catch.hpp>
 
 #include <algorithm>

@@ -7,7 +7,7 @@
 // order of the plan; the outputs are the method's own routine on them (the
 // plan's evaluate, which calls the firmware_core routine the module runs).
 // TRUEAXIS_FIGURES=1 prints each plan's valuation and the range of
-// predicted / observed (the README's table).
+// predicted / observed (the table of docs/GUIDE.md "The plan").
 #include <catch2/catch.hpp>
 
 #include <algorithm>

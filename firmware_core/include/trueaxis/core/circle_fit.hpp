@@ -116,7 +116,7 @@ struct CircleFit {
 // The scratch of a fit: its normal equations, the damped normal matrix and
 // the covariance, the points' phases, the fit under way (1.3 kB). A firmware
 // caller keeps one beside its data (a builder's member, in the module's work
-// arena) so that they stay off its stack (README "Stack"); it holds nothing
+// arena) so that they stay off its stack (docs/FIGURES.md "Stack"); it holds nothing
 // between calls.
 struct CircleFitWork {
   CircleFit fit;

@@ -1,7 +1,7 @@
 // What instrument noise alone does to M2's peak-to-valley figures (bed
 // flatness, gantry straightness) and the form error left when it is taken out
-// (docs/INTERFACE.md "M2 gantry"; README "M2: what flatness and straightness
-// mean").
+// (docs/INTERFACE.md "M2 gantry"; docs/GUIDE.md "M2: what flatness and
+// straightness mean").
 //
 // Conventions
 //  1. A least-squares fit of `count` points leaves `dof` residual degrees of

@@ -261,7 +261,7 @@ class GantryBuilder {
   AxisEstimate gantry_;
   AxisEstimate axes_[3];
   CircleFit c_fit_, a_fit_;
-  // Scratch: in the builder, not on the stack of step() (README "Stack").
+  // Scratch: in the builder, not on the stack of step() (docs/FIGURES.md "Stack").
   CircleFitWork circle_work_;
   Eigen::SelfAdjointEigenSolver<Mat3> eigen3_;  // a fit's covariance (convention 5)
   Eigen::SelfAdjointEigenSolver<Mat6> eigen6_;

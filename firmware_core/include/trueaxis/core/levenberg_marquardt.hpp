@@ -298,9 +298,9 @@ class LevenbergMarquardt {
   double ratio_ = 1.0;
   int evaluations_ = 0;
   int iterations_ = 0;
-  // Factorisations and the scaled matrix: off the stack (README "Stack"). Last,
-  // so that the members add() touches on every residual keep their offsets
-  // (within reach of a Cortex-M7 load's immediate).
+  // Factorisations and the scaled matrix: off the stack (docs/FIGURES.md
+  // "Stack"). Last, so that the members add() touches on every residual keep
+  // their offsets (within reach of a Cortex-M7 load's immediate).
   Mat work_ = Mat::Zero();
 };
 

@@ -1,7 +1,7 @@
 // What instrument noise alone does to the RMS of a least-squares fit's
 // residuals: the RMS it would give (the noise floor) and the 1-sigma
 // uncertainty of an observed RMS (M3's C-circle RMS, docs/INTERFACE.md "M3
-// rigidity"; README "M3: what the C-circle RMS means").
+// rigidity"; docs/GUIDE.md "M3: what the C-circle RMS means").
 //
 // Conventions
 //  1. A fit of `count` points leaves `dof` residual degrees of freedom (a 3-D

@@ -169,7 +169,7 @@ struct RigiditySplineWork {
 // scratch on the stack).
 void prepare_rigidity_table(RigidityTable& table);
 
-// The same with the caller's scratch (the builder's: README "Stack").
+// The same with the caller's scratch (the builder's: docs/FIGURES.md "Stack").
 void prepare_rigidity_table(RigidityTable& table, RigiditySplineWork& work);
 
 namespace detail {
@@ -195,7 +195,7 @@ struct RigidityEvaluation {
 };
 
 // The builder's scratch for the evaluations and the pose fits (conventions
-// 3-6): in the builder, not on the stack of step() (README "Stack").
+// 3-6): in the builder, not on the stack of step() (docs/FIGURES.md "Stack").
 struct RigidityScratch {
   RigidityPoseFrame frames[kMaxAPoses];
   Vec3 centres[kMaxAPoses];      // the A-axis circle's points

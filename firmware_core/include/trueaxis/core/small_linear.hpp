@@ -13,7 +13,7 @@
 //     cholesky_in_place(A) overwrites A's.
 //  2. cholesky_solve(L, b): x with L L^T x = b; cholesky_inverse(L): (L L^T)^-1.
 //     The _in_place and out-parameter forms do the same arithmetic without an
-//     N x N temporary (a solver's scratch instead: README "Stack").
+//     N x N temporary (a solver's scratch instead: docs/FIGURES.md "Stack").
 //  3. jacobi_eigenvalues(A): the eigenvalues of a symmetric A, ascending, by
 //     cyclic Jacobi rotations until every off-diagonal entry is below
 //     eps x the Frobenius norm (at most kJacobiSweeps sweeps; 6-10 are typical
@@ -37,7 +37,7 @@ inline constexpr int kJacobiSweeps = 50;
 // Convention 1 into `l`'s lower triangle, which may be `a` itself: a's lower
 // triangle is read (each entry before L's entry in its place is written), l's
 // upper triangle is left as it was (cholesky_solve reads the lower one only).
-// Neither a copy nor a second N x N matrix (README "Stack").
+// Neither a copy nor a second N x N matrix (docs/FIGURES.md "Stack").
 template <int N>
 bool cholesky_lower(const SquareMatrix<N>& a, SquareMatrix<N>& l) {
   for (int j = 0; j < N; ++j) {
