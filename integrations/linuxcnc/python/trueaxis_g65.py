@@ -72,23 +72,25 @@ def _ini_path():
 def read_settings(path):
     """[TRUEAXIS] of the ini at `path` as a dict of upper-case keys (the first
     value of a repeated key, as LinuxCNC's own ini reader and #<_ini[..]>
-    take it); paths in it are relative to the ini's folder."""
-    settings, section = {}, None
-    with open(path, encoding="utf-8") as f:
-        for line in f:
-            line = line.strip()
-            if not line or line.startswith("#") or line.startswith(";"):
-                continue
-            if line.startswith("[") and line.endswith("]"):
-                section = line[1:-1].strip()
-            elif section == "TRUEAXIS" and "=" in line:
-                key, value = line.split("=", 1)
-                settings.setdefault(key.strip().upper(), value.strip())
-            elif section == "KINS" and "=" in line and line.split("=", 1)[0].strip().upper() == "KINEMATICS":
-                settings.setdefault("_KINEMATICS", line.split("=", 1)[1].strip())
+    take it; trueaxis_module.read_ini); paths in it are relative to the ini's
+    folder. "_KINEMATICS" is [KINS] KINEMATICS, "_SECTIONS" the whole ini."""
+    sections = read_ini(path)
+    settings = {key: values[0] for key, values in sections.get("TRUEAXIS", {}).items()}
+    kinematics = sections.get("KINS", {}).get("KINEMATICS")
+    if kinematics:
+        settings["_KINEMATICS"] = kinematics[0]
     settings["_DIR"] = os.path.dirname(os.path.abspath(path))
-    settings["_PATH"] = path
+    settings["_SECTIONS"] = sections
     return settings
+
+
+def trueaxis_kins_parameters(settings):
+    """The name=value words of a [KINS] KINEMATICS = trueaxis_kins line as a
+    dict, or None when the machine's kinematics are another module's."""
+    words = settings.get("_KINEMATICS", "").split()
+    if not words or words[0] != "trueaxis_kins":
+        return None
+    return dict(w.split("=", 1) for w in words[1:] if "=" in w)
 
 
 PIVOT_KEYS = ("PIVOT_X", "PIVOT_Y", "PIVOT_Z", "A_OFFSET_Y", "A_OFFSET_Z")
@@ -97,11 +99,8 @@ PIVOT_KEYS = ("PIVOT_X", "PIVOT_Y", "PIVOT_Z", "A_OFFSET_Y", "A_OFFSET_Z")
 def home_mismatch(settings, home):
     """None, or the sentence why a [KINS] KINEMATICS = trueaxis_kins line's
     home= (absent 0) is not this machine's home identity `home`."""
-    words = settings.get("_KINEMATICS", "").split()
-    if not words or words[0] != "trueaxis_kins":
-        return None
-    kins = dict(w.split("=", 1) for w in words[1:] if "=" in w)
-    if kins.get("home", "0") in (str(home), ""):
+    kins = trueaxis_kins_parameters(settings)
+    if kins is None or kins.get("home", "0") in (str(home), ""):
         return None
     return (f"[KINS] trueaxis_kins home={kins.get('home', '0')} is not this machine's home identity {home} "
             "([TRUEAXIS] HOME_ID and the joints' HOME, HOME_OFFSET; trueaxis_home.py prints it): the kinematics "
@@ -117,11 +116,8 @@ def pivot_mismatch(settings):
     [KINS] KINEMATICS = trueaxis_kins line without table= (the machine's
     units, absent 0): two pivots on one machine. With table= the kinematics
     turn about the table's measured axes, not the nominal pivot."""
-    words = settings.get("_KINEMATICS", "").split()
-    if not words or words[0] != "trueaxis_kins":
-        return None
-    kins = dict(w.split("=", 1) for w in words[1:] if "=" in w)
-    if kins.get("table"):
+    kins = trueaxis_kins_parameters(settings)
+    if kins is None or kins.get("table"):
         return None
     mm = 25.4 if kins.get("linear_units", "mm") in INCH_NAMES else 1.0
     try:
@@ -151,7 +147,7 @@ class Remap:
             raise TrueaxisError(mismatch)
         # The machine's home identity (trueaxis_module.home_identity), which the
         # module's #904 and the kinematics' home= must be.
-        self.home = home_identity(read_ini(settings["_PATH"])) if "_PATH" in settings else 0
+        self.home = home_identity(settings.get("_SECTIONS", {}))
         mismatch = home_mismatch(settings, self.home)
         if mismatch:
             raise TrueaxisError(mismatch)
