@@ -16,6 +16,7 @@ packages=(
   # integrations/linuxcnc: LinuxCNC (rs274, linuxcnc, halcompile) and the remap's Modbus client
   linuxcnc-uspace linuxcnc-uspace-dev python3-pymodbus python3-serial python3-serial-asyncio
   chromium  # tests/sim/tools/test_report_pages.py: every report rendered headless
+  pyflakes3  # tests/lint: the Python lint
 )
 
 # LinuxCNC refuses to run as root: its headless tests (tests/linuxcnc) run it as

@@ -380,9 +380,6 @@ def main():
         results[label] = Jid
         Js_ = Jid * scale[None, :]
         s = np.linalg.svd(Js_, compute_uv=False)
-        Fi = Js_.T @ Js_ / SIG_PROBE ** 2
-        d = np.sqrt(np.diag(Fi))
-        corr = Fi / np.outer(d, d)
         sv = np.linalg.svd(Js_ / np.sqrt(np.sum(Js_ ** 2, axis=0))[None, :], compute_uv=False)
         ev = sv[::-1] ** 2
         print(f"  {label}: singular values of J (columns in um and urad):")

@@ -1133,7 +1133,7 @@ def main(argv=None):
                 if p.get("repeat", 1) > 1:
                     q += f" (recursion: {p['repeat']} x {p['frame'] // p['repeat']} bytes)"
                 print(f"  {p['frame']:>6} {p['cumulative']:>6}  {_fit(p['function'], 110)}{q}")
-        print(f"\nLargest frames reached from the roots (the targets for cutting):")
+        print("\nLargest frames reached from the roots (the targets for cutting):")
         print(f"  {'frame':>6}  function  [roots]")
         for t in top_rows:
             print(f"  {t['frame']:>6}  {_fit(t['function'], 100)}  [{', '.join(t['roots'])}]")

@@ -4,14 +4,15 @@
 
 usage: trueaxis_report.py MODULE OUT.json DIR
 
-MODULE is the method's report module beside this script (rigidity, gantry,
-spindle: trueaxis-calibrate's method table names it). A module holds TITLE and
+MODULE is the method whose report page this draws (rigidity, gantry, spindle:
+trueaxis-calibrate's method table names it): methods/MODULE/host/report.py. A module holds TITLE and
 draw(data, report), which fills a page.Report; page.py is the shape every
 report shares. DIR must exist (trueaxis-calibrate makes it); the module's
 figures beyond OUT.json's fixed keys, DIR/module_figures.json, are merged into
 the data when present. Exit 0, or 2 on bad usage.
 """
 import importlib
+import importlib.util
 import hashlib
 import json
 import os
@@ -22,16 +23,22 @@ import sys
 sys.dont_write_bytecode = True
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+METHODS = os.path.join(HERE, os.pardir, os.pardir, "methods")
 
 
 def report_module(name):
-    """The report module `name` beside this script, or None."""
-    if not re.fullmatch(r"[a-z][a-z_]*", name) or name in ("page", "trueaxis_report"):
+    """The report page of method `name`: methods/NAME/host/report.py of this
+    repository (its folder, as the one list names it), or None."""
+    if not re.fullmatch(r"[a-z][a-z_]*", name):
         return None
-    if not os.path.isfile(os.path.join(HERE, name + ".py")):
+    path = os.path.join(METHODS, name, "host", "report.py")
+    if not os.path.isfile(path):
         return None
-    sys.path.insert(0, HERE)
-    return importlib.import_module(name)
+    sys.path.insert(0, HERE)  # the pages import page.py from here
+    spec = importlib.util.spec_from_file_location(f"trueaxis_report_{name}", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def sha256_of(path):

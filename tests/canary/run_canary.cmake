@@ -1,7 +1,7 @@
 # A fifth method from its own files plus one list entry (issue "A method is one
 # type"): copies the repository into WORK, adds the canary's room
 # (tests/canary/room) as macros/methods/canary/, appends "canary" to the one
-# list (macros/methods/CMakeLists.txt, TRUEAXIS_ALL_METHODS) and checks that
+# list (methods/CMakeLists.txt, TRUEAXIS_ALL_METHODS) and checks that
 # this is the only line of the repository that changed; then builds the copy's
 # map generator and tests/canary/canary_check.cpp and runs both.
 #
@@ -17,10 +17,10 @@ foreach(entry IN LISTS entries)
 endforeach()
 
 # The method's own files.
-file(COPY ${SOURCE}/tests/canary/room/ DESTINATION ${WORK}/src/macros/methods/canary)
+file(COPY ${SOURCE}/tests/canary/room/ DESTINATION ${WORK}/src/methods/canary)
 
 # The one list entry.
-set(list_file macros/methods/CMakeLists.txt)
+set(list_file methods/CMakeLists.txt)
 file(STRINGS ${SOURCE}/${list_file} before)
 file(READ ${SOURCE}/${list_file} text)
 string(REGEX REPLACE "set\\(TRUEAXIS_ALL_METHODS ([a-z ]+)\\)" "set(TRUEAXIS_ALL_METHODS \\1 canary)" text "${text}")
@@ -51,7 +51,8 @@ execute_process(COMMAND ${CMAKE_COMMAND} -S ${WORK}/src -B ${WORK}/build -G Ninj
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "canary: the copy with the canary does not configure")
 endif()
-execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK}/build --target trueaxis-map canary_check
+execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK}/build --target trueaxis-map canary_check portable_tests trueaxis-calibrate trueaxis-sim
+                        trueaxis-var
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "canary: the copy with the canary does not build:\n${out}")
@@ -66,3 +67,13 @@ execute_process(COMMAND ${PYTHON} ${SOURCE}/tests/canary/check_canary_map.py ${W
 if(NOT rc EQUAL 0 OR NOT rc2 EQUAL 0)
   message(FATAL_ERROR "canary: the JSON map does not hold the canary")
 endif()
+execute_process(COMMAND ${WORK}/build/bin/portable_tests RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "canary: the portable tests fail with the canary:\n${out}")
+endif()
+execute_process(COMMAND ${PYTHON} ${SOURCE}/tests/canary/check_canary_flow.py ${WORK}/build/bin ${WORK}/flow
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "canary: trueaxis-calibrate does not hold the canary:\n${out}")
+endif()
+message(STATUS "canary: module, map, portable tests, calibrate flow, store, report and plan hold the canary")

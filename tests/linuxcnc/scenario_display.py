@@ -25,7 +25,6 @@ timeout" in LinuxCNC's log, [EMCMOT] COMM_TIMEOUT).
 """
 import json
 import os
-import sys
 import time
 
 import linuxcnc

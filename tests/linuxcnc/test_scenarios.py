@@ -28,7 +28,7 @@ rigidity  (scenario b) the realistic cradle (cradle_errors.hpp), a face tilted
           calibrated ones (#508 = 1), one turn each. Checks: the table is
           stored; on the calibrated axes the true tilt left is within 3 sigma
           of the module's figure and below the ideal axes' (as
-          toolchain/demo_rigidity.sh shows with the module alone).
+          methods/rigidity/demo.sh shows with the module alone).
 a_comp    (item 5) the realistic cradle's ball measured at A 0..60 every 20
           (trueaxis-measure-ball), trueaxis-calibrate rigidity --linuxcnc-comp
           writes M3's A positioning error as the A joint's COMP_FILE (type 1);
@@ -79,7 +79,7 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from linuxcnc_run import (A_OFFSET_MM, BALL_MM, BALL_TABLE_MM, HOME_IDENTITY, KINS_PIVOT, PIVOT_MM,  # noqa: E402
+from linuxcnc_run import (A_OFFSET_MM, BALL_MM, BALL_TABLE_MM, HOME_IDENTITY, KINS_PIVOT,  # noqa: E402
                           PROBE_LENGTH_MM, ROOT, Machine, host_lock, on_table)
 
 ARCSEC = 3600.0
@@ -180,7 +180,6 @@ def scenario_rigidity(checks, machine):
     result = machine.run(rigidity + level, timeout_s=300, name="rigidity")
     if not steps_ok(checks, result, "rigidity and leveling on the ideal axes"):
         return
-    table = machine.get(100, 101, 102, 109, 110)
     rig_log = open(os.path.join(machine.machine_dir, "trueaxis_rigidity.log"), encoding="utf-8").read().splitlines()
     print(f"operator's view: rigidity measured at {len(rig_log) - 1} ball positions:")
     for line in rig_log:

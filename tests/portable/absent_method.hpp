@@ -1,5 +1,5 @@
 // A method a module set does not build, as the controller sees it
-// (macros/methods/CMakeLists.txt: "the others' macros answer unknown_macro
+// (methods/CMakeLists.txt: "the others' macros answer unknown_macro
 // (400) and their variables are not defined"): every macro of its range fails
 // with 400 and changes no result, every number of its blocks of #500..#999 and
 // #1000..#4999 is refused for reading and for writing as undefined (#9007 says

@@ -39,6 +39,8 @@
 #include <cstring>
 #include <ctime>
 #include <fstream>
+#include <iterator>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,6 +56,8 @@
 #include "trueaxis/sim/tools/calibrate.hpp"
 #include "trueaxis/sim/tools/csv.hpp"
 #include "trueaxis/sim/tools/log_reader.hpp"
+#include "trueaxis/sim/tools/host_methods.hpp"
+#include "trueaxis/sim/tools/plan_options.hpp"
 #include "trueaxis/sim/tools/planner.hpp"
 #include "trueaxis/sim/tools/trt_export.hpp"
 
@@ -82,21 +86,10 @@ constexpr const char* kPlanHelp =
     "the instrument's noise-free readings of the simulator's machine), the plan's valuation (the\n"
     "worst 2 sigma / check tolerance), the outputs it cannot separate (|correlation| > 0.99), and the\n"
     "one or two changes of about one pose that lower the valuation most. No module is needed.\n"
-    "  rigidity  --a FROM,TO,STEP (deg; -90,90,30) --c-step DEG (10) or --in PLAN.csv (a_deg,c_deg:\n"
-    "            a pose per A, its C positions; other columns ignored), --ball X,Y,Z (mm, table\n"
-    "            coordinates: from the C axis at the table's top, not the machine's; 200,0,50),\n"
-    "            --noise-um U (ball centre, 1 sigma per axis; 1),\n"
-    "            --a-limits MIN,MAX (deg; the suggested poses' range; -120,120), --pivot X,Y,Z and\n"
-    "            --a-offset DY,DZ (mm: the cradle's nominal pivot, as [TRUEAXIS] PIVOT_* and\n"
-    "            A_OFFSET_*; 0,0,0 and 0,0: the ball's lever about A is Z + its height above A)\n"
-    "  gantry    --pad-grid N (5) --side-grid ROWS,COLS (4,5) --passes N (3) --pass-points N (15) --circle-points N (5..36; 24)\n"
-    "            --c-arc FROM,TO (0,345) --a-arc FROM,TO (-90,90) --mpe UM,UM_PER_M (15,6: the tracker's\n"
-    "            point MPE, read as 2 sigma across the line of sight) --radial-mpe UM (10)\n"
-    "            --tracker-distance M (in front of the machine's front; 2.5)\n"
-    "  spindle   --revolutions R (3) --angles N (a revolution, 8..4096; 72) --balls B1,B2 (mm below\n"
-    "            the gauge line; 50,150) --noise-nm S (1 sigma per axis; 15)\n"
-    "  level     --side MM (the probing triangle's side; 100) or --points X,Y;X,Y;... (mm),\n"
-    "            --noise-um U (1 sigma per axis; 0.5)\n"
+    ;
+
+// After the methods' options in `plan --help`.
+constexpr const char* kPlanHelpEnd =
     "  --json PLAN.json  the prediction as JSON; --suggest N  0..2 changes to look for (2)\n"
     "Exit 0 with the prediction on stdout; 3 when the method would refuse the plan (stdout and\n"
     "PLAN.json say why, as the module's error); 1 on bad usage or an unwritable PLAN.json.\n";
@@ -159,6 +152,8 @@ bool printable_utf8(const std::string& text) {
   return true;
 }
 
+std::string plan_help();
+
 void print_help() {
   std::printf("%s\n", kUsage);
   std::printf("Calibrates in the module over Modbus TCP and writes what it computed into OUT.json.\n"
@@ -206,7 +201,7 @@ void print_help() {
               "%s"
               "Exit 0 with one summary line on stdout; 1 with one line on stderr on any failure, and\n"
               "then no OUT.json and nothing stored; 3 when --check's verdict is fail (OUT.json and the\n"
-              "report written).\n", kPlanHelp);
+              "report written).\n", plan_help().c_str());
 }
 
 void print_method_help(const CalibrateMethod& m) {
@@ -449,63 +444,6 @@ int run_log(int argc, char** argv) {
 }
 
 
-// "A,B" or "A,B,C" into `out` (exactly `count` numbers); false otherwise.
-bool numbers(const std::string& text, std::size_t count, std::vector<double>& out) {
-  out.clear();
-  const char* p = text.c_str();
-  while (true) {
-    char* end = nullptr;
-    const double v = std::strtod(p, &end);
-    if (end == p || !std::isfinite(v)) return false;
-    out.push_back(v);
-    if (*end == '\0') break;
-    if (*end != ',') return false;
-    p = end + 1;
-  }
-  return out.size() == count;
-}
-
-bool whole(const std::string& text, int low, int high, int& out) {
-  char* end = nullptr;
-  const long v = std::strtol(text.c_str(), &end, 10);
-  if (text.empty() || *end != '\0' || v < low || v > high) return false;
-  out = static_cast<int>(v);
-  return true;
-}
-
-bool positive(const std::string& text, double& out) {
-  char* end = nullptr;
-  const double v = std::strtod(text.c_str(), &end);
-  if (text.empty() || *end != '\0' || !(v > 0.0) || !std::isfinite(v)) return false;
-  out = v;
-  return true;
-}
-
-// A rigidity plan from a CSV of a_deg, c_deg rows: one pose per A (within
-// 1e-6 deg, as the module groups them), its C positions in file order.
-bool read_rigidity_plan(const std::string& path, trueaxis::sim::RigidityPlan& plan, std::string& error) {
-  const trueaxis::sim::CsvResult csv = trueaxis::sim::read_csv(path, {{"a_deg"}, {"c_deg"}});
-  if (!csv.ok) {
-    error = csv.error;
-    return false;
-  }
-  plan.poses.clear();
-  for (const trueaxis::sim::CsvRow& row : csv.rows) {
-    auto pose = plan.poses.begin();
-    while (pose != plan.poses.end() && std::fabs(pose->first - row.numbers[0]) > 1e-6) ++pose;
-    if (pose == plan.poses.end()) {
-      plan.poses.emplace_back(row.numbers[0], std::vector<double>{});
-      pose = plan.poses.end() - 1;
-    }
-    pose->second.push_back(row.numbers[1]);
-  }
-  if (plan.poses.empty()) {
-    error = path + ": no rows";
-    return false;
-  }
-  return true;
-}
-
 // trueaxis-calibrate linuxcnc-kins METHOD --out FILE [--port PORT] [--host ADDR] [--wait SECONDS]:
 // the controller's stored M3 table or M4 model as the LinuxCNC kinematics'
 // file, however it was stored (trueaxis-calibrate, an operator program's G65, an HMI).
@@ -578,183 +516,67 @@ int run_kins_export(int argc, char** argv, bool trt) {
   return 0;
 }
 
-// trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N].
+// `plan --help`: the command's text around each method's options (PlanOptions::help).
+std::string plan_help() {
+  std::string methods;
+  for (const trueaxis::sim::PlanMethod& m : trueaxis::sim::kPlanMethods) methods += m.make()->help();
+  return std::string(kPlanHelp) + methods + kPlanHelpEnd;
+}
+
+// trueaxis-calibrate plan METHOD [PLAN OPTIONS] [--json PLAN.json] [--suggest N]:
+// the options are the method's (plan_options.hpp), but for --json and --suggest.
 int run_plan(int argc, char** argv) {
   namespace ts = trueaxis::sim;
-  if (argc < 3) return usage_error("plan takes METHOD: rigidity, gantry, spindle or level");
+  std::string names;
+  for (std::size_t i = 0; i < std::size(ts::kPlanMethods); ++i) {
+    names += i == 0 ? "" : (i + 1 == std::size(ts::kPlanMethods) ? " or " : ", ");
+    names += ts::kPlanMethods[i].name;
+  }
+  if (argc < 3) return usage_error("plan takes METHOD: " + names);
   const std::string method = argv[2];
   if (method == "--help" || method == "-h") {
-    std::printf("%s\n%s", kUsage, kPlanHelp);
+    std::printf("%s\n%s", kUsage, plan_help().c_str());
     return 0;
   }
-  if (method != "rigidity" && method != "gantry" && method != "spindle" && method != "level") {
-    return usage_error("plan: unknown METHOD '" + method + "' (rigidity, gantry, spindle, level)");
+  std::unique_ptr<ts::PlanOptions> options;
+  for (const ts::PlanMethod& m : ts::kPlanMethods) {
+    if (method == m.name) options = m.make();
   }
-  ts::RigidityPlan rigidity = ts::rigidity_plan(-90.0, 90.0, 30.0, 10.0);
-  ts::GantryPlanSpec gantry;
-  ts::SpindlePlan spindle;
-  ts::LevelPlan level = ts::level_plan(100.0);
-  std::vector<double> a_range = {-90.0, 90.0, 30.0};
-  double c_step = 10.0;
-  std::string in_path, json_path;
-  bool poses_described = false;  // --a or --c-step given
+  if (options == nullptr) return usage_error("plan: unknown METHOD '" + method + "' (" + names + ")");
+  std::string json_path;
   int suggest = 2;
-  std::vector<double> v;
   for (int i = 3; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool has = i + 1 < argc;
     const std::string value = has ? argv[i + 1] : "";
+    std::string form = "a value";
     bool ok = has;
     if (arg == "--help" || arg == "-h") {
-      std::printf("%s\n%s", kUsage, kPlanHelp);
+      std::printf("%s\n%s", kUsage, plan_help().c_str());
       return 0;
     } else if (arg == "--json") {
       json_path = value;
       ok = ok && !value.empty();
     } else if (arg == "--suggest") {
-      ok = ok && whole(value, 0, 2, suggest);
-    } else if (method == "rigidity" && arg == "--a") {
-      ok = ok && numbers(value, 3, a_range) && a_range[2] > 0.0 && a_range[0] <= 0.0 && a_range[1] >= 0.0 &&
-           a_range[0] >= -360.0 && a_range[1] <= 360.0;
-      poses_described = true;
-    } else if (method == "rigidity" && arg == "--c-step") {
-      ok = ok && positive(value, c_step) && c_step >= 10.0 && c_step <= 90.0;
-      poses_described = true;
-    } else if (method == "rigidity" && arg == "--in") {
-      in_path = value;
-    } else if (method == "rigidity" && arg == "--ball") {
-      ok = ok && numbers(value, 3, v);
-      if (ok) rigidity.ball_table_mm = trueaxis::core::Vec3(v[0], v[1], v[2]);
-    } else if ((method == "rigidity" || method == "level") && arg == "--noise-um") {
-      double um = 0.0;
-      ok = ok && positive(value, um);
-      rigidity.sigma_mm = level.sigma_mm = um / 1000.0;
-    } else if (method == "rigidity" && arg == "--pivot") {
-      ok = ok && numbers(value, 3, v);
-      if (ok) rigidity.pivot.c_point_mm = trueaxis::core::Vec3(v[0], v[1], v[2]);
-    } else if (method == "rigidity" && arg == "--a-offset") {
-      ok = ok && numbers(value, 2, v);
-      if (ok) rigidity.pivot.a_offset_y_mm = v[0], rigidity.pivot.a_offset_z_mm = v[1];
-    } else if (method == "rigidity" && arg == "--a-limits") {
-      ok = ok && numbers(value, 2, v) && v[0] < v[1];
-      if (ok) rigidity.a_min_deg = v[0], rigidity.a_max_deg = v[1];
-    } else if (method == "gantry" && arg == "--pad-grid") {
-      ok = ok && whole(value, 2, 11, gantry.pad_grid);
-    } else if (method == "gantry" && arg == "--side-grid") {
-      ok = ok && numbers(value, 2, v) && v[0] >= 2 && v[0] <= 20 && v[1] >= 2 && v[1] <= 20 &&
-           v[0] == std::floor(v[0]) && v[1] == std::floor(v[1]);
-      if (ok) gantry.side_rows = static_cast<int>(v[0]), gantry.side_cols = static_cast<int>(v[1]);
-    } else if (method == "gantry" && arg == "--passes") {
-      ok = ok && whole(value, 1, 8, gantry.passes);
-    } else if (method == "gantry" && arg == "--pass-points") {
-      ok = ok && whole(value, 3, 60, gantry.pass_points);
-    } else if (method == "gantry" && arg == "--circle-points") {
-      ok = ok && whole(value, 5, 36, gantry.circle_points);
-    } else if (method == "gantry" && arg == "--c-arc") {
-      ok = ok && numbers(value, 2, v) && v[0] < v[1] && v[1] - v[0] < 360.0;
-      if (ok) gantry.c_from_deg = v[0], gantry.c_to_deg = v[1];
-    } else if (method == "gantry" && arg == "--a-arc") {
-      ok = ok && numbers(value, 2, v) && v[0] < v[1] && v[1] - v[0] < 360.0;
-      if (ok) gantry.a_from_deg = v[0], gantry.a_to_deg = v[1];
-    } else if (method == "gantry" && arg == "--mpe") {
-      ok = ok && numbers(value, 2, v) && v[0] > 0.0 && v[1] >= 0.0;
-      if (ok) gantry.transverse_mpe_mm = v[0] / 1000.0, gantry.transverse_mpe_per_m_mm = v[1] / 1000.0;
-    } else if (method == "gantry" && arg == "--tracker-distance") {
-      ok = ok && positive(value, gantry.tracker_distance_m) && gantry.tracker_distance_m <= 30.0;
-    } else if (method == "gantry" && arg == "--radial-mpe") {
-      double um = 0.0;
-      ok = ok && positive(value, um);
-      gantry.radial_mpe_mm = um / 1000.0;
-    } else if (method == "spindle" && arg == "--revolutions") {
-      ok = ok && whole(value, 1, 100, spindle.revolutions);
-    } else if (method == "spindle" && arg == "--angles") {
-      ok = ok && whole(value, 8, 4096, spindle.samples_per_revolution);
-    } else if (method == "spindle" && arg == "--balls") {
-      ok = ok && numbers(value, 2, v) && v[0] > 0.0 && v[1] > v[0];
-      if (ok) spindle.ball_mm[0] = v[0], spindle.ball_mm[1] = v[1];
-    } else if (method == "spindle" && arg == "--noise-nm") {
-      double nm = 0.0;
-      ok = ok && positive(value, nm);
-      spindle.sigma_mm = nm * 1e-6;
-    } else if (method == "level" && arg == "--side") {
-      double side = 0.0;
-      ok = ok && positive(value, side);
-      if (ok) level.points = ts::level_plan(side).points;
-    } else if (method == "level" && arg == "--points") {
-      level.points.clear();
-      std::size_t from = 0;
-      while (ok && from < value.size()) {
-        const std::size_t semi = value.find(';', from);
-        const std::string point = value.substr(from, semi == std::string::npos ? std::string::npos : semi - from);
-        ok = numbers(point, 2, v);
-        if (ok) level.points.emplace_back(v[0], v[1]);
-        if (semi == std::string::npos) break;
-        from = semi + 1;  // a trailing ';' ends the list
-      }
-      ok = ok && level.points.size() >= 3;
+      form = "0, 1 or 2";
+      ok = ok && ts::plan_whole(value, 0, 2, suggest);
     } else {
-      return usage_error("unknown option '" + arg + "' for plan " + method);
+      const ts::PlanOptions::Take take = options->take(arg, value, has, form);
+      if (take == ts::PlanOptions::Take::kNotMine) return usage_error("unknown option '" + arg + "' for plan " + method);
+      ok = take == ts::PlanOptions::Take::kTaken;
     }
-    if (!ok) {
-      static const char* const kForms[][2] = {
-          {"--suggest", "0, 1 or 2"},
-          {"--a", "FROM,TO,STEP in degrees, -360 <= FROM <= 0 <= TO <= 360, STEP > 0"},
-          {"--c-step", "degrees, 10..90 (a pose takes 4..36 C positions)"},
-          {"--ball", "X,Y,Z in mm (table coordinates)"},
-          {"--noise-um", "micrometres, > 0"},
-          {"--a-limits", "MIN,MAX in degrees, MIN < MAX"},
-          {"--pivot", "X,Y,Z in mm (machine coordinates)"},
-          {"--a-offset", "DY,DZ in mm (the A axis from the pivot)"},
-          {"--pad-grid", "2..11"},
-          {"--side-grid", "ROWS,COLS: 2..20 each"},
-          {"--passes", "1..8"},
-          {"--pass-points", "3..60"},
-          {"--circle-points", "5..36 (the module's session holds 30 a circle: more is refused as it refuses them)"},
-          {"--c-arc", "FROM,TO in degrees, FROM < TO, less than a turn"},
-          {"--a-arc", "FROM,TO in degrees, FROM < TO, less than a turn"},
-          {"--mpe", "UM,UM_PER_M: micrometres > 0 and micrometres per metre >= 0"},
-          {"--radial-mpe", "micrometres, > 0"},
-          {"--tracker-distance", "metres in front of the machine, 0 < M <= 30"},
-          {"--revolutions", "1..100"},
-          {"--angles", "8..4096 a revolution"},
-          {"--balls", "B1,B2 in mm below the gauge line, 0 < B1 < B2"},
-          {"--noise-nm", "nanometres, > 0"},
-          {"--side", "millimetres, > 0"},
-          {"--points", "X,Y;X,Y;X,Y... in mm, at least 3 points"},
-      };
-      std::string form = "a value";
-      for (const auto& f : kForms) {
-        if (arg == f[0]) form = f[1];
-      }
-      return usage_error("plan " + method + ": " + arg + (has ? " '" + value + "'" : "") + ": takes " + form);
-    }
+    if (!ok) return usage_error("plan " + method + ": " + arg + (has ? " '" + value + "'" : "") + ": takes " + form);
     ++i;
   }
-  if (!in_path.empty() && poses_described) {
-    return usage_error("plan rigidity: --in gives the poses: not with --a or --c-step");
-  }
+  std::string error;
+  bool usage = false;
+  const std::shared_ptr<const ts::PlanModel> model = options->finish(error, usage);
+  if (model == nullptr) return usage ? usage_error(error) : fail(error);
   // PLAN.json's place is tried before the work, not after it.
   const std::string json_tmp = json_path.empty() ? "" : json_path + ".tmp";
   if (!json_tmp.empty()) {
     const std::string cause = file_cause(json_path);
     if (!cause.empty()) return fail(json_path + ": cannot be written (" + cause + ")");
-  }
-  std::shared_ptr<const ts::PlanModel> model;
-  if (method == "rigidity") {
-    if (!in_path.empty()) {
-      std::string error;
-      if (!read_rigidity_plan(in_path, rigidity, error)) return fail(error);
-    } else {
-      const ts::RigidityPlan r = ts::rigidity_plan(a_range[0], a_range[1], a_range[2], c_step);
-      rigidity.poses = r.poses;
-    }
-    model = ts::rigidity_model(rigidity);
-  } else if (method == "gantry") {
-    model = ts::gantry_model(gantry);
-  } else if (method == "spindle") {
-    model = ts::spindle_model(spindle);
-  } else {
-    model = ts::level_model(level);
   }
   ts::Progress progress("plan " + method, "evaluations");
   const ts::PlanPrediction p =
@@ -762,23 +584,13 @@ int run_plan(int argc, char** argv) {
   ts::Progress searching("plan " + method + ": changes", "plans");
   const std::vector<ts::PlanSuggestion> s = ts::suggest_changes(
       *model, p, suggest, [&searching](std::size_t done, std::size_t total) { searching.update(done, total); });
-  std::string table = ts::plan_table(*model, p, s, suggest > 0);
-  if (!p.ok && method == "rigidity" && p.error.find("arc_too_short") != std::string::npos) {
-    double widest = 0.0;
-    for (const auto& pose : rigidity.poses) {
-      const auto [lo, hi] = std::minmax_element(pose.second.begin(), pose.second.end());
-      widest = std::max(widest, *hi - *lo);
-    }
-    if (widest <= 2.0 * 3.14159265358979323846 + 1e-9) {
-      table += "(every pose's C positions span at most 2 pi: are they in radians? the columns are degrees)\n";
-    }
-  }
+  const std::string table = ts::plan_table(*model, p, s, suggest > 0) + options->hint(p);
   std::printf("%s", table.c_str());
   if (!json_tmp.empty()) {
     if (!write_text_file(json_tmp, ts::plan_json(*model, p, s)) || std::rename(json_tmp.c_str(), json_path.c_str()) != 0) {
-      const int error = errno;
+      const int error_number = errno;
       std::remove(json_tmp.c_str());
-      return fail(cannot_write(json_path, error));
+      return fail(cannot_write(json_path, error_number));
     }
   }
   return p.ok ? 0 : 3;

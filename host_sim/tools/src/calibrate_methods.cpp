@@ -1,57 +1,17 @@
-// trueaxis-calibrate's one table of methods. The files' text follows
-// docs/INTERFACE.md "Calibration flows", which is the definition; this is the
-// short form `trueaxis-calibrate METHOD --help` prints.
+// trueaxis-calibrate's one table of methods: a fold over the methods built
+// into the module that have a calibrate flow (host_methods.hpp, generated from
+// the one list; each entry is its method's calibrate_method_<name>(), in
+// methods/<name>/host).
 #include "trueaxis/sim/tools/calibrate.hpp"
 
 #include <string>
+#include <vector>
 
 #include "trueaxis/core/status.hpp"
 #include "trueaxis/macros/platform_map.hpp"
+#include "trueaxis/sim/tools/host_methods.hpp"
 
 namespace trueaxis::sim {
-
-namespace {
-
-// clang-format off
-const CalibrateMethod kMethods[] = {
-  {"rigidity", "M3 AC-axis rigidity: a ball on the table measured at several A while C turns",
-   "SAMPLES.csv: a_deg,c_deg,x_mm,y_mm,z_mm\n"
-   "  a_deg, c_deg       the commanded A and C (deg)\n"
-   "  x_mm, y_mm, z_mm   the calibration ball's centre at that pose (mm, machine coordinates)\n"
-   "  Rows whose a_deg agree within 1e-6 deg form one A pose, in any order; one pose at A = 0\n"
-   "  (the reference); 3..16 poses, each with at least 4 distinct C over an arc of at least\n"
-   "  #600 (45 deg by default) and at most 36 samples; at most 512 samples in all.\n"
-   "MACHINE.csv: not read.\n",
-   calibrate_rigidity, store_rigidity, "rigidity", rigidity_kins_file, 9834, 1.0},
-  {"gantry", "M2 gantry zero frames: laser-tracker points of the bed, the gantry and each sub-machine",
-   "SAMPLES.csv: group,x_mm,y_mm,z_mm\n"
-   "  group              bed, side_1, side_2, gantry_K, spN_x_K, spN_y_K, spN_z_K, spN_c, spN_a\n"
-   "                     (N the sub-machine 1..8, K the pass 1..4; no leading zeros)\n"
-   "  x_mm, y_mm, z_mm   a tracker point (mm, tracker frame, levelled: +Z up)\n"
-   "  Passes in measuring order along the axis' positive direction, circles in order of\n"
-   "  increasing angle; a group's rows need not be adjacent.\n"
-   "MACHINE.csv (--machine, required): sub_machine,swing_mm,tool_x,tool_y,tool_z\n"
-   "  sub_machine        N, 1..8, each once; a row for every sub-machine SAMPLES measures, and\n"
-   "                     points for every row (or --sub-machines N,N...: the ones measured)\n"
-   "  swing_mm           the A axis' swing length, wrist centre to tool tip (mm)\n"
-   "  tool_x, tool_y, tool_z  the nominal tool direction, tracker frame (only its sense is used)\n",
-   calibrate_gantry, store_gantry, "gantry", nullptr, 9824, 0.0},
-  {"spindle", "M4 spindle tool axis: a spindle analyser's two balls over whole revolutions",
-   "SAMPLES.csv: phi_deg,ball,x_mm,y_mm,z_mm\n"
-   "  phi_deg            the spindle angle from M19's zero, growing in the M03 sense (deg; may pass 360)\n"
-   "  ball               1 (nearer the spindle) or 2\n"
-   "  x_mm, y_mm, z_mm   the ball's centre (mm, analyser frame)\n"
-   "  Per ball at least 8 distinct angles, at most 360, no gap wider than #800 (45 deg by default).\n"
-   "MACHINE.csv (--machine, required): name,value rows, each of these names once (mm):\n"
-   "  bearing_spacing_mm           upper to lower bearing plane (checked, shown in the report)\n"
-   "  gauge_from_upper_bearing_mm  O1, the upper bearing seat's centre, to the gauge line\n"
-   "  ball_1_mm, ball_2_mm         the balls' centres below the gauge line, 0 <= ball 1 < ball 2\n"
-   "  tool_length_mm               the tool tip below the gauge line (where the tip error is given)\n",
-   calibrate_spindle, store_spindle, "spindle", spindle_kins_file, 9845, 1.0},
-};
-// clang-format on
-
-}  // namespace
 
 bool has_stored_table(VariableClient& client, const CalibrateMethod& method, bool& has, FlowResult& fail) {
   const double qr[2] = {method.stored_query_q, 1.0};  // Q, R = 1: the stored table
@@ -70,7 +30,14 @@ bool has_stored_table(VariableClient& client, const CalibrateMethod& method, boo
   return true;
 }
 
-CalibrateMethods calibrate_methods() { return {kMethods, sizeof kMethods / sizeof kMethods[0]}; }
+CalibrateMethods calibrate_methods() {
+  static const std::vector<CalibrateMethod> kMethods = [] {
+    std::vector<CalibrateMethod> all;
+    for (const auto& of : kCalibrateMethodsOf) all.push_back(of());
+    return all;
+  }();
+  return {kMethods.data(), kMethods.size()};
+}
 
 const macros::RecordSpec* stored_record(const char* name) {
   using Built = macros::BuiltMethods;

@@ -2,6 +2,8 @@
 // texts (planner.hpp contracts 2-5).
 #include "trueaxis/sim/tools/planner.hpp"
 
+#include "trueaxis/sim/tools/plan_options.hpp"
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -352,6 +354,37 @@ std::string plan_json(const PlanModel& model, const PlanPrediction& p, const std
   }
   j += s.empty() ? "]\n}\n" : "\n  ]\n}\n";
   return j;
+}
+
+bool plan_numbers(const std::string& text, std::size_t count, std::vector<double>& out) {
+  out.clear();
+  const char* p = text.c_str();
+  while (true) {
+    char* end = nullptr;
+    const double v = std::strtod(p, &end);
+    if (end == p || !std::isfinite(v)) return false;
+    out.push_back(v);
+    if (*end == '\0') break;
+    if (*end != ',') return false;
+    p = end + 1;
+  }
+  return out.size() == count;
+}
+
+bool plan_whole(const std::string& text, int low, int high, int& out) {
+  char* end = nullptr;
+  const long v = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || v < low || v > high) return false;
+  out = static_cast<int>(v);
+  return true;
+}
+
+bool plan_positive(const std::string& text, double& out) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !(v > 0.0) || !std::isfinite(v)) return false;
+  out = v;
+  return true;
 }
 
 }  // namespace trueaxis::sim

@@ -4,10 +4,9 @@
 
 #include "trueaxis/core/leveling.hpp"
 #include "trueaxis/core/rigidity_codec.hpp"
+#include "trueaxis/macros/applied_records.hpp"
 #include "trueaxis/macros/platform_map.hpp"
 #include "trueaxis/macros/record_file.hpp"
-#include "trueaxis/macros/services.hpp"
-#include "trueaxis/macros/spindle/spindle_macros.hpp"
 
 namespace trueaxis::linuxcnc {
 
@@ -62,7 +61,7 @@ LoadResult CradleKinematics::load_spindle(const std::uint8_t* file, std::size_t 
   const std::uint8_t* payload = nullptr;
   std::size_t length = 0;
   const macros::RecordFileError e =
-      macros::decode_record_file(macros::spindle::ModelRecord::kRecord.key, file, size, payload, length);
+      macros::decode_record_file(macros::SpindleModelRecord::kRecord.key, file, size, payload, length);
   if (e != macros::RecordFileError::kNone) return {false, macros::record_file_text(e)};
   core::SpindleModel model;
   if (core::decode_spindle_model(payload, length, model) != core::Status::kOk) {

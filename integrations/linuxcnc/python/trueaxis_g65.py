@@ -42,7 +42,6 @@ programs that run a session wrap it in P1 .. P0; a call that fails gives the
 interface back too.
 """
 import os
-import shlex
 
 from interpreter import INTERP_ERROR, INTERP_EXECUTE_FINISH, INTERP_OK
 

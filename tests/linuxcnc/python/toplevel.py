@@ -1,3 +1,5 @@
 """The tests' [PYTHON] TOPLEVEL: trueaxis's remap, and oword.py's test helpers."""
-import remap  # noqa: F401
-import oword  # noqa: F401
+import oword
+import remap
+
+__all__ = ["oword", "remap"]

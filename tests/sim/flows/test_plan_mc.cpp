@@ -31,7 +31,11 @@
 #include "trueaxis/sim/machines/gantry_machine.hpp"
 #include "trueaxis/sim/machines/virtual_spindle.hpp"
 #include "trueaxis/sim/tools/gantry_measure.hpp"
+#include "trueaxis/sim/tools/gantry_plan.hpp"
+#include "trueaxis/sim/tools/level_plan.hpp"
 #include "trueaxis/sim/tools/planner.hpp"
+#include "trueaxis/sim/tools/rigidity_plan.hpp"
+#include "trueaxis/sim/tools/spindle_plan.hpp"
 
 namespace {
 

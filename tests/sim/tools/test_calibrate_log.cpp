@@ -20,6 +20,9 @@
 #include "sim_fixture.hpp"
 #include "trueaxis/macros/register_map.hpp"
 #include "trueaxis/sim/tools/calibrate.hpp"
+#include "trueaxis/sim/tools/calibrate_gantry.hpp"
+#include "trueaxis/sim/tools/calibrate_rigidity.hpp"
+#include "trueaxis/sim/tools/calibrate_spindle.hpp"
 #include "trueaxis/sim/tools/log_reader.hpp"
 
 namespace {

@@ -3,7 +3,7 @@
 // the JSON map and the calibrate command are all folds over the list of
 // descriptors (method_list.hpp); nothing else lists methods.
 //
-// The descriptor (macros/methods/<name>/include/trueaxis/macros/<name>/method.hpp):
+// The descriptor (methods/<name>/module/include/trueaxis/macros/<name>/method.hpp):
 //
 //   struct Method : Shape {               Shape: kRows, Session, Work (method_context.hpp)
 //     static constexpr const char* kName;            "level": its name in TRUEAXIS_METHODS

@@ -56,7 +56,7 @@
 //     (o absorbs its mean). With realistic_spindle() (|w| = 17.7") it is 0.18 nm
 //     at the balls and 0.55 nm at L = 250 mm, nearly all along z: small, but
 //     0.77 of the fitted tip's z sigma at 3 revolutions of 15 nm noise
-//     (tests/sim/flows/test_spindle_mc.cpp finds the fitted tip z off by it).
+//     (methods/spindle/tests/host/test_spindle_mc.cpp finds the fitted tip z off by it).
 //     delta (axial_error_mm) gathers every axial error (h, l2, Delta3, h1 and
 //     the run-outs' second order): the analyser cannot see it (finding 2), o
 //     carries it. To first order

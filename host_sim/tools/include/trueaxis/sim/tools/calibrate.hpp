@@ -172,61 +172,6 @@ std::string json_string(const std::string& text);
 bool store_built(VariableClient& client, std::uint16_t build_macro, FlowResult& fail,
                  const std::vector<MacroArgument>& arguments = {});
 
-// Streams the samples and builds the table WITHOUT storing it; reads back
-// what the module computed.
-FlowResult calibrate_rigidity(VariableClient& client, const CalibrateOptions& options);
-
-// Stores the table of the samples already in the module's session (unlock,
-// build with R = 1, lock again); false with fail.error set otherwise.
-bool store_rigidity(VariableClient& client, FlowResult& fail);
-
-// The LinuxCNC kinematics' table file (integrations/linuxcnc/kins): the table
-// built last (stored false: 9837 R = 0) or the stored one (true), read exactly
-// through macro 9837, as record_file.hpp's file of the rigidity record; false
-// with fail.error set otherwise.
-bool rigidity_kins_file(VariableClient& client, bool stored, std::string& file, FlowResult& fail);
-
-// The LinuxCNC kinematics' spindle file: the model identified last (stored
-// false: 9847 R = 0) or the stored one (true), its record read exactly
-// through macro 9847, as record_file.hpp's file of the spindle record.
-bool spindle_kins_file(VariableClient& client, bool stored, std::string& file, FlowResult& fail);
-
-// Streams the tracker points (grouped by name, measuring order kept) and the
-// MACHINE rows, computes the frames WITHOUT storing them; reads back what the
-// module computed (9824, 9826). Every sub-machine SAMPLES measures needs its
-// MACHINE row, and every MACHINE row its points: a row whose sub-machine has
-// no points is refused at its line (a sub-machine forgotten, or its groups
-// misnamed), unless options.sub_machines names the ones measured (one
-// sub-machine measured again with the whole machine's MACHINE file); then
-// the others' rows are not read, and a point of another is refused.
-FlowResult calibrate_gantry(VariableClient& client, const CalibrateOptions& options);
-
-// Stores the frames of the session already in the module (unlock, 9823 with
-// R = 1, lock again).
-bool store_gantry(VariableClient& client, FlowResult& fail);
-
-// The spindle angles of OUT.json's per_angle: 0, 5, ..., 355 (docs/INTERFACE.md: at most 10).
-inline constexpr double kSpindleStepDeg = 5.0;
-
-// Streams the analyser samples (file order) to the session 9840/9841,
-// identifies the tool-axis model with 9842 WITHOUT storing it (D, U, V from
-// MACHINE), and reads back the parameters (9845, R = 0) and one revolution of
-// the correction with its sigmas at tool_length_mm (9844, R = 0, every
-// kSpindleStepDeg). OUT.json adds to docs/INTERFACE.md's keys the per-angle
-// sigmas, tool_length_mm, the mean tool-tip error over a revolution with its
-// sigma, and "fit" (samples, noise, synchronous and overall RMS).
-// MACHINE holds `name,value` rows: exactly the five names docs/INTERFACE.md
-// requires, each once; any other name is refused (there are no optional names
-// yet, and a misspelt one would otherwise pass unnoticed). bearing_spacing_mm,
-// which the model does not take (the analyser sees the tool line, not the
-// bearings), is only checked (> 0) and shown in the report. A ball other than
-// 1 or 2 is refused at its line; a length the module refuses names MACHINE.
-FlowResult calibrate_spindle(VariableClient& client, const CalibrateOptions& options);
-
-// Stores the model of the session already in the module (unlock, 9842 with
-// result.build_arguments and R = 1, lock again).
-bool store_spindle(VariableClient& client, FlowResult& result);
-
 // One method of trueaxis-calibrate: all the command knows of it. The command
 // looks a method up by name in the one table (calibrate_methods()) and does
 // what the entry says; nothing else in the command names a method. The record

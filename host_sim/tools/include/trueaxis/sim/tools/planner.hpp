@@ -66,9 +66,6 @@
 #include <vector>
 
 #include "trueaxis/core/types.hpp"
-#include "trueaxis/sim/instruments/laser_tracker.hpp"
-#include "trueaxis/sim/machines/cradle_machine.hpp"
-#include "trueaxis/sim/tools/gantry_measure.hpp"
 
 namespace trueaxis::sim {
 
@@ -169,69 +166,8 @@ struct PlanSuggestion {
 std::vector<PlanSuggestion> suggest_changes(const PlanModel& model, const PlanPrediction& base, int count,
                                             const std::function<void(std::size_t, std::size_t)>& progress = {});
 
-// ---- the methods' plans -----------------------------------------------------------
-
-// M3: A poses, each with its C positions, the ball at ball_table_mm on the
-// table (table coordinates, calibration_ball.hpp), its centre read to
-// sigma_mm per coordinate; on the simulator's cradle (realistic errors).
-struct RigidityPlan {
-  std::vector<std::pair<double, std::vector<double>>> poses;  // (A, C positions), deg
-  core::Vec3 ball_table_mm = core::Vec3(200.0, 0.0, 50.0);
-  double sigma_mm = 0.001;
-  double a_min_deg = -120.0;  // the candidates' A range (contract 5)
-  double a_max_deg = 120.0;
-  CradlePivot pivot;           // the cradle's nominal pivot (cradle_machine.hpp convention 1)
-};
-// A from a_from to a_to every a_step (0 included), C every c_step over a turn.
-RigidityPlan rigidity_plan(double a_from, double a_to, double a_step, double c_step);
-std::shared_ptr<const PlanModel> rigidity_model(const RigidityPlan& plan);
-
-// M2: the simulator's gantry (realistic_gantry) and tracker placement
-// (TrackerPlacement, at tracker_distance_m), measured by gantry_measure.hpp's plan; the tracker's stated noise
-// (laser_tracker.hpp convention 3: radial and transverse).
-struct GantryPlanSpec {
-  int pad_grid = 5;
-  int side_rows = 4;
-  int side_cols = 5;
-  int passes = 3;
-  int pass_points = 15;
-  int circle_points = 24;
-  double c_from_deg = 0.0;
-  double c_to_deg = 345.0;
-  double a_from_deg = -90.0;
-  double a_to_deg = 90.0;
-  double radial_mpe_mm = 0.010;      // read as 2 sigma
-  double transverse_mpe_mm = 0.015;
-  double transverse_mpe_per_m_mm = 0.006;
-  double tracker_distance_m = 2.5;   // in front of the machine (laser_tracker.hpp convention 2)
-  double a_limit_deg = 120.0;        // the candidates' widest A arc (contract 5)
-};
-std::shared_ptr<const PlanModel> gantry_model(const GantryPlanSpec& plan);
-// Its measuring plan (gantry_measure.hpp) and the tracker's noise and place.
-GantryPlan gantry_measuring_plan(const GantryPlanSpec& spec);
-TrackerSpec gantry_tracker_spec(const GantryPlanSpec& spec);
-TrackerPlacement gantry_tracker_placement(const GantryPlanSpec& spec);
-
-// M4: the analyser's encoder-synchronous sampling (spindle_analyser.hpp
-// convention 1) of the simulator's spindle (realistic_spindle), balls at
-// ball_mm below the gauge line, each centre read to sigma_mm per axis.
-struct SpindlePlan {
-  int revolutions = 3;
-  int samples_per_revolution = 72;
-  double ball_mm[2] = {50.0, 150.0};
-  double sigma_mm = 15e-6;
-};
-std::shared_ptr<const PlanModel> spindle_model(const SpindlePlan& plan);
-
-// M1: probe points (x, y, machine frame, table at zero) on the simulator's
-// inclined face (FaceConfig), each read to sigma_mm per coordinate.
-struct LevelPlan {
-  std::vector<std::pair<double, double>> points;
-  double sigma_mm = 0.0005;
-};
-// trueaxis-level's triangle: three points on a circle of radius side / sqrt(3).
-LevelPlan level_plan(double side_mm);
-std::shared_ptr<const PlanModel> level_model(const LevelPlan& plan);
+// ---- the methods' plans: each method's host part (methods/<name>/host/include/
+// trueaxis/sim/tools/<name>_plan.hpp: its plan, its model).
 
 // printf into a string (the format checked by the compiler): the planner's texts.
 [[gnu::format(printf, 1, 2)]] std::string plan_text(const char* format, ...);
