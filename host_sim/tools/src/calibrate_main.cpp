@@ -13,7 +13,10 @@
 // computed into OUT.json; --report DIR also writes DIR/index.html with plots;
 // --store stores the result as the controller's calibration table (unlocking
 // with --unlock-code, default the published 2718, and locking again). The
-// methods are the table of calibrate.hpp; this file names none of them.
+// methods are the table of calibrate.hpp and their plans the table of
+// plan_options.hpp, folds over the one list (host_methods.hpp); this file names
+// none of them but in `linuxcnc-trt rigidity`, M3's table as xyzac-trt-kins'
+// pivot (trt_export.hpp, methods/rigidity/host).
 // Exit 0 with one summary line on stdout: what was computed, the worst figure
 // with its sigma, what was written and what stored. Exit 1 with one line on
 // stderr on any failure, bad usage included, and then nothing on stdout, no

@@ -273,6 +273,29 @@ static_assert(macros_are_well_formed(BuiltMethods::kMacros.data(), BuiltMethods:
               "a macro number repeats or is out of 1..9999, an output lies outside #100..#199, "
               "or an input is not defined in the map");
 
+// A method's session (its clear, add, compute and compute_also) and its check
+// name macros of that method's own kMacros (0: none), so that a descriptor that
+// names another method's macro, or a number it does not define, does not compile.
+constexpr bool is_own_macro(const List<MacroInfo>& own, std::uint16_t number) {
+  if (number == 0) return true;
+  for (const MacroInfo& m : own) {
+    if (m.number == number) return true;
+  }
+  return false;
+}
+constexpr bool sessions_name_own_macros() {
+  for (std::size_t i = 0; i < BuiltMethods::kCount; ++i) {
+    const SessionInfo& s = BuiltMethods::kSessions[i];
+    const List<MacroInfo>& own = BuiltMethods::kMacros[i];
+    if (!is_own_macro(own, s.clear) || !is_own_macro(own, s.add) || !is_own_macro(own, s.compute) ||
+        !is_own_macro(own, s.compute_also) || !is_own_macro(own, BuiltMethods::kChecks[i].macro)) {
+      return false;
+    }
+  }
+  return true;
+}
+static_assert(sessions_name_own_macros(), "a method's session or check names a macro that is not its own");
+
 // The built macro of that number and the index of its method, or nullptr.
 struct MacroEntry {
   const MacroInfo* info;

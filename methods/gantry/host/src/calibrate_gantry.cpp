@@ -23,12 +23,12 @@ using macros::gantry::GroupKind;
 
 namespace {
 
-constexpr std::uint16_t kClear = 9820;
-constexpr std::uint16_t kAdd = 9821;
-constexpr std::uint16_t kSubMachine = 9822;
-constexpr std::uint16_t kBuild = 9823;
-constexpr std::uint16_t kGlobal = 9824;
-constexpr std::uint16_t kSub = 9826;
+constexpr std::uint16_t kClear = macros::gantry::kMacroSessionClear;
+constexpr std::uint16_t kAdd = macros::gantry::kMacroSessionAdd;
+constexpr std::uint16_t kSubMachine = macros::gantry::kMacroSubMachine;
+constexpr std::uint16_t kBuild = macros::gantry::kMacroBuild;
+constexpr std::uint16_t kGlobal = macros::gantry::kMacroGlobal;
+constexpr std::uint16_t kSub = macros::gantry::kMacroSubReport;
 
 // A group's name as (T, Q, D) (gantry_map.hpp convention 3) and its order in
 // the stream: the machine's groups first, then each sub-machine's.
@@ -456,7 +456,7 @@ const CalibrateMethod& calibrate_method_gantry() {
    "                     points for every row (or --sub-machines N,N...: the ones measured)\n"
    "  swing_mm           the A axis' swing length, wrist centre to tool tip (mm)\n"
    "  tool_x, tool_y, tool_z  the nominal tool direction, tracker frame (only its sense is used)\n",
-   calibrate_gantry, store_gantry, "gantry", nullptr, 9824, 0.0};
+   calibrate_gantry, store_gantry, "gantry", nullptr, macros::gantry::kMacroGlobal, 0.0};
   // clang-format on
   return kMethod;
 }

@@ -129,7 +129,7 @@ class GantryModel final : public PlanModel {
   // As trueaxis-calibrate gantry: 9820, a 9821 per reading in group order,
   // a 9822 per sub-machine (its swing length and nominal tool direction), 9823 with R = 0.
   std::vector<PlanMacro> module_macros(const std::vector<Vec3>& values) const override {
-    std::vector<PlanMacro> out = {{9820, {}, ""}};
+    std::vector<PlanMacro> out = {{macros::gantry::kMacroSessionClear, {}, ""}};
     for (const GroupRange& g : groups_) {
       int t = 0, q = 0, d = 0;
       if (g.name == "bed" || g.name == "side_1" || g.name == "side_2") {
@@ -144,7 +144,7 @@ class GantryModel final : public PlanModel {
         d = rest.size() > 2 ? std::atoi(rest.c_str() + 2) : 0;
       }
       for (std::size_t i = g.begin; i < g.begin + g.count; ++i) {
-        out.push_back({9821,
+        out.push_back({macros::gantry::kMacroSessionAdd,
                        with_xyz({{var::kArgT, static_cast<double>(t)}, {var::kArgQ, static_cast<double>(q)},
                                  {var::kArgD, static_cast<double>(d)}},
                                 values[i]),
@@ -153,13 +153,13 @@ class GantryModel final : public PlanModel {
     }
     for (std::size_t k = 0; k < machine_.sub_machine_count(); ++k) {
       const SubMachineConfig& c = machine_.config().sub_machines[k];
-      out.push_back({9822,
+      out.push_back({macros::gantry::kMacroSubMachine,
                      {{var::kArgT, static_cast<double>(c.id)}, {var::kArgD, c.swing_mm}, {var::kArgI, tools_[k].x()},
                       {static_cast<std::uint16_t>(var::kArgI + 1), tools_[k].y()},
                       {static_cast<std::uint16_t>(var::kArgI + 2), tools_[k].z()}},
                      plan_text("sub-machine %d's swing length and tool direction", c.id)});
     }
-    out.push_back({9823, {{var::kArgR, 0.0}}, ""});
+    out.push_back({macros::gantry::kMacroBuild, {{var::kArgR, 0.0}}, ""});
     return out;
   }
 

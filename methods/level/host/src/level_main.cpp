@@ -21,6 +21,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "trueaxis/macros/level/level_map.hpp"
 #include "trueaxis/sim/program.hpp"
 #include "trueaxis/sim/server/sim_map.hpp"
 #include "trueaxis/sim/tools/client.hpp"
@@ -34,7 +35,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr std::uint16_t kG57 = 5281;
 constexpr std::uint16_t kG58 = 5301;
 constexpr std::uint16_t kG59 = 5321;
-constexpr std::uint16_t kLevelMacro = 9810;
+constexpr std::uint16_t kLevelMacro = trueaxis::macros::level::kMacroThreePoint;
 constexpr std::uint16_t kResults = 100;
 constexpr std::uint16_t kResultCount = 19;  // #100..#118
 constexpr std::uint16_t kLevelAxes = 508;

@@ -84,12 +84,12 @@ class LevelModel final : public PlanModel {
   }
   // The operator's session: 9812, a 9813 per probe point, 9814 with the table at zero.
   std::vector<PlanMacro> module_macros(const std::vector<Vec3>& values) const override {
-    std::vector<PlanMacro> out = {{9812, {}, ""}};
+    std::vector<PlanMacro> out = {{macros::level::kMacroSessionClear, {}, ""}};
     for (std::size_t i = 0; i < values.size(); ++i) {
-      out.push_back({9813, with_xyz({}, values[i]),
+      out.push_back({macros::level::kMacroSessionAdd, with_xyz({}, values[i]),
                      plan_text("probe point %zu (%g, %g mm)", i + 1, plan_.points[i].first, plan_.points[i].second)});
     }
-    out.push_back({9814, {{var::kArgA, 0.0}, {var::kArgC, 0.0}}, ""});
+    out.push_back({macros::level::kMacroSessionCompute, {{var::kArgA, 0.0}, {var::kArgC, 0.0}}, ""});
     return out;
   }
 

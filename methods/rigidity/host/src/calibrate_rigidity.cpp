@@ -24,11 +24,11 @@ namespace var = macros::var;
 
 namespace {
 
-constexpr std::uint16_t kClear = 9830;
-constexpr std::uint16_t kAdd = 9831;
-constexpr std::uint16_t kBuild = 9832;
-constexpr std::uint16_t kPose = 9834;
-constexpr std::uint16_t kReals = 9837;
+constexpr std::uint16_t kClear = macros::rigidity::kMacroSessionClear;
+constexpr std::uint16_t kAdd = macros::rigidity::kMacroSessionAdd;
+constexpr std::uint16_t kBuild = macros::rigidity::kMacroBuild;
+constexpr std::uint16_t kPose = macros::rigidity::kMacroPose;
+constexpr std::uint16_t kReals = macros::rigidity::kMacroTableReals;
 
 }  // namespace
 
@@ -250,7 +250,7 @@ const CalibrateMethod& calibrate_method_rigidity() {
    "  (the reference); 3..16 poses, each with at least 4 distinct C over an arc of at least\n"
    "  #600 (45 deg by default) and at most 36 samples; at most 512 samples in all.\n"
    "MACHINE.csv: not read.\n",
-   calibrate_rigidity, store_rigidity, "rigidity", rigidity_kins_file, 9834, 1.0};
+   calibrate_rigidity, store_rigidity, "rigidity", rigidity_kins_file, macros::rigidity::kMacroPose, 1.0};
   // clang-format on
   return kMethod;
 }

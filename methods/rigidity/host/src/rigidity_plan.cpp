@@ -129,13 +129,13 @@ class RigidityModel final : public PlanModel {
   }
   // As trueaxis-calibrate rigidity: 9830, a 9831 per reading, 9832 with R = 0.
   std::vector<PlanMacro> module_macros(const std::vector<Vec3>& values) const override {
-    std::vector<PlanMacro> out = {{9830, {}, ""}};
+    std::vector<PlanMacro> out = {{macros::rigidity::kMacroSessionClear, {}, ""}};
     for (std::size_t i = 0; i < values.size(); ++i) {
       const core::RigiditySample& s = samples_[i];
-      out.push_back({9831, with_xyz({{var::kArgA, s.a_deg}, {var::kArgC, s.c_deg}}, values[i]),
+      out.push_back({macros::rigidity::kMacroSessionAdd, with_xyz({{var::kArgA, s.a_deg}, {var::kArgC, s.c_deg}}, values[i]),
                      plan_text("reading %zu (A = %g, C = %g deg)", i + 1, s.a_deg, s.c_deg)});
     }
-    out.push_back({9832, {{var::kArgR, 0.0}}, ""});
+    out.push_back({macros::rigidity::kMacroBuild, {{var::kArgR, 0.0}}, ""});
     return out;
   }
 

@@ -27,11 +27,11 @@ namespace var = macros::var;
 
 namespace {
 
-constexpr std::uint16_t kClear = 9840;
-constexpr std::uint16_t kAdd = 9841;
-constexpr std::uint16_t kBuild = 9842;
-constexpr std::uint16_t kReport = 9844;
-constexpr std::uint16_t kModel = 9845;
+constexpr std::uint16_t kClear = macros::spindle::kMacroSessionClear;
+constexpr std::uint16_t kAdd = macros::spindle::kMacroSessionAdd;
+constexpr std::uint16_t kBuild = macros::spindle::kMacroBuild;
+constexpr std::uint16_t kReport = macros::spindle::kMacroReport;
+constexpr std::uint16_t kModel = macros::spindle::kMacroModel;
 
 // MACHINE's names (docs/INTERFACE.md), in the order the flow keeps their values.
 enum Name : std::size_t { kBearingSpacing, kGauge, kBall1, kBall2, kToolLength, kNames };
@@ -338,7 +338,7 @@ const CalibrateMethod& calibrate_method_spindle() {
    "  gauge_from_upper_bearing_mm  O1, the upper bearing seat's centre, to the gauge line\n"
    "  ball_1_mm, ball_2_mm         the balls' centres below the gauge line, 0 <= ball 1 < ball 2\n"
    "  tool_length_mm               the tool tip below the gauge line (where the tip error is given)\n",
-   calibrate_spindle, store_spindle, "spindle", spindle_kins_file, 9845, 1.0};
+   calibrate_spindle, store_spindle, "spindle", spindle_kins_file, macros::spindle::kMacroModel, 1.0};
   // clang-format on
   return kMethod;
 }

@@ -85,13 +85,13 @@ class SpindleModel final : public PlanModel {
   }
   // As trueaxis-calibrate spindle: 9840, a 9841 per reading, 9842 with the lengths and R = 0.
   std::vector<PlanMacro> module_macros(const std::vector<Vec3>& values) const override {
-    std::vector<PlanMacro> out = {{9840, {}, ""}};
+    std::vector<PlanMacro> out = {{macros::spindle::kMacroSessionClear, {}, ""}};
     for (std::size_t i = 0; i < values.size(); ++i) {
       const core::SpindleSample& s = samples_[i];
-      out.push_back({9841, with_xyz({{var::kArgS, s.phi_deg}, {var::kArgT, static_cast<double>(s.ball)}}, values[i]),
+      out.push_back({macros::spindle::kMacroSessionAdd, with_xyz({{var::kArgS, s.phi_deg}, {var::kArgT, static_cast<double>(s.ball)}}, values[i]),
                      plan_text("reading %zu (ball %d at %g deg)", i + 1, s.ball, s.phi_deg)});
     }
-    out.push_back({9842,
+    out.push_back({macros::spindle::kMacroBuild,
                    {{var::kArgD, geometry_.gauge_mm}, {var::kArgU, geometry_.ball_mm[0]}, {var::kArgV, geometry_.ball_mm[1]},
                     {var::kArgR, 0.0}},
                    ""});

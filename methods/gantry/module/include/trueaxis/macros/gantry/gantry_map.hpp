@@ -94,6 +94,17 @@ inline constexpr std::uint16_t kSubACAngleSigma = 131;
 
 namespace gantry {
 
+// Its macros, named once: the descriptor (kMacros, kSession, kCheck), the
+// host's flows and plans use these names (docs/INTERFACE.md has the numbers).
+inline constexpr std::uint16_t kMacroSessionClear = 9820;
+inline constexpr std::uint16_t kMacroSessionAdd = 9821;
+inline constexpr std::uint16_t kMacroSubMachine = 9822;
+inline constexpr std::uint16_t kMacroBuild = 9823;
+inline constexpr std::uint16_t kMacroGlobal = 9824;
+inline constexpr std::uint16_t kMacroConvert = 9825;
+inline constexpr std::uint16_t kMacroSubReport = 9826;
+inline constexpr std::uint16_t kMacroCheck = 9827;
+
 inline constexpr MethodBlock kBlock{"gantry", 700, 799, 3000, 3999};
 
 // Q = #17 of 9821.

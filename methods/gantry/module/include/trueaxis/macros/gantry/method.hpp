@@ -24,7 +24,7 @@ struct Method : Shape {
   };
   static constexpr SessionInfo kSession{kSessionCapacity, "points",
                                         "group T, Q, D (#20, #17, #7), point X, Y, Z (#24..#26, mm, tracker frame)",
-                                        9820, 9821, 9823, list_of(kLimits)};
+                                        kMacroSessionClear, kMacroSessionAdd, kMacroBuild, list_of(kLimits)};
   static constexpr GateInfo kGateTable[] = {
       {"bed_span", kBedSpanImplausible, {var::kGantryMinBedSpan, 0, 0}, "the bed points' span (points in metres?)"},
       {"swing", kSwingImplausible, {var::kGantryMinSwing, 0, 0}, "each sub-machine's swing length (MACHINE in metres?)"},
@@ -36,7 +36,7 @@ struct Method : Shape {
        "with R = 1: each stored sub-machine's origin move and axes' turn; M = 1 confirms"},
   };
   static constexpr List<GateInfo> kGates = list_of(kGateTable);
-  static constexpr CheckInfo kCheck{9827, list_of(gantry::kCheckFigureKinds)};
+  static constexpr CheckInfo kCheck{kMacroCheck, list_of(gantry::kCheckFigureKinds)};
   static constexpr List<CheckFigureInfo> kLogFigures = list_of(gantry::kLogFigureKinds);
   using State = gantry::State;
   using Table = FramesRecord;

@@ -77,7 +77,7 @@ inline constexpr InputRef kPoseInputs[] = {
   {var::kArgI, 3, "Outward direction I, J, K (any length; 0,0,0 means +Z)."},
   {var::kAMin, 9, "Configuration: travel limits, axis signs, probe repeatability, direction limit, axes."},
 };
-inline constexpr InputRef k3ptInputs[] = {
+inline constexpr InputRef kThreePointInputs[] = {
   {var::kArgA, 1, "Commanded A (deg) while probing."},
   {var::kArgC, 1, "Commanded C (deg) while probing."},
   {var::kArgI, 3, "Outward direction I, J, K (any length; 0,0,0 means +Z)."},
@@ -109,24 +109,24 @@ inline constexpr InputRef kCheckInputs[] = {
 };
 
 inline constexpr MacroInfo kMacros[] = {
-  macro<&run_level_3pt>(9810, "level_3pt",
+  macro<&run_level_3pt>(kMacroThreePoint, "level_3pt",
         "Three-point auto-level: table angles that make the face through G57, G58, G59 horizontal.",
-        k3ptInputs, kLevelOutputs),
-  macro<&run_level_points>(9811, "level_points",
+        kThreePointInputs, kLevelOutputs),
+  macro<&run_level_points>(kMacroPoints, "level_points",
         "N-point auto-level: least-squares plane through the point list, with flatness and outlier flag.",
         kPointsInputs, kLevelOutputs),
-  macro<&run_session_clear>(9812, "level_session_clear",
+  macro<&run_session_clear>(kMacroSessionClear, "level_session_clear",
         "Empty the leveling session.", kSessionOutputs),
-  macro<&run_session_add>(9813, "level_session_add",
+  macro<&run_session_add>(kMacroSessionAdd, "level_session_add",
         "Add one probed point to the leveling session; refused with session_full at its capacity.",
         kAddInputs, kSessionOutputs),
-  macro<&run_session_compute>(9814, "level_session_compute",
+  macro<&run_session_compute>(kMacroSessionCompute, "level_session_compute",
         "N-point auto-level through the session's points (as 9811); the session is kept.",
         kPoseInputs, kLevelOutputs),
-  macro<&run_session_ball>(9815, "level_session_ball",
+  macro<&run_session_ball>(kMacroSessionBall, "level_session_ball",
         "Ball centre: least-squares sphere through the session's points (4 or more probe touches); the session is kept.",
         kBallInputs, kBallOutputs),
-  macro<&run_session_check>(9816, "level_check",
+  macro<&run_session_check>(kMacroCheck, "level_check",
         "Check after leveling: the face through the session's points probed again, its tilt judged against #509.",
         kCheckInputs, kCheckOutputs),
 };

@@ -79,6 +79,16 @@ inline constexpr std::uint16_t kPointListCount = static_cast<std::uint16_t>(3 * 
 
 namespace level {
 
+// Its macros, named once: the descriptor (kMacros, kSession, kCheck), the
+// host's flows and plans use these names (docs/INTERFACE.md has the numbers).
+inline constexpr std::uint16_t kMacroThreePoint = 9810;
+inline constexpr std::uint16_t kMacroPoints = 9811;
+inline constexpr std::uint16_t kMacroSessionClear = 9812;
+inline constexpr std::uint16_t kMacroSessionAdd = 9813;
+inline constexpr std::uint16_t kMacroSessionCompute = 9814;
+inline constexpr std::uint16_t kMacroSessionBall = 9815;
+inline constexpr std::uint16_t kMacroCheck = 9816;
+
 inline constexpr MethodBlock kBlock{"level", 500, 599, 1000, 1999};
 
 // Points the streaming session (9812..9814) holds: as many as the plane fit takes.

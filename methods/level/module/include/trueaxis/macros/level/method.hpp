@@ -14,10 +14,10 @@ struct Method : Shape {
   static constexpr List<core::StatusInfo> kStatuses = list_of(level::kStatuses);
   static constexpr List<MacroInfo> kMacros = list_of(level::kMacros);
   static constexpr SessionInfo kSession{kSessionCapacity, "points", "X, Y, Z (#24..#26, mm, machine frame)",
-                                        9812, 9813, 9814, {}, 9815};  // 9815: a ball from the touches
+                                        kMacroSessionClear, kMacroSessionAdd, kMacroSessionCompute, {}, kMacroSessionBall};  // 9815: a ball from the touches
   // Interface version 1 named the results #100..#116 after M1's outputs.
   static constexpr List<OutputInfo> kNamedResults{kLevelOutputs, kNamedLevelOutputs};
-  static constexpr CheckInfo kCheck{9816, list_of(level::kCheckFigureKinds)};
+  static constexpr CheckInfo kCheck{kMacroCheck, list_of(level::kCheckFigureKinds)};
   using State = level::State;
   using Table = NoTable;
 };

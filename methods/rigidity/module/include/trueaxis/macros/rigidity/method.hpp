@@ -18,7 +18,7 @@ struct Method : Shape {
                                              {"", "max_poses", core::kMaxAPoses}};
   static constexpr SessionInfo kSession{kSessionCapacity, "samples",
                                         "A, C (#1, #3, deg), ball centre X, Y, Z (#24..#26, mm)",
-                                        9830, 9831, 9832, list_of(kLimits)};
+                                        kMacroSessionClear, kMacroSessionAdd, kMacroBuild, list_of(kLimits)};
   static constexpr GateInfo kGateTable[] = {
       {"fit", core::Status::kFitBeyondNoise, {var::kRigidityBallNoise, var::kGateConfidence, 0},
        "each pose's C-circle residuals (2 n - 6 degrees of freedom) against the ball noise"},
@@ -28,7 +28,7 @@ struct Method : Shape {
        "with R = 1: each pose's rotation vector against the stored table's at its A; M = 1 confirms"},
   };
   static constexpr List<GateInfo> kGates = list_of(kGateTable);
-  static constexpr CheckInfo kCheck{9836, list_of(rigidity::kCheckFigureKinds)};
+  static constexpr CheckInfo kCheck{kMacroCheck, list_of(rigidity::kCheckFigureKinds)};
   static constexpr List<CheckFigureInfo> kLogFigures = list_of(rigidity::kLogFigureKinds);
   using State = rigidity::State;
   using Table = RigidityTableRecord;

@@ -75,6 +75,17 @@ inline constexpr std::uint16_t kRealsHomeIdentity = 129;  // after the 27 reals
 
 namespace rigidity {
 
+// Its macros, named once: the descriptor (kMacros, kSession, kCheck), the
+// host's flows and plans use these names (docs/INTERFACE.md has the numbers).
+inline constexpr std::uint16_t kMacroSessionClear = 9830;
+inline constexpr std::uint16_t kMacroSessionAdd = 9831;
+inline constexpr std::uint16_t kMacroBuild = 9832;
+inline constexpr std::uint16_t kMacroQuery = 9833;
+inline constexpr std::uint16_t kMacroPose = 9834;
+inline constexpr std::uint16_t kMacroConvert = 9835;
+inline constexpr std::uint16_t kMacroCheck = 9836;
+inline constexpr std::uint16_t kMacroTableReals = 9837;
+
 inline constexpr MethodBlock kBlock{"rigidity", 600, 699, 2000, 2999};
 
 // Ball positions the session holds: 16 A poses of 32 C positions.

@@ -17,7 +17,7 @@ struct Method : Shape {
   static constexpr SessionInfo kSession{core::kSpindleBins, "angle bins of 2 deg per ball (any sampling, any number of revolutions)",
                                         "S spindle angle (#19, deg), T ball 1 or 2 (#20), ball centre X, Y, Z "
                                         "(#24..#26, mm, analyser frame)",
-                                        9840, 9841, 9842, list_of(kLimits)};
+                                        kMacroSessionClear, kMacroSessionAdd, kMacroBuild, list_of(kLimits)};
   static constexpr GateInfo kGateTable[] = {
       {"spacing", kBallSpacingImplausible, {var::kSpindleMaxSpacingError, 0, 0},
        "the distance between the balls' mean centres against V - U"},
@@ -29,7 +29,7 @@ struct Method : Shape {
        "with R = 1: the tool-tip error at V against the stored model's, every 10 deg; M = 1 confirms"},
   };
   static constexpr List<GateInfo> kGates = list_of(kGateTable);
-  static constexpr CheckInfo kCheck{9846, list_of(spindle::kCheckFigureKinds)};
+  static constexpr CheckInfo kCheck{kMacroCheck, list_of(spindle::kCheckFigureKinds)};
   static constexpr List<CheckFigureInfo> kLogFigures = list_of(spindle::kCheckFigureKinds);  // the screw's six parameters
   using State = spindle::State;
   using Table = ModelRecord;

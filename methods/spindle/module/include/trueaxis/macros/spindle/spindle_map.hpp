@@ -81,6 +81,17 @@ inline constexpr std::uint16_t kSpindleWordsFirst = 102;
 
 namespace spindle {
 
+// Its macros, named once: the descriptor (kMacros, kSession, kCheck), the
+// host's flows and plans use these names (docs/INTERFACE.md has the numbers).
+inline constexpr std::uint16_t kMacroSessionClear = 9840;
+inline constexpr std::uint16_t kMacroSessionAdd = 9841;
+inline constexpr std::uint16_t kMacroBuild = 9842;
+inline constexpr std::uint16_t kMacroCorrection = 9843;
+inline constexpr std::uint16_t kMacroReport = 9844;
+inline constexpr std::uint16_t kMacroModel = 9845;
+inline constexpr std::uint16_t kMacroCheck = 9846;
+inline constexpr std::uint16_t kMacroModelWords = 9847;
+
 inline constexpr MethodBlock kBlock{"spindle", 800, 899, 4000, 4999};
 
 // The gates' defaults (gates.hpp): the analyser's capacitive probes (15 nm,
