@@ -42,7 +42,6 @@
 #include <cstring>
 #include <ctime>
 #include <fstream>
-#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
@@ -530,11 +529,9 @@ std::string plan_help() {
 // the options are the method's (plan_options.hpp), but for --json and --suggest.
 int run_plan(int argc, char** argv) {
   namespace ts = trueaxis::sim;
-  std::string names;
-  for (std::size_t i = 0; i < std::size(ts::kPlanMethods); ++i) {
-    names += i == 0 ? "" : (i + 1 == std::size(ts::kPlanMethods) ? " or " : ", ");
-    names += ts::kPlanMethods[i].name;
-  }
+  std::vector<const char*> plan_names;
+  for (const ts::PlanMethod& m : ts::kPlanMethods) plan_names.push_back(m.name);
+  const std::string names = ts::spoken_list(plan_names);
   if (argc < 3) return usage_error("plan takes METHOD: " + names);
   const std::string method = argv[2];
   if (method == "--help" || method == "-h") {

@@ -62,14 +62,19 @@ const CalibrateMethod* find_calibrate_method(const std::string& name) {
   return nullptr;
 }
 
-std::string calibrate_method_names() {
-  std::string names;
-  const CalibrateMethods all = calibrate_methods();
-  for (std::size_t i = 0; i < all.count; ++i) {
-    names += i == 0 ? "" : (i + 1 == all.count ? " or " : ", ");
-    names += all.first[i].name;
+std::string spoken_list(const std::vector<const char*>& names) {
+  std::string text;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    text += i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ");
+    text += names[i];
   }
-  return names;
+  return text;
+}
+
+std::string calibrate_method_names() {
+  std::vector<const char*> names;
+  for (const CalibrateMethod& m : calibrate_methods()) names.push_back(m.name);
+  return spoken_list(names);
 }
 
 }  // namespace trueaxis::sim

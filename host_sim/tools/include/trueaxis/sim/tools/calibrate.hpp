@@ -232,4 +232,7 @@ const CalibrateMethod* find_calibrate_method(const std::string& name);
 // "rigidity, gantry or spindle": the methods' names, for messages.
 std::string calibrate_method_names();
 
+// "a, b or c": names as a sentence lists them.
+std::string spoken_list(const std::vector<const char*>& names);
+
 }  // namespace trueaxis::sim
